@@ -1,0 +1,151 @@
+/* scene.h - the embedded default scene of the examples, demo and tests.
+
+   A deterministic outdoor yard built in code and rasterised on the CPU by
+   casting one view ray per pixel: a ground plane, boxes, spheres and thin
+   poles under a sky. Gives depth (Vulkan convention, 0 near, 1 far, sky = 1)
+   and an optional RGB colour. No file, no randomness, any size.
+
+   Header-only, static functions: include it where it is used. */
+#ifndef LRT_SCENE_H
+#define LRT_SCENE_H
+
+#include <math.h>
+#include <stdint.h>
+#include <stddef.h>
+
+typedef struct scene_camera {
+    float fov_y_deg;   /* vertical field of view */
+    float near_z, far_z;
+    float pitch_deg;   /* looking down by this much */
+    float height;      /* eye height above the ground */
+} scene_camera;
+
+static scene_camera scene_default_camera(void)
+{
+    scene_camera c;
+    c.fov_y_deg = 60.0f;
+    c.near_z = 0.1f;
+    c.far_z = 60.0f;
+    c.pitch_deg = 12.0f;
+    c.height = 1.7f;
+    return c;
+}
+
+typedef struct scene__prim {
+    int kind;        /* 0 box, 1 sphere, 2 vertical cylinder (pole) */
+    float a[3], b[3];/* box min/max; sphere centre, radius in b[0]; pole base, radius b[0], height b[1] */
+    float rgb[3];
+} scene__prim;
+
+#define SCENE__PRIMS 17
+static const scene__prim scene__prims[SCENE__PRIMS] = {
+    {0, {-3.0f, 0.0f, -9.0f}, {-1.2f, 1.6f, -7.0f}, {0.80f, 0.35f, 0.25f}},
+    {0, {1.5f, 0.0f, -12.0f}, {4.0f, 3.0f, -10.0f}, {0.30f, 0.45f, 0.80f}},
+    {0, {-6.0f, 0.0f, -20.0f}, {-3.5f, 5.0f, -17.0f}, {0.70f, 0.70f, 0.65f}},
+    {0, {5.0f, 0.0f, -25.0f}, {9.0f, 2.0f, -21.0f}, {0.55f, 0.75f, 0.40f}},
+    {0, {-0.6f, 0.0f, -5.2f}, {0.2f, 0.4f, -4.4f}, {0.90f, 0.80f, 0.30f}},
+    {0, {-12.0f, 0.0f, -40.0f}, {12.0f, 8.0f, -38.0f}, {0.60f, 0.55f, 0.50f}},
+    {1, {0.8f, 0.7f, -6.0f}, {0.7f, 0, 0}, {0.85f, 0.85f, 0.90f}},
+    {1, {-2.2f, 0.5f, -4.5f}, {0.5f, 0, 0}, {0.90f, 0.30f, 0.50f}},
+    {1, {3.0f, 1.2f, -15.0f}, {1.2f, 0, 0}, {0.35f, 0.80f, 0.80f}},
+    {1, {-1.0f, 2.2f, -14.0f}, {0.6f, 0, 0}, {0.95f, 0.60f, 0.20f}},
+    {2, {-0.8f, 0.0f, -3.5f}, {0.02f, 2.5f, 0}, {0.20f, 0.20f, 0.20f}},
+    {2, {1.6f, 0.0f, -4.0f}, {0.03f, 3.0f, 0}, {0.20f, 0.20f, 0.20f}},
+    {2, {-4.0f, 0.0f, -11.0f}, {0.05f, 4.0f, 0}, {0.25f, 0.25f, 0.25f}},
+    {2, {6.0f, 0.0f, -9.0f}, {0.04f, 3.5f, 0}, {0.25f, 0.25f, 0.25f}},
+    {2, {0.3f, 0.0f, -2.2f}, {0.01f, 1.2f, 0}, {0.15f, 0.15f, 0.15f}},
+    {2, {-2.5f, 0.0f, -16.0f}, {0.06f, 6.0f, 0}, {0.30f, 0.30f, 0.30f}},
+    {2, {2.6f, 0.0f, -7.5f}, {0.025f, 2.2f, 0}, {0.20f, 0.20f, 0.20f}},
+};
+
+/* Nearest t > 0 of the ray (o, d) on primitive p, or -1. */
+static float scene__hit(const scene__prim *p, const float o[3], const float d[3])
+{
+    if (p->kind == 0) {
+        float t0 = -1e30f, t1 = 1e30f;
+        int k;
+        for (k = 0; k < 3; ++k) {
+            float inv = 1.0f / d[k];
+            float ta = (p->a[k] - o[k]) * inv, tb = (p->b[k] - o[k]) * inv;
+            if (ta > tb) { float x = ta; ta = tb; tb = x; }
+            if (d[k] == 0.0f) {
+                if (o[k] < p->a[k] || o[k] > p->b[k]) return -1.0f;
+                continue;
+            }
+            t0 = ta > t0 ? ta : t0;
+            t1 = tb < t1 ? tb : t1;
+        }
+        return (t0 <= t1 && t0 > 0.0f) ? t0 : -1.0f;
+    } else if (p->kind == 1) {
+        float oc[3] = {o[0] - p->a[0], o[1] - p->a[1], o[2] - p->a[2]};
+        float b = oc[0] * d[0] + oc[1] * d[1] + oc[2] * d[2];
+        float c = oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2] - p->b[0] * p->b[0];
+        float a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        float disc = b * b - a * c;
+        float t;
+        if (disc < 0.0f) return -1.0f;
+        t = (-b - sqrtf(disc)) / a;
+        return t > 0.0f ? t : -1.0f;
+    } else {
+        float ox = o[0] - p->a[0], oz = o[2] - p->a[2];
+        float a = d[0] * d[0] + d[2] * d[2], b = ox * d[0] + oz * d[2], c = ox * ox + oz * oz - p->b[0] * p->b[0];
+        float disc = b * b - a * c, t, y;
+        if (a == 0.0f || disc < 0.0f) return -1.0f;
+        t = (-b - sqrtf(disc)) / a;
+        y = o[1] + t * d[1];
+        return (t > 0.0f && y >= p->a[1] && y <= p->a[1] + p->b[1]) ? t : -1.0f;
+    }
+}
+
+/* Renders depth (w*h floats, row 0 = top of the image) and, if rgb is not
+   NULL, colour (w*h*3 bytes). */
+static void scene_render(int w, int h, const scene_camera *cam, float *depth, uint8_t *rgb)
+{
+    const float pi = 3.14159265358979f;
+    float th = tanf(cam->fov_y_deg * pi / 360.0f), aspect = (float)w / (float)h;
+    float cp = cosf(cam->pitch_deg * pi / 180.0f), sp = sinf(cam->pitch_deg * pi / 180.0f);
+    float n = cam->near_z, f = cam->far_z;
+    int x, y, i;
+    for (y = 0; y < h; ++y) {
+        for (x = 0; x < w; ++x) {
+            /* view direction in camera space (x right, y up, -z forward), pitched down */
+            float cx = (2.0f * ((float)x + 0.5f) / (float)w - 1.0f) * th * aspect;
+            float cy = (1.0f - 2.0f * ((float)y + 0.5f) / (float)h) * th;
+            float dc[3] = {cx, cy, -1.0f};
+            /* rotated about x so that the forward axis is (0, -sin p, -cos p) */
+            float d[3] = {dc[0], dc[1] * cp + dc[2] * sp, -dc[1] * sp + dc[2] * cp};
+            float o[3] = {0.0f, cam->height, 0.0f};
+            float best = 1e30f, col[3] = {0.55f, 0.70f, 0.95f}, zview, dep;
+            if (d[1] < 0.0f) { /* ground y = 0: a checker */
+                float t = -o[1] / d[1];
+                float gx = o[0] + t * d[0], gz = o[2] + t * d[2];
+                int chk = ((int)floorf(gx) + (int)floorf(gz)) & 1;
+                best = t;
+                col[0] = chk ? 0.62f : 0.48f;
+                col[1] = chk ? 0.60f : 0.46f;
+                col[2] = chk ? 0.55f : 0.42f;
+            }
+            for (i = 0; i < SCENE__PRIMS; ++i) {
+                float t = scene__hit(&scene__prims[i], o, d);
+                if (t > 0.0f && t < best) {
+                    best = t;
+                    col[0] = scene__prims[i].rgb[0];
+                    col[1] = scene__prims[i].rgb[1];
+                    col[2] = scene__prims[i].rgb[2];
+                }
+            }
+            /* distance along the camera's forward axis; perspective depth */
+            zview = best * (-d[1] * sp - d[2] * cp);
+            if (best >= 1e29f || zview >= f) dep = 1.0f;
+            else dep = (f * (zview - n)) / (zview * (f - n));
+            if (dep < 0.0f) dep = 0.0f;
+            if (dep > 1.0f) dep = 1.0f;
+            depth[(size_t)y * (size_t)w + (size_t)x] = dep;
+            if (rgb) {
+                for (i = 0; i < 3; ++i) rgb[((size_t)y * (size_t)w + (size_t)x) * 3 + (size_t)i] = (uint8_t)(col[i] * 255.0f + 0.5f);
+            }
+        }
+    }
+}
+
+#endif

@@ -1,0 +1,1265 @@
+/* linear_rt.h - v0.1 - screen-space ray tracing by a BVH over the depth buffer
+
+   Exact, fast screen-space rays (reflections, ambient occlusion, contact
+   shadows) for C and C++ engines. The depth buffer is read as a heightmap
+   (h = 1 - z); an 8-wide BVH is laid over it once; each frame only its heights
+   are refitted; rays walk it with a traversal made for this one tree shape.
+   What a hit means is fixed by MODEL.md of the project: every texel is the
+   closed box [i,i+1] x [j,j+1] x [depth,1] and a ray hits the first box it
+   touches.
+
+   DO THIS
+       #define LINEAR_RT_IMPLEMENTATION
+       #include "linear_rt.h"
+   in ONE C or C++ file. Every other file includes "linear_rt.h" alone.
+   Needs nothing but the C standard library.
+
+   USE (CPU)
+       lrt_depth depth = {0};                 // describe the depth buffer
+       depth.data = pixels; depth.width = 1024; depth.height = 1024;
+       depth.format = LRT_FORMAT_FLOAT32;     // or UNORM8 / UNORM16
+       lrt_bvh bvh;
+       lrt_result r = lrt_bvh_build(&bvh, &depth, NULL, NULL); // once per size
+       ...each frame, after the depth changed:
+       r = lrt_bvh_update(&bvh, &depth, NULL);                 // whole map, or a dirty rect
+       r = lrt_trace(&bvh, &depth, rays, hits, ray_count, 0);  // or LRT_TRACE_ANY_HIT
+       ...
+       lrt_bvh_destroy(&bvh);
+   Rays live in screen space: x in [0,W], y in [0,H] in texels, z = depth in
+   [0,1] (0 near).
+   lrt_trace_range() traces a slice of a batch: the BVH and depth are only
+   read while tracing, so threads may trace disjoint slices at once.
+
+   OPTIONS (define before the IMPLEMENTATION include)
+       LINEAR_RT_STATIC            make every function static to this file
+       LINEAR_RT_API               linkage of the API (default: extern)
+       LINEAR_RT_ASSERT(x)         internal checks (default: assert from <assert.h>)
+       LINEAR_RT_MALLOC(size,user) / LINEAR_RT_FREE(ptr,user)
+                                   default allocator when lrt_bvh_build gets no
+                                   lrt_allocator (default: malloc / free); define
+                                   both or neither
+   Memory: lrt_bvh_build allocates once (allocator hooks or the macros);
+   lrt_bvh_build_in uses caller-owned memory sized by lrt_bvh_memory_size.
+   Update and trace never allocate.
+
+   INPUT
+   Depth maps of 1x1 to LINEAR_RT_MAX_DIM x LINEAR_RT_MAX_DIM texels with any
+   row stride, as 8-bit unorm (v/255), 16-bit unorm (v/65535) or 32-bit float,
+   standard (0 near) or reversed Z (LRT_DEPTH_REVERSED_Z: d = 1 - v, in the
+   input's own arithmetic: (max - v)/max for integers, 1.0f - f for floats).
+   The only repair made to input: a float depth that is NaN or above 1 becomes
+   1, below 0 becomes 0 (after the reversed-Z flip, so NaN is always far).
+   Data needs no alignment (it is read with memcpy).
+
+   THE TREE (see the sections of the implementation, which follow the data)
+   - level 0 is the texels; level L+1 groups level L's nodes in 4x2 blocks
+     when L is even and 2x4 blocks when L is odd, up to a 1x1 root level.
+   - a node stores the 8 heights of its children, h = 1 - depth rounded UP to
+     8 or 16 bits (so a compressed bound never cuts off a hit); a node's own
+     height is the max of its children's and lives in its parent.
+   - the texel level is not stored (its heights sit in the level-1 nodes), so
+     the tree costs about 1.02 bytes per texel with 8-bit nodes and 2.03 with
+     16-bit nodes, about half of what storing a leaf level too would cost.
+   - within a level, node (x,y) sits at its modified Morton code: for a level
+     grouped 4x2 into its parent, (parent block index) << 3 | y0 x1 x0, for
+     2x4, (parent block index) << 3 | y1 y0 x0, the parent block index being
+     the block's row-major index in the parent level (with a power-of-two
+     width that is the bit string y_n..y_1 | x_n..x_2 | y_0 x_1 x_0 and
+     y_n..y_2 | x_n..x_1 | y_1 y_0 x_0 of the design). Levels are stored
+     bottom-up, level 1 first, root last. lrt_layout_compute exposes it all.
+   - sizes that are not multiples of the blocks are padded with height 0
+     (depth 1) nodes; tracing never reports a padding texel.
+   - node precision: LRT_NODE_BITS_AUTO picks 8 bits for 8-bit depth and 16
+     for 16-bit and float depth. Hits are exact anyway: the last test of every
+     candidate texel uses the true depth (read back from the depth map when
+     the nodes are coarser than the input, e.g. float or 16-bit input in
+     8-bit nodes).
+
+   WHAT IT DOES NOT DO
+   - no GPU code yet in this file; no view-space rays (the caller clips them
+     to the near plane and projects them to screen space); no thickness
+     model: everything behind the depth is solid (MODEL.md).
+
+   LICENCE: MIT, at the end of this file.
+*/
+#ifndef LINEAR_RT_H
+#define LINEAR_RT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifndef LINEAR_RT_API
+#ifdef LINEAR_RT_STATIC
+#define LINEAR_RT_API static
+#else
+#define LINEAR_RT_API extern
+#endif
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- limits ---------------------------------------------------------------- */
+#define LINEAR_RT_MAX_DIM 16384u            /* largest width or height         */
+#define LINEAR_RT_MAX_LEVELS 16u            /* stored levels never exceed this */
+#define LINEAR_RT_MAX_RAYS_PER_CALL (1u << 30) /* rays in one trace call       */
+
+/* ---- result codes: every entry point returns one ------------------------- */
+typedef enum lrt_result {
+    LRT_SUCCESS = 0,
+    LRT_ERROR_NULL_POINTER = 1,     /* a required pointer argument is NULL          */
+    LRT_ERROR_INVALID_SIZE = 2,     /* width or height is 0 or above LINEAR_RT_MAX_DIM */
+    LRT_ERROR_INVALID_STRIDE = 3,   /* row stride smaller than one row of texels    */
+    LRT_ERROR_INVALID_FORMAT = 4,   /* depth format is not one of lrt_format        */
+    LRT_ERROR_INVALID_OPTION = 5,   /* unknown flag bits or node bits not 0/8/16    */
+    LRT_ERROR_SIZE_OVERFLOW = 6,    /* the map's byte span exceeds PTRDIFF_MAX      */
+    LRT_ERROR_OUT_OF_MEMORY = 7,    /* the allocator returned NULL                  */
+    LRT_ERROR_BUFFER_TOO_SMALL = 8, /* caller memory smaller than lrt_bvh_memory_size */
+    LRT_ERROR_SIZE_MISMATCH = 9,    /* depth map size differs from the BVH's        */
+    LRT_ERROR_INVALID_RECT = 10,    /* dirty rectangle reaches outside the map      */
+    LRT_ERROR_TOO_MANY_RAYS = 11,   /* more than LINEAR_RT_MAX_RAYS_PER_CALL rays, or a bad range */
+    LRT_ERROR_INVALID_BVH = 12,     /* the BVH was not built (or was destroyed)     */
+    LRT_RESULT_MAX_ENUM = 0x7fffffff
+} lrt_result;
+
+/* ---- depth in --------------------------------------------------------------- */
+typedef enum lrt_format {
+    LRT_FORMAT_UNORM8 = 1,   /* uint8_t,  depth = v / 255   */
+    LRT_FORMAT_UNORM16 = 2,  /* uint16_t, depth = v / 65535 */
+    LRT_FORMAT_FLOAT32 = 3,  /* float,    depth = v (clamped to [0,1], NaN -> 1) */
+    LRT_FORMAT_MAX_ENUM = 0x7fffffff
+} lrt_format;
+
+enum { LRT_DEPTH_REVERSED_Z = 1u }; /* lrt_depth.flags: 1 is near, 0 is far */
+
+typedef struct lrt_depth {
+    const void *data;     /* first texel of row 0                               */
+    uint32_t width;       /* texels per row, 1..LINEAR_RT_MAX_DIM               */
+    uint32_t height;      /* rows, 1..LINEAR_RT_MAX_DIM                         */
+    size_t row_stride;    /* bytes from one row to the next; 0 = tightly packed */
+    lrt_format format;
+    uint32_t flags;       /* LRT_DEPTH_* bits                                   */
+} lrt_depth;
+
+/* ---- level geometry and Morton mapping ------------------------------------- */
+typedef struct lrt_level {
+    uint32_t width, height;       /* nodes (texels at level 0) in this level's grid */
+    uint32_t block_w, block_h;    /* how this level is grouped into its parents: 4x2 or 2x4 */
+    uint32_t span_w_log2, span_h_log2; /* one node covers (1<<span_w) x (1<<span_h) texels */
+    size_t offset;                /* first node of this level in the node array   */
+    size_t count;                 /* node slots of this level, padding included   */
+} lrt_level;
+
+typedef struct lrt_layout {
+    uint32_t width, height;       /* texels */
+    uint32_t node_bits;           /* 8 or 16 */
+    uint32_t node_bytes;          /* 8 children x node_bits/8 */
+    uint32_t level_count;         /* stored levels: levels[1..level_count]; root = levels[level_count] */
+    lrt_level levels[LINEAR_RT_MAX_LEVELS + 1]; /* levels[0]: the texels (not stored) */
+    size_t node_count;            /* all node slots */
+    size_t bytes;                 /* node_count * node_bytes */
+} lrt_layout;
+
+enum { LRT_NODE_BITS_AUTO = 0 };
+
+/* The tree's shape, a fixed function of (width, height, node_bits). node_bits
+   0 means 16 here (the auto choice needs a format: see lrt_build_options). */
+LINEAR_RT_API lrt_result lrt_layout_compute(uint32_t width, uint32_t height, uint32_t node_bits, lrt_layout *out);
+/* Index within its level of node (x, y) at level 1..level_count (modified
+   Morton code, see THE TREE). No range checks: x, y must lie in the level's
+   padded grid. */
+LINEAR_RT_API size_t lrt_layout_node_index(const lrt_layout *layout, uint32_t level, uint32_t x, uint32_t y);
+
+/* ---- the BVH ----------------------------------------------------------------- */
+typedef struct lrt_allocator {
+    void *(*alloc)(void *user, size_t size);
+    void (*free)(void *user, void *ptr);
+    void *user;
+} lrt_allocator;
+
+typedef struct lrt_build_options {
+    uint32_t node_bits;   /* LRT_NODE_BITS_AUTO (0), 8 or 16 */
+} lrt_build_options;
+
+typedef struct lrt_bvh {     /* fields are read-only to callers */
+    lrt_layout layout;
+    void *nodes;             /* layout.bytes: levels bottom-up, 8 heights per node */
+    lrt_allocator allocator; /* how nodes were allocated; alloc == NULL: caller-owned */
+    uint32_t built;          /* nonzero between build and destroy */
+} lrt_bvh;
+
+/* Bytes lrt_bvh_build_in needs for a map of this size and format (the
+   nodes plus 15 bytes to align memory of any alignment). */
+LINEAR_RT_API lrt_result lrt_bvh_memory_size(uint32_t width, uint32_t height, lrt_format format,
+                                             const lrt_build_options *options, size_t *out_bytes);
+/* Build once per map size: lays out the tree and fills it from depth.
+   options and allocator may be NULL (defaults; LINEAR_RT_MALLOC). On error
+   *bvh is left untouched and nothing is allocated. */
+LINEAR_RT_API lrt_result lrt_bvh_build(lrt_bvh *bvh, const lrt_depth *depth,
+                                       const lrt_build_options *options, const lrt_allocator *allocator);
+/* The same into caller-owned memory of at least lrt_bvh_memory_size bytes
+   (any alignment); destroy leaves that memory alone. */
+LINEAR_RT_API lrt_result lrt_bvh_build_in(lrt_bvh *bvh, const lrt_depth *depth,
+                                          const lrt_build_options *options, void *memory, size_t memory_bytes);
+/* Frees what build allocated; safe on a zeroed or destroyed lrt_bvh. */
+LINEAR_RT_API void lrt_bvh_destroy(lrt_bvh *bvh);
+
+typedef struct lrt_rect { uint32_t x, y, width, height; } lrt_rect; /* texels */
+
+/* Refit every height from depth (dirty == NULL) or only the nodes above the
+   texels of *dirty, bottom-up to the root. Heights may go up or down; the
+   result is byte-for-byte a fresh build of the same depth map provided the
+   depth changed only inside dirty. An empty rect does nothing. */
+LINEAR_RT_API lrt_result lrt_bvh_update(lrt_bvh *bvh, const lrt_depth *depth, const lrt_rect *dirty);
+
+/* ---- traversal ------------------------------------------------------------- */
+typedef struct lrt_ray {     /* screen space; the same layout as the GPU's */
+    float origin[3];         /* x, y in texels, z depth (0 near)              */
+    float tmin;              /* 0 <= tmin <= tmax                             */
+    float dir[3];            /* need not be normalised; may be 0              */
+    float tmax;
+} lrt_ray;
+
+typedef enum lrt_hit_kind {
+    LRT_HIT = 1,                 /* t and texel x, y are set                          */
+    LRT_MISS_TMAX = 2,           /* reached tmax on screen without touching the solid */
+    LRT_MISS_OFF_SCREEN = 3,     /* left (or never met) the screen rectangle: fall back */
+    LRT_MISS_INVALID_RAY = 4,    /* NaN/inf component, tmin < 0 or tmin > tmax: not traced */
+    LRT_HIT_KIND_MAX_ENUM = 0x7fffffff
+} lrt_hit_kind;
+
+typedef struct lrt_hit {
+    float t;                 /* hit at origin + t * dir; 0 on a miss */
+    uint32_t x, y;           /* texel hit; 0 on a miss */
+    uint32_t kind;           /* lrt_hit_kind */
+} lrt_hit;
+
+enum {
+    LRT_TRACE_ANY_HIT = 1u   /* occlusion: stop at the first hit found (its t is a
+                                real hit, not promised to be the closest) */
+};
+
+/* Trace count rays into hits (one lrt_hit per ray). depth must be the map
+   the BVH was last built or updated from. */
+LINEAR_RT_API lrt_result lrt_trace(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
+                                   lrt_hit *hits, size_t count, uint32_t flags);
+/* Trace rays[first .. end-1] into hits[first .. end-1]: split a batch across
+   threads with disjoint ranges. */
+LINEAR_RT_API lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
+                                         lrt_hit *hits, size_t first, size_t end, uint32_t flags);
+
+/* ---- helpers ----------------------------------------------------------------- */
+LINEAR_RT_API const char *lrt_result_string(lrt_result result);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* LINEAR_RT_H */
+
+/* ============================================================================ */
+#ifdef LINEAR_RT_IMPLEMENTATION
+#ifndef LINEAR_RT_IMPLEMENTATION_DONE
+#define LINEAR_RT_IMPLEMENTATION_DONE
+
+#include <string.h>
+#include <math.h>
+#if defined(__SSE2__) && !defined(LINEAR_RT_NO_SIMD)
+#include <emmintrin.h>
+#define LRT__SSE 1
+#else
+#define LRT__SSE 0
+#endif
+
+#ifndef LINEAR_RT_ASSERT
+#include <assert.h>
+#define LINEAR_RT_ASSERT(x) assert(x)
+#endif
+
+#if defined(LINEAR_RT_MALLOC) != defined(LINEAR_RT_FREE)
+#error "linear_rt.h: define both LINEAR_RT_MALLOC and LINEAR_RT_FREE, or neither"
+#endif
+#ifndef LINEAR_RT_MALLOC
+#include <stdlib.h>
+#define LINEAR_RT_MALLOC(size, user) ((void)(user), malloc(size))
+#define LINEAR_RT_FREE(ptr, user) ((void)(user), free(ptr))
+#endif
+
+#ifdef LINEAR_RT_STATIC
+#define LINEAR_RT_DEF static
+#else
+#define LINEAR_RT_DEF
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+LINEAR_RT_DEF const char *lrt_result_string(lrt_result result)
+{
+    switch (result) {
+    case LRT_SUCCESS: return "success";
+    case LRT_ERROR_NULL_POINTER: return "a required pointer is NULL";
+    case LRT_ERROR_INVALID_SIZE: return "width or height is 0 or above LINEAR_RT_MAX_DIM";
+    case LRT_ERROR_INVALID_STRIDE: return "row stride is smaller than one row";
+    case LRT_ERROR_INVALID_FORMAT: return "unknown depth format";
+    case LRT_ERROR_INVALID_OPTION: return "unknown flag bits or node bits not 0, 8 or 16";
+    case LRT_ERROR_SIZE_OVERFLOW: return "the depth map's byte span exceeds PTRDIFF_MAX";
+    case LRT_ERROR_OUT_OF_MEMORY: return "out of memory";
+    case LRT_ERROR_BUFFER_TOO_SMALL: return "memory smaller than lrt_bvh_memory_size";
+    case LRT_ERROR_SIZE_MISMATCH: return "depth map size differs from the BVH's";
+    case LRT_ERROR_INVALID_RECT: return "dirty rectangle reaches outside the map";
+    case LRT_ERROR_TOO_MANY_RAYS: return "too many rays in one call, or a bad range";
+    case LRT_ERROR_INVALID_BVH: return "the BVH is not built";
+    default: return "unknown result code";
+    }
+}
+
+/* ============================================================================
+   1. Depth in: validation and decoding of one texel.
+   ========================================================================== */
+
+static uint32_t lrt__format_bytes(lrt_format f)
+{
+    return f == LRT_FORMAT_UNORM8 ? 1u : f == LRT_FORMAT_UNORM16 ? 2u : f == LRT_FORMAT_FLOAT32 ? 4u : 0u;
+}
+
+static lrt_result lrt__check_size(uint32_t width, uint32_t height)
+{
+    if (width == 0 || height == 0 || width > LINEAR_RT_MAX_DIM || height > LINEAR_RT_MAX_DIM)
+        return LRT_ERROR_INVALID_SIZE;
+    return LRT_SUCCESS;
+}
+
+/* Everything about a depth map that can be wrong, checked before any work. */
+static lrt_result lrt__check_depth(const lrt_depth *depth, size_t *out_stride)
+{
+    uint32_t bpp;
+    size_t row_bytes, stride;
+    lrt_result r;
+    if (!depth || !depth->data) return LRT_ERROR_NULL_POINTER;
+    if ((r = lrt__check_size(depth->width, depth->height)) != LRT_SUCCESS) return r;
+    bpp = lrt__format_bytes(depth->format);
+    if (!bpp) return LRT_ERROR_INVALID_FORMAT;
+    if (depth->flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) return LRT_ERROR_INVALID_OPTION;
+    row_bytes = (size_t)depth->width * bpp; /* <= 65536: cannot overflow */
+    stride = depth->row_stride ? depth->row_stride : row_bytes;
+    if (stride < row_bytes) return LRT_ERROR_INVALID_STRIDE;
+    /* the map spans stride*(height-1) + row_bytes bytes: no C object is
+       larger than PTRDIFF_MAX, so a span past it is an overflow */
+    if (stride > ((size_t)PTRDIFF_MAX - row_bytes) / (depth->height > 1 ? depth->height - 1 : 1))
+        return LRT_ERROR_SIZE_OVERFLOW;
+    *out_stride = stride;
+    return LRT_SUCCESS;
+}
+
+/* Depth of texel (x, y) as the model states it (0 near, 1 far, clamped),
+   exactly: integer depths are divided in double. */
+static double lrt__load_depth_exact(const lrt_depth *depth, size_t stride, uint32_t x, uint32_t y)
+{
+    const unsigned char *row = (const unsigned char *)depth->data + stride * y;
+    int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
+    if (depth->format == LRT_FORMAT_UNORM8) {
+        uint32_t v = row[x];
+        return (double)(reversed ? 255u - v : v) / 255.0;
+    } else if (depth->format == LRT_FORMAT_UNORM16) {
+        uint16_t v;
+        memcpy(&v, row + 2 * (size_t)x, 2);
+        return (double)(reversed ? 65535u - v : v) / 65535.0;
+    } else {
+        float f;
+        memcpy(&f, row + 4 * (size_t)x, 4);
+        if (reversed) f = 1.0f - f; /* in float: the model's conversion */
+        if (!(f <= 1.0f)) f = 1.0f; /* NaN too */
+        if (f < 0.0f) f = 0.0f;
+        return (double)f;
+    }
+}
+
+/* ============================================================================
+   2. Heights: h = 1 - depth, compressed to node_bits and rounded UP, so that
+      the box a node promises is never smaller than the true one.
+   ========================================================================== */
+
+/* Height codes of texels [x0, x0+n) of one row: qmax - floor(depth * qmax).
+   Integer inputs stay in integers, so 8-bit depth in 8- or 16-bit nodes and
+   16-bit depth in 16-bit nodes are exact. One loop per format keeps the
+   per-texel work to a load and a convert (this is the per-frame cost). */
+static void lrt__row_heights(const lrt_depth *depth, const unsigned char *row, uint32_t x0, uint32_t n,
+                             uint32_t qmax, uint32_t *codes)
+{
+    const int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
+    uint32_t i;
+    if (depth->format == LRT_FORMAT_FLOAT32) {
+        for (i = 0; i < n; ++i) {
+            float f;
+            memcpy(&f, row + 4 * (size_t)(x0 + i), 4);
+            if (reversed) f = 1.0f - f;
+            if (!(f <= 1.0f)) f = 1.0f; /* NaN too */
+            if (f < 0.0f) f = 0.0f;
+            /* d * qmax is exact in double, so the floor is too */
+            codes[i] = qmax - (uint32_t)((double)f * (double)qmax);
+        }
+    } else if (depth->format == LRT_FORMAT_UNORM16) {
+        for (i = 0; i < n; ++i) {
+            uint16_t v;
+            memcpy(&v, row + 2 * (size_t)(x0 + i), 2);
+            if (reversed) v = (uint16_t)(65535u - v);
+            codes[i] = qmax - (uint32_t)(((uint32_t)v * (uint64_t)qmax) / 65535u);
+        }
+    } else {
+        for (i = 0; i < n; ++i) {
+            uint32_t v = row[x0 + i];
+            if (reversed) v = 255u - v;
+            codes[i] = qmax - (v * qmax) / 255u;
+        }
+    }
+}
+
+
+/* ============================================================================
+   3. Level geometry and the modified Morton mapping.
+   ========================================================================== */
+
+LINEAR_RT_DEF lrt_result lrt_layout_compute(uint32_t width, uint32_t height, uint32_t node_bits, lrt_layout *out)
+{
+    lrt_layout L;
+    uint32_t lv;
+    lrt_result r;
+    if (!out) return LRT_ERROR_NULL_POINTER;
+    if ((r = lrt__check_size(width, height)) != LRT_SUCCESS) return r;
+    if (node_bits == LRT_NODE_BITS_AUTO) node_bits = 16;
+    if (node_bits != 8 && node_bits != 16) return LRT_ERROR_INVALID_OPTION;
+    memset(&L, 0, sizeof L);
+    L.width = width;
+    L.height = height;
+    L.node_bits = node_bits;
+    L.node_bytes = node_bits; /* 8 children x bits/8 bytes */
+    L.levels[0].width = width;
+    L.levels[0].height = height;
+    /* Level lv groups 4x2 into lv+1 when lv is even, 2x4 when odd; stop at a
+       1x1 level that is not the texels (a 1x1 map still gets one node). */
+    for (lv = 0;; ++lv) {
+        lrt_level *c = &L.levels[lv], *p = &L.levels[lv + 1];
+        c->block_w = (lv & 1) ? 2u : 4u;
+        c->block_h = (lv & 1) ? 4u : 2u;
+        p->width = (c->width + c->block_w - 1) / c->block_w;
+        p->height = (c->height + c->block_h - 1) / c->block_h;
+        p->span_w_log2 = c->span_w_log2 + ((lv & 1) ? 1u : 2u);
+        p->span_h_log2 = c->span_h_log2 + ((lv & 1) ? 2u : 1u);
+        if (p->width == 1 && p->height == 1) {
+            L.level_count = lv + 1;
+            break;
+        }
+        LINEAR_RT_ASSERT(lv + 2 <= LINEAR_RT_MAX_LEVELS);
+    }
+    {   /* the root level's grouping is unused; give it the alternating pattern */
+        lrt_level *root = &L.levels[L.level_count];
+        root->block_w = (L.level_count & 1) ? 2u : 4u;
+        root->block_h = (L.level_count & 1) ? 4u : 2u;
+    }
+    /* node slots: every block of the level above holds 8, padding included */
+    for (lv = 1; lv <= L.level_count; ++lv) {
+        lrt_level *c = &L.levels[lv];
+        c->offset = L.node_count;
+        c->count = lv == L.level_count ? 1u : (size_t)L.levels[lv + 1].width * L.levels[lv + 1].height * 8u;
+        L.node_count += c->count;
+    }
+    L.bytes = L.node_count * L.node_bytes; /* < 2^31 for 16384^2 16-bit nodes */
+    *out = L;
+    return LRT_SUCCESS;
+}
+
+/* Slot of node (x, y) among the 8 children of its parent: y0 x1 x0 for 4x2
+   blocks, y1 y0 x0 for 2x4 blocks. Row-major with x fastest, so flipping the
+   bits of one axis reverses that axis' order (used by the traversal). */
+static uint32_t lrt__child_slot(const lrt_level *lv, uint32_t x, uint32_t y)
+{
+    return lv->block_w == 4 ? ((y & 1u) << 2) | (x & 3u) : ((y & 3u) << 1) | (x & 1u);
+}
+
+LINEAR_RT_DEF size_t lrt_layout_node_index(const lrt_layout *layout, uint32_t level, uint32_t x, uint32_t y)
+{
+    const lrt_level *lv = &layout->levels[level];
+    size_t block;
+    if (level >= layout->level_count) return 0; /* the root */
+    block = (size_t)(y >> (lv->block_h == 4 ? 2 : 1)) * layout->levels[level + 1].width +
+            (x >> (lv->block_w == 4 ? 2 : 1));
+    return block * 8u + lrt__child_slot(lv, x, y);
+}
+
+/* ============================================================================
+   4. Nodes: BuildBVH and UpdateBVH. The tree's shape is implicit in the
+      layout, so building is laying out plus a refit of every node; an
+      update refits only the nodes above the dirty texels. A node's slot s
+      holds the height of child s, which is the max of that child's own 8
+      slots: exact, so heights can fall as well as rise, and the refit equals
+      a rebuild byte for byte.
+   ========================================================================== */
+
+/* Refit level-1 nodes [nx0,nx1] x [ny0,ny1] from the texels, two texel rows
+   at a time; texels outside the map get height 0 (padding). */
+static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_t stride,
+                                     uint32_t nx0, uint32_t nx1, uint32_t ny0, uint32_t ny1)
+{
+    const lrt_layout *L = &bvh->layout;
+    const uint32_t qmax = L->node_bits == 8 ? 255u : 65535u;
+    const size_t base = L->levels[1].offset;
+    uint32_t codes[2][64 + 4];
+    uint32_t nx, ny, r, s, chunk;
+    for (ny = ny0; ny <= ny1; ++ny) {
+        for (chunk = nx0; chunk <= nx1; chunk += 16) { /* 16 nodes = 64 texels a step */
+            uint32_t last = nx1 - chunk < 15 ? nx1 : chunk + 15, tx0 = chunk * 4u;
+            uint32_t n = (last - chunk + 1) * 4u, real = 0;
+            for (r = 0; r < 2; ++r) {
+                uint32_t ty = ny * 2u + r;
+                real = tx0 >= L->width ? 0u : (L->width - tx0 < n ? L->width - tx0 : n);
+                if (ty >= L->height) real = 0;
+                if (real) lrt__row_heights(depth, (const unsigned char *)depth->data + stride * ty, tx0, real, qmax, codes[r]);
+                for (s = real; s < n; ++s) codes[r][s] = 0;
+            }
+            for (nx = chunk; nx <= last; ++nx) {
+                size_t node = (base + lrt_layout_node_index(L, 1, nx, ny)) * 8u;
+                const uint32_t *c0 = codes[0] + (nx - chunk) * 4u, *c1 = codes[1] + (nx - chunk) * 4u;
+                if (L->node_bits == 8) {
+                    uint8_t *out = (uint8_t *)bvh->nodes + node;
+                    for (s = 0; s < 4; ++s) {
+                        out[s] = (uint8_t)c0[s];
+                        out[4 + s] = (uint8_t)c1[s];
+                    }
+                } else {
+                    uint16_t *out = (uint16_t *)bvh->nodes + node;
+                    for (s = 0; s < 4; ++s) {
+                        out[s] = (uint16_t)c0[s];
+                        out[4 + s] = (uint16_t)c1[s];
+                    }
+                }
+            }
+        }
+    }
+}
+
+/* Refit nodes [nx0,nx1] x [ny0,ny1] of level lv >= 2 from level lv-1. The 8
+   children of node (x, y) are contiguous: level lv-1's slots
+   (row-major index of (x, y) in level lv) * 8 + s. */
+static void lrt__refit_level(lrt_bvh *bvh, uint32_t lv, uint32_t nx0, uint32_t nx1, uint32_t ny0, uint32_t ny1)
+{
+    const lrt_layout *L = &bvh->layout;
+    const size_t child_base = L->levels[lv - 1].offset, base = L->levels[lv].offset;
+    uint32_t nx, ny, s, c;
+    for (ny = ny0; ny <= ny1; ++ny) {
+        for (nx = nx0; nx <= nx1; ++nx) {
+            size_t node = (base + lrt_layout_node_index(L, lv, nx, ny)) * 8u;
+            size_t first_child = (child_base + ((size_t)ny * L->levels[lv].width + nx) * 8u) * 8u;
+            if (nx >= L->levels[lv].width || ny >= L->levels[lv].height) {
+                /* a padding node has no children in memory: height 0 */
+                memset((unsigned char *)bvh->nodes + node * (L->node_bits / 8u), 0, L->node_bytes);
+            } else if (L->node_bits == 8) {
+                const uint8_t *ch = (const uint8_t *)bvh->nodes + first_child;
+                uint8_t *out = (uint8_t *)bvh->nodes + node;
+                for (s = 0; s < 8; ++s) {
+                    uint8_t m = 0;
+                    for (c = 0; c < 8; ++c) m = ch[s * 8 + c] > m ? ch[s * 8 + c] : m;
+                    out[s] = m;
+                }
+            } else {
+                const uint16_t *ch = (const uint16_t *)bvh->nodes + first_child;
+                uint16_t *out = (uint16_t *)bvh->nodes + node;
+                for (s = 0; s < 8; ++s) {
+                    uint16_t m = 0;
+                    for (c = 0; c < 8; ++c) m = ch[s * 8 + c] > m ? ch[s * 8 + c] : m;
+                    out[s] = m;
+                }
+            }
+        }
+    }
+}
+
+/* Refit texels [x0,x1] x [y0,y1] (inclusive) and everything above them. A
+   full refit passes the padded grid of every level, so padding is written too. */
+static void lrt__refit(lrt_bvh *bvh, const lrt_depth *depth, size_t stride, uint32_t x0, uint32_t x1, uint32_t y0,
+                       uint32_t y1, int whole)
+{
+    const lrt_layout *L = &bvh->layout;
+    uint32_t lv;
+    for (lv = 1; lv <= L->level_count; ++lv) {
+        const lrt_level *v = &L->levels[lv];
+        uint32_t nx0 = x0 >> v->span_w_log2, nx1 = x1 >> v->span_w_log2;
+        uint32_t ny0 = y0 >> v->span_h_log2, ny1 = y1 >> v->span_h_log2;
+        if (whole || lv == L->level_count) {
+            /* all slots of the level: the padded grid of its parent blocks */
+            nx0 = ny0 = 0;
+            if (lv == L->level_count) {
+                nx1 = ny1 = 0;
+            } else {
+                nx1 = L->levels[lv + 1].width * v->block_w - 1;
+                ny1 = L->levels[lv + 1].height * v->block_h - 1;
+            }
+        }
+        if (lv == 1) lrt__refit_texel_parents(bvh, depth, stride, nx0, nx1, ny0, ny1);
+        else lrt__refit_level(bvh, lv, nx0, nx1, ny0, ny1);
+    }
+}
+
+#define LRT__ALIGN 16u /* a 16-bit node */
+
+static lrt_result lrt__resolve_bits(lrt_format format, const lrt_build_options *options, uint32_t *bits)
+{
+    uint32_t b = options ? options->node_bits : 0u;
+    if (b == LRT_NODE_BITS_AUTO) b = format == LRT_FORMAT_UNORM8 ? 8u : 16u;
+    if (b != 8 && b != 16) return LRT_ERROR_INVALID_OPTION;
+    *bits = b;
+    return LRT_SUCCESS;
+}
+
+LINEAR_RT_DEF lrt_result lrt_bvh_memory_size(uint32_t width, uint32_t height, lrt_format format,
+                                             const lrt_build_options *options, size_t *out_bytes)
+{
+    lrt_layout L;
+    uint32_t bits;
+    lrt_result r;
+    if (!out_bytes) return LRT_ERROR_NULL_POINTER;
+    if ((r = lrt__check_size(width, height)) != LRT_SUCCESS) return r;
+    if (!lrt__format_bytes(format)) return LRT_ERROR_INVALID_FORMAT;
+    if ((r = lrt__resolve_bits(format, options, &bits)) != LRT_SUCCESS) return r;
+    if ((r = lrt_layout_compute(width, height, bits, &L)) != LRT_SUCCESS) return r;
+    *out_bytes = L.bytes + LRT__ALIGN - 1; /* room to align caller memory */
+    return LRT_SUCCESS;
+}
+
+/* Shared by both builds: validate everything, then lay out. */
+static lrt_result lrt__prepare(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_build_options *options,
+                               lrt_layout *layout, size_t *stride)
+{
+    uint32_t bits;
+    lrt_result r;
+    if (!bvh) return LRT_ERROR_NULL_POINTER;
+    if ((r = lrt__check_depth(depth, stride)) != LRT_SUCCESS) return r;
+    if ((r = lrt__resolve_bits(depth->format, options, &bits)) != LRT_SUCCESS) return r;
+    return lrt_layout_compute(depth->width, depth->height, bits, layout);
+}
+
+static void lrt__finish_build(lrt_bvh *bvh, const lrt_layout *layout, void *nodes, const lrt_allocator *allocator,
+                              const lrt_depth *depth, size_t stride)
+{
+    memset(bvh, 0, sizeof *bvh);
+    bvh->layout = *layout;
+    bvh->nodes = nodes;
+    if (allocator) bvh->allocator = *allocator;
+    bvh->built = 1;
+    lrt__refit(bvh, depth, stride, 0, layout->width - 1, 0, layout->height - 1, 1);
+}
+
+static void *lrt__default_alloc(void *user, size_t size) { return LINEAR_RT_MALLOC(size, user); }
+static void lrt__default_free(void *user, void *ptr) { LINEAR_RT_FREE(ptr, user); }
+
+LINEAR_RT_DEF lrt_result lrt_bvh_build(lrt_bvh *bvh, const lrt_depth *depth, const lrt_build_options *options,
+                                       const lrt_allocator *allocator)
+{
+    lrt_allocator a;
+    lrt_layout layout;
+    size_t stride;
+    void *nodes;
+    lrt_result r;
+    if ((r = lrt__prepare(bvh, depth, options, &layout, &stride)) != LRT_SUCCESS) return r;
+    if (allocator) {
+        if (!allocator->alloc || !allocator->free) return LRT_ERROR_NULL_POINTER;
+        a = *allocator;
+    } else {
+        a.alloc = lrt__default_alloc;
+        a.free = lrt__default_free;
+        a.user = NULL;
+    }
+    nodes = a.alloc(a.user, layout.bytes);
+    if (!nodes) return LRT_ERROR_OUT_OF_MEMORY;
+    lrt__finish_build(bvh, &layout, nodes, &a, depth, stride);
+    return LRT_SUCCESS;
+}
+
+LINEAR_RT_DEF lrt_result lrt_bvh_build_in(lrt_bvh *bvh, const lrt_depth *depth, const lrt_build_options *options,
+                                          void *memory, size_t memory_bytes)
+{
+    lrt_layout layout;
+    size_t stride, skip;
+    lrt_result r;
+    if ((r = lrt__prepare(bvh, depth, options, &layout, &stride)) != LRT_SUCCESS) return r;
+    if (!memory) return LRT_ERROR_NULL_POINTER;
+    if (memory_bytes < layout.bytes + LRT__ALIGN - 1) return LRT_ERROR_BUFFER_TOO_SMALL;
+    /* nodes are read as 16-bit words: start them on a node boundary */
+    skip = (LRT__ALIGN - (size_t)((uintptr_t)memory % LRT__ALIGN)) % LRT__ALIGN;
+    lrt__finish_build(bvh, &layout, (unsigned char *)memory + skip, NULL, depth, stride);
+    return LRT_SUCCESS;
+}
+
+LINEAR_RT_DEF void lrt_bvh_destroy(lrt_bvh *bvh)
+{
+    if (!bvh) return;
+    if (bvh->built && bvh->allocator.free && bvh->nodes) bvh->allocator.free(bvh->allocator.user, bvh->nodes);
+    memset(bvh, 0, sizeof *bvh);
+}
+
+/* The BVH and the depth it was made from must agree before anything is read. */
+static lrt_result lrt__check_pair(const lrt_bvh *bvh, const lrt_depth *depth, size_t *stride)
+{
+    lrt_result r;
+    if (!bvh) return LRT_ERROR_NULL_POINTER;
+    if (!bvh->built || !bvh->nodes) return LRT_ERROR_INVALID_BVH;
+    if ((r = lrt__check_depth(depth, stride)) != LRT_SUCCESS) return r;
+    if (depth->width != bvh->layout.width || depth->height != bvh->layout.height) return LRT_ERROR_SIZE_MISMATCH;
+    return LRT_SUCCESS;
+}
+
+LINEAR_RT_DEF lrt_result lrt_bvh_update(lrt_bvh *bvh, const lrt_depth *depth, const lrt_rect *dirty)
+{
+    size_t stride;
+    lrt_result r;
+    if ((r = lrt__check_pair(bvh, depth, &stride)) != LRT_SUCCESS) return r;
+    if (!dirty) {
+        lrt__refit(bvh, depth, stride, 0, depth->width - 1, 0, depth->height - 1, 1);
+        return LRT_SUCCESS;
+    }
+    if (dirty->x > depth->width || dirty->width > depth->width - dirty->x || dirty->y > depth->height ||
+        dirty->height > depth->height - dirty->y)
+        return LRT_ERROR_INVALID_RECT;
+    if (dirty->width == 0 || dirty->height == 0) return LRT_SUCCESS;
+    lrt__refit(bvh, depth, stride, dirty->x, dirty->x + dirty->width - 1, dirty->y, dirty->y + dirty->height - 1, 0);
+    return LRT_SUCCESS;
+}
+
+/* ============================================================================
+   5. Traversal (RayQuery.Proceed of the design), specialised for this tree:
+      no triangles, no instances, no stored boxes. A node's children form a
+      4x2 or 2x4 grid, so their x/y slabs come from 5+3 shared planes; the
+      only per-child work is the z plane of its height. Children are visited
+      front to back (row-major order with the axes flipped by the ray's
+      direction signs is front to back for any straight line), so the first
+      texel hit found is the closest and the walk stops there.
+      Every t of a plane is (plane - o) * (1/v): monotone in the plane, so a
+      child's interval never exceeds its parent's and culling never loses a
+      hit the final texel test would find. A 0 direction component gives
+      infinite inverses and NaN exactly on a plane; NaN is dropped by the
+      max/min accumulations, which makes such slabs closed, as the model says.
+   ========================================================================== */
+
+typedef struct lrt__ray_setup {
+    float o[3], v[3], iv[3];
+    uint32_t neg_x, neg_y, neg_z; /* sign bits of the direction (-0 counts) */
+    float t_lo, t_hi;             /* the ray clipped to the screen and to z <= 1 */
+    float t_base;                 /* t of the origin used here on the caller's ray */
+    double iv_z_d;                /* 1/v.z for the exact texel test */
+} lrt__ray_setup;
+
+/* max/min that drop a NaN candidate (acc is never NaN) */
+#define LRT__MAX_KEEP(cand, acc) ((cand) > (acc) ? (cand) : (acc))
+#define LRT__MIN_KEEP(cand, acc) ((cand) < (acc) ? (cand) : (acc))
+
+static int lrt__finite(float f) { return f - f == 0.0f; }
+
+static uint32_t lrt__sign_bit(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    return u >> 31;
+}
+
+/* Entering and leaving t of the slab [lo, hi] along one axis. */
+static void lrt__slab(float lo, float hi, float o, float iv, uint32_t neg, float *enter, float *exit)
+{
+    float a = (lo - o) * iv, b = (hi - o) * iv;
+    *enter = LRT__MAX_KEEP(neg ? b : a, *enter);
+    *exit = LRT__MIN_KEEP(neg ? a : b, *exit);
+}
+
+/* Clips the ray to the screen rectangle and to z <= 1 (nothing lies beyond
+   the far plane). Returns the kind a miss would have: off the screen when
+   the rectangle's part of [tmin, tmax] is empty or ends before tmax. */
+static uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t height, float tmin, float tmax)
+{
+    /* the far plane's t the way the texel test computes depth planes, so a
+       far-plane texel (depth 1) is met exactly at the clip */
+    float xy_enter = -INFINITY, xy_exit = INFINITY, t1 = (float)((1.0 - (double)s->o[2]) * (1.0 / (double)s->v[2]));
+    uint32_t kind;
+    lrt__slab(0.0f, (float)width, s->o[0], s->iv[0], s->neg_x, &xy_enter, &xy_exit);
+    lrt__slab(0.0f, (float)height, s->o[1], s->iv[1], s->neg_y, &xy_enter, &xy_exit);
+    s->t_lo = LRT__MAX_KEEP(xy_enter, tmin);
+    s->t_hi = LRT__MIN_KEEP(xy_exit, tmax);
+    kind = (s->t_lo > s->t_hi || xy_exit < tmax) ? LRT_MISS_OFF_SCREEN : LRT_MISS_TMAX;
+    if (s->neg_z) s->t_lo = LRT__MAX_KEEP(t1, s->t_lo);
+    else s->t_hi = LRT__MIN_KEEP(t1, s->t_hi);
+    return kind;
+}
+
+/* Error-free sum and product of doubles (Knuth, Dekker via fma). */
+static void lrt__two_sum(double a, double b, double *sum, double *err)
+{
+    double s = a + b, bb = s - a;
+    *sum = s;
+    *err = (a - (s - bb)) + (b - bb);
+}
+
+/* o_b + (plane - o_a) * v_b / v_a for a far-away origin, from an exact
+   expansion of the numerator o_b v_a + (plane - o_a) v_b, so that a crossing
+   that is a float (a texel corner, say) comes out exactly. */
+static float lrt__crossing(float o_b, float o_a, float v_b, float v_a, double plane)
+{
+    double terms[5], s, e, x, acc[5];
+    int n = 0, i, j;
+    lrt__two_sum(plane, -(double)o_a, &s, &e);         /* plane - o_a = s + e */
+    terms[0] = (double)o_b * (double)v_a;              /* float x float: exact */
+    terms[1] = s * (double)v_b;
+    terms[2] = fma(s, (double)v_b, -terms[1]);
+    terms[3] = e * (double)v_b;
+    terms[4] = fma(e, (double)v_b, -terms[3]);
+    for (i = 0; i < 5; ++i) { /* grow an exact expansion, smallest first */
+        x = terms[i];
+        for (j = 0; j < n; ++j) {
+            double hi, lo;
+            lrt__two_sum(acc[j], x, &hi, &lo);
+            acc[j] = lo;
+            x = hi;
+        }
+        acc[n++] = x;
+    }
+    x = 0.0;
+    for (i = 0; i < n; ++i) x += acc[i]; /* the largest part last: faithful */
+    return (float)(x / (double)v_a);
+}
+
+/* Validates and clips one ray; returns 0 with *kind set when nothing is left
+   to walk. A direction whose components are all tiny is rescaled by a power
+   of two (exact) so that 1/v stays finite where the ray really moves. */
+static int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t height, lrt__ray_setup *s, float *t_scale,
+                          uint32_t *kind)
+{
+    float v[3], tmin = ray->tmin, tmax = ray->tmax, m;
+    int k;
+    *t_scale = 1.0f;
+    for (k = 0; k < 3; ++k) {
+        if (!lrt__finite(ray->origin[k]) || !lrt__finite(ray->dir[k])) {
+            *kind = LRT_MISS_INVALID_RAY;
+            return 0;
+        }
+        s->o[k] = ray->origin[k];
+        v[k] = ray->dir[k];
+    }
+    if (!lrt__finite(tmin) || !lrt__finite(tmax) || !(tmin >= 0.0f) || !(tmin <= tmax)) {
+        *kind = LRT_MISS_INVALID_RAY;
+        return 0;
+    }
+    m = fabsf(v[0]) > fabsf(v[1]) ? fabsf(v[0]) : fabsf(v[1]);
+    m = fabsf(v[2]) > m ? fabsf(v[2]) : m;
+    if (m != 0.0f && m < 1e-30f) { /* rare: rescale so that max |v| is about 1 */
+        int e;
+        (void)frexpf(m, &e);
+        for (k = 0; k < 3; ++k) v[k] = ldexpf(v[k], -e);
+        tmin = ldexpf(tmin, e); /* may underflow to 0: tmin is reported as given */
+        tmax = ldexpf(tmax, e);
+        *t_scale = ldexpf(1.0f, -e);
+    }
+    for (k = 0; k < 3; ++k) {
+        s->v[k] = v[k];
+        s->iv[k] = 1.0f / v[k];
+    }
+    s->neg_x = lrt__sign_bit(v[0]);
+    s->neg_y = lrt__sign_bit(v[1]);
+    s->neg_z = lrt__sign_bit(v[2]);
+    s->t_base = 0.0f;
+    *kind = lrt__clip(s, width, height, tmin, tmax);
+    if (s->t_lo > s->t_hi) return 0;
+    /* A far-away origin loses the screen's planes in (plane - o): restart the
+       ray where it enters the screen box, found in double. The new origin
+       is off the exact entry point by far less than one float ulp of the old
+       one, which MODEL.md allows. */
+    if (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
+        fabsf(s->o[2]) > 4.0f) {
+        const double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {(double)width, (double)height, 1.0};
+        double te = (double)tmin, plane = 0.0;
+        int axis = -1;
+        for (k = 0; k < 3; ++k) {
+            double ivd = 1.0 / (double)v[k], p = lrt__sign_bit(v[k]) ? hi[k] : lo[k];
+            double en = (p - (double)s->o[k]) * ivd;
+            if (en > te) { /* NaN (v = 0 on a plane) drops out */
+                te = en;
+                axis = k;
+                plane = p;
+            }
+        }
+        /* the entering axis lands on its plane exactly; the others at the
+           exact crossing o_b + (plane - o_a) v_b / v_a, rounded once */
+        {
+            const float o_a = axis < 0 ? 0.0f : s->o[axis];
+            for (k = 0; k < 3; ++k) {
+                if (axis < 0) s->o[k] = (float)((double)s->o[k] + te * (double)v[k]);
+                else if (k == axis) s->o[k] = (float)plane;
+                else s->o[k] = lrt__crossing(s->o[k], o_a, v[k], v[axis], plane);
+            }
+        }
+        s->t_base = (float)te;
+        (void)lrt__clip(s, width, height, 0.0f, (float)((double)tmax - te));
+    }
+    s->iv_z_d = 1.0 / (double)s->v[2];
+    return s->t_lo <= s->t_hi;
+}
+
+/* Lowest level whose single node holds every texel the clipped segment can
+   touch: the walk starts there instead of at the root. The texel box is
+   widened by a margin far above float rounding, so it is conservative. */
+static uint32_t lrt__start_node(const lrt_layout *L, const lrt__ray_setup *s, uint32_t *sx, uint32_t *sy)
+{
+    float lo[2], hi[2];
+    uint32_t i0[2], i1[2], lim[2], lv;
+    int k;
+    lim[0] = L->width - 1;
+    lim[1] = L->height - 1;
+    for (k = 0; k < 2; ++k) {
+        float a = s->o[k] + s->t_lo * s->v[k], b = s->o[k] + s->t_hi * s->v[k];
+        float mg = 1e-3f + 1e-5f * (fabsf(s->o[k]) + fabsf(s->t_lo * s->v[k]) + fabsf(s->t_hi * s->v[k]));
+        lo[k] = (a < b ? a : b) - mg;
+        hi[k] = (a < b ? b : a) + mg;
+        /* clamp before converting; NaN (from overflow) falls to "anywhere" */
+        i0[k] = lo[k] > 0.0f ? (lo[k] < (float)lim[k] ? (uint32_t)lo[k] : lim[k]) : 0u;
+        i1[k] = hi[k] < (float)lim[k] ? (hi[k] > 0.0f ? (uint32_t)hi[k] : 0u) : lim[k];
+    }
+    for (lv = 1; lv < L->level_count; ++lv) {
+        const lrt_level *v = &L->levels[lv];
+        if ((i0[0] >> v->span_w_log2) == (i1[0] >> v->span_w_log2) &&
+            (i0[1] >> v->span_h_log2) == (i1[1] >> v->span_h_log2))
+            break;
+    }
+    *sx = i0[0] >> L->levels[lv].span_w_log2;
+    *sy = i0[1] >> L->levels[lv].span_h_log2;
+    if (lv == L->level_count) *sx = *sy = 0;
+    return lv;
+}
+
+/* Per-level constants of the walk, so the hot loop does shifts and adds. */
+typedef struct lrt__walk_level {
+    size_t offset;          /* first node slot of the level */
+    uint32_t parent_width;  /* blocks per row in the level above (Morton index) */
+    uint32_t bw_log2, bh_log2; /* this level's grouping into its parent: 2,1 or 1,2 */
+    uint32_t tall;          /* this level's CHILDREN come in 2x4 blocks */
+    float child_span_w, child_span_h; /* texels per child, as float */
+    uint32_t child_span_w_log2, child_span_h_log2;
+} lrt__walk_level;
+
+typedef struct lrt__walk {
+    const lrt_layout *L;
+    const void *nodes;
+    const lrt_depth *depth;
+    size_t stride;
+    uint32_t qmax, wide_codes; /* wide_codes: 16-bit nodes */
+    float decode_scale; /* just below 1/qmax: decoded bounds never exceed the true ones */
+    int exact_codes;    /* the level-1 codes are the input depth itself */
+    lrt__walk_level lv[LINEAR_RT_MAX_LEVELS + 1];
+} lrt__walk;
+
+static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *depth, size_t stride)
+{
+    const lrt_layout *L = &bvh->layout;
+    uint32_t i;
+    memset(w, 0, sizeof *w);
+    w->L = L;
+    w->nodes = bvh->nodes;
+    w->depth = depth;
+    w->stride = stride;
+    w->qmax = L->node_bits == 8 ? 255u : 65535u;
+    w->wide_codes = L->node_bits == 16;
+    /* 2^-20 below 1/qmax: a node's decoded depth stays below every texel depth
+       under it by more than the float rounding of its plane's t, so culling
+       in float never drops a hit that the texel test (in double) finds */
+    w->decode_scale = (1.0f / (float)w->qmax) * (1.0f - 1.0f / 1048576.0f);
+    w->exact_codes = depth->format != LRT_FORMAT_FLOAT32 && lrt__format_bytes(depth->format) * 8u <= L->node_bits;
+    for (i = 1; i <= L->level_count; ++i) {
+        lrt__walk_level *v = &w->lv[i];
+        const lrt_level *c = &L->levels[i - 1], *me = &L->levels[i];
+        v->offset = me->offset;
+        v->parent_width = i < L->level_count ? L->levels[i + 1].width : 0u;
+        v->bw_log2 = me->block_w == 4 ? 2u : 1u;
+        v->bh_log2 = me->block_h == 4 ? 2u : 1u;
+        v->tall = c->block_w == 2;
+        v->child_span_w_log2 = c->span_w_log2;
+        v->child_span_h_log2 = c->span_h_log2;
+        v->child_span_w = (float)(1u << c->span_w_log2);
+        v->child_span_h = (float)(1u << c->span_h_log2);
+    }
+}
+
+/* First code of node (x, y) of level lv in the node array (slot units). */
+static size_t lrt__node_slot(const lrt__walk *w, uint32_t lv, uint32_t x, uint32_t y)
+{
+    const lrt__walk_level *v = &w->lv[lv];
+    size_t index = 0;
+    if (v->parent_width) {
+        size_t block = (size_t)(y >> v->bh_log2) * v->parent_width + (x >> v->bw_log2);
+        uint32_t slot = v->bw_log2 == 2 ? ((y & 1u) << 2) | (x & 3u) : ((y & 3u) << 1) | (x & 1u);
+        index = block * 8u + slot;
+    }
+    return (v->offset + index) * 8u;
+}
+
+/* Children of node (nx, ny) at level lv whose boxes the ray meets, as a bit
+   mask over slots; enter[s] / exit[s] bound the ray inside child s.
+   Lane k of a wide (4x2) node is column k&3, row k>>2; of a tall (2x4) node
+   column k&1, row k>>1. Each plane's t is computed once, the same way at
+   every level, which keeps the culling monotone. */
+static uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
+                                   size_t slot0, float enter[8], float exit[8])
+{
+    const lrt__walk_level *v = &w->lv[lv];
+    const uint32_t tall = v->tall, bw = tall ? 2u : 4u, bh = tall ? 4u : 2u;
+    const float x0 = (float)((nx * bw) << v->child_span_w_log2), y0 = (float)((ny * bh) << v->child_span_h_log2);
+    const float neg_inf = -INFINITY, pos_inf = INFINITY;
+    float dz[8];
+    uint32_t k, mask = 0;
+    if (w->wide_codes) {
+        const uint16_t *codes = (const uint16_t *)w->nodes + slot0;
+        for (k = 0; k < 8; ++k) dz[k] = (float)(65535 - (int)codes[k]);
+    } else {
+        const uint8_t *codes = (const uint8_t *)w->nodes + slot0;
+        for (k = 0; k < 8; ++k) dz[k] = (float)(255 - (int)codes[k]);
+    }
+#if LRT__SSE
+    {
+        const __m128 ox = _mm_set1_ps(s->o[0]), oy = _mm_set1_ps(s->o[1]), oz = _mm_set1_ps(s->o[2]);
+        const __m128 ivx = _mm_set1_ps(s->iv[0]), ivy = _mm_set1_ps(s->iv[1]), ivz = _mm_set1_ps(s->iv[2]);
+        const __m128 scale = _mm_set1_ps(w->decode_scale), tlo = _mm_set1_ps(s->t_lo), thi = _mm_set1_ps(s->t_hi);
+        /* the z plane enters (v.z >= 0) or leaves (v.z < 0); the unused side is
+           masked with an infinity placed so that a NaN tz still drops out */
+        const __m128 zmask = _mm_set1_ps(s->neg_z ? neg_inf : pos_inf);
+        __m128 xe[2], xx[2], ye[2], yx[2];
+        if (!tall) { /* 4 columns of planes in one vector, 2 rows */
+            __m128 X = _mm_add_ps(_mm_set1_ps(x0), _mm_mul_ps(_mm_set_ps(3, 2, 1, 0), _mm_set1_ps(v->child_span_w)));
+            __m128 a = _mm_mul_ps(_mm_sub_ps(X, ox), ivx);
+            __m128 b = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X, _mm_set1_ps(v->child_span_w)), ox), ivx);
+            float p0 = (y0 - s->o[1]) * s->iv[1], p1 = ((y0 + v->child_span_h) - s->o[1]) * s->iv[1];
+            float p2 = ((y0 + 2.0f * v->child_span_h) - s->o[1]) * s->iv[1];
+            xe[0] = xe[1] = s->neg_x ? b : a;
+            xx[0] = xx[1] = s->neg_x ? a : b;
+            ye[0] = _mm_set1_ps(s->neg_y ? p1 : p0);
+            yx[0] = _mm_set1_ps(s->neg_y ? p0 : p1);
+            ye[1] = _mm_set1_ps(s->neg_y ? p2 : p1);
+            yx[1] = _mm_set1_ps(s->neg_y ? p1 : p2);
+        } else {     /* 2 columns, 4 rows of planes in one vector */
+            __m128 Y = _mm_add_ps(_mm_set1_ps(y0), _mm_mul_ps(_mm_set_ps(3, 2, 1, 0), _mm_set1_ps(v->child_span_h)));
+            __m128 a = _mm_mul_ps(_mm_sub_ps(Y, oy), ivy);
+            __m128 b = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y, _mm_set1_ps(v->child_span_h)), oy), ivy);
+            __m128 re = s->neg_y ? b : a, rx = s->neg_y ? a : b;
+            float p0 = (x0 - s->o[0]) * s->iv[0], p1 = ((x0 + v->child_span_w) - s->o[0]) * s->iv[0];
+            float p2 = ((x0 + 2.0f * v->child_span_w) - s->o[0]) * s->iv[0];
+            float e0 = s->neg_x ? p1 : p0, e1 = s->neg_x ? p2 : p1, x0e = s->neg_x ? p0 : p1, x1e = s->neg_x ? p1 : p2;
+            xe[0] = xe[1] = _mm_set_ps(e1, e0, e1, e0);
+            xx[0] = xx[1] = _mm_set_ps(x1e, x0e, x1e, x0e);
+            ye[0] = _mm_unpacklo_ps(re, re);
+            ye[1] = _mm_unpackhi_ps(re, re);
+            yx[0] = _mm_unpacklo_ps(rx, rx);
+            yx[1] = _mm_unpackhi_ps(rx, rx);
+        }
+        for (k = 0; k < 2; ++k) {
+            __m128 tz = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(_mm_loadu_ps(dz + 4 * k), scale), oz), ivz);
+            __m128 en = _mm_max_ps(xe[k], tlo), ex = _mm_min_ps(xx[k], thi); /* maxps/minps keep the 2nd operand on NaN */
+            en = _mm_max_ps(ye[k], en);
+            en = _mm_max_ps(_mm_min_ps(zmask, tz), en);
+            ex = _mm_min_ps(yx[k], ex);
+            ex = _mm_min_ps(_mm_max_ps(zmask, tz), ex);
+            _mm_storeu_ps(enter + 4 * k, en);
+            _mm_storeu_ps(exit + 4 * k, ex);
+            mask |= (uint32_t)_mm_movemask_ps(_mm_cmple_ps(en, ex)) << (4 * k);
+        }
+    }
+#else
+    {
+        float px[5], py[5];
+        for (k = 0; k <= bw; ++k) px[k] = ((x0 + (float)k * v->child_span_w) - s->o[0]) * s->iv[0];
+        for (k = 0; k <= bh; ++k) py[k] = ((y0 + (float)k * v->child_span_h) - s->o[1]) * s->iv[1];
+        for (k = 0; k < 8; ++k) {
+            uint32_t c = tall ? (k & 1u) : (k & 3u), r = tall ? (k >> 1) : (k >> 2);
+            float tz = (dz[k] * w->decode_scale - s->o[2]) * s->iv[2];
+            float en = s->t_lo, ex = s->t_hi;
+            en = LRT__MAX_KEEP(px[c + s->neg_x], en);
+            en = LRT__MAX_KEEP(py[r + s->neg_y], en);
+            ex = LRT__MIN_KEEP(px[c + 1 - s->neg_x], ex);
+            ex = LRT__MIN_KEEP(py[r + 1 - s->neg_y], ex);
+            if (s->neg_z) ex = LRT__MIN_KEEP(tz, ex);
+            else en = LRT__MAX_KEEP(tz, en);
+            enter[k] = en;
+            exit[k] = ex;
+            mask |= (uint32_t)(en <= ex) << k;
+        }
+        (void)neg_inf;
+        (void)pos_inf;
+    }
+#endif
+    return mask;
+}
+
+/* The exact test of one candidate texel against its true depth. The depth
+   plane's crossing is computed in double: a unorm depth such as v/65535 is
+   no float, and its rounding, divided by a grazing ray's tiny v.z, would move
+   the hit along the texel top by far more than float rounding of t. */
+static int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float enter,
+                           float exit, uint32_t code, float *t)
+{
+    double d;
+    float tz;
+    if (tx >= w->L->width || ty >= w->L->height) return 0; /* padding */
+    d = w->exact_codes ? (double)(w->qmax - code) / (double)w->qmax : lrt__load_depth_exact(w->depth, w->stride, tx, ty);
+    tz = (float)((d - (double)s->o[2]) * s->iv_z_d);
+    if (s->neg_z) exit = LRT__MIN_KEEP(tz, exit);
+    else enter = LRT__MAX_KEEP(tz, enter);
+    *t = enter;
+    return enter <= exit;
+}
+
+/* Reorders a slot mask so that bit k is slot k ^ flip: then walking bits from
+   the lowest is walking the children front to back. XOR by 4, 2, 1 swaps
+   nibbles, bit pairs, neighbours. */
+static uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
+{
+    if (flip & 4u) m = ((m & 0x0fu) << 4) | ((m >> 4) & 0x0fu);
+    if (flip & 2u) m = ((m & 0x33u) << 2) | ((m >> 2) & 0x33u);
+    if (flip & 1u) m = ((m & 0x55u) << 1) | ((m >> 1) & 0x55u);
+    return m;
+}
+
+static uint32_t lrt__lowest_bit(uint32_t m)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return (uint32_t)__builtin_ctz(m);
+#else
+    uint32_t k = 0;
+    while (!((m >> k) & 1u)) ++k;
+    return k;
+#endif
+}
+
+static uint32_t lrt__highest_bit(uint32_t m)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return 31u - (uint32_t)__builtin_clz(m);
+#else
+    uint32_t k = 31;
+    while (!((m >> k) & 1u)) --k;
+    return k;
+#endif
+}
+
+#define LRT__STACK (LINEAR_RT_MAX_LEVELS * 7u + 1u)
+
+static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
+{
+    const lrt_layout *L = w->L;
+    lrt__ray_setup s;
+    float t_scale;
+    uint32_t kind, lv, nx, ny, sp = 0;
+    uint32_t stack[LRT__STACK]; /* level << 28 | x << 14 | y */
+    hit->t = 0.0f;
+    hit->x = hit->y = 0;
+    if (!lrt__setup_ray(ray, L->width, L->height, &s, &t_scale, &kind)) {
+        hit->kind = kind;
+        return;
+    }
+    lv = lrt__start_node(L, &s, &nx, &ny);
+    for (;;) {
+        const uint32_t tall = w->lv[lv].tall;
+        /* front-to-back order: flip the bits of each axis that runs backwards */
+        const uint32_t flip = (s.neg_x ? (tall ? 1u : 3u) : 0u) | (s.neg_y ? (tall ? 6u : 4u) : 0u);
+        const size_t slot0 = lrt__node_slot(w, lv, nx, ny);
+        float enter[8], exit[8];
+        uint32_t mask = lrt__order_mask(lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit), flip);
+        if (lv == 1) {
+            while (mask) { /* texels: the exact test, front to back */
+                uint32_t slot = lrt__lowest_bit(mask) ^ flip;
+                uint32_t code = w->wide_codes ? ((const uint16_t *)w->nodes)[slot0 + slot]
+                                              : ((const uint8_t *)w->nodes)[slot0 + slot];
+                uint32_t tx = nx * 4u + (slot & 3u), ty = ny * 2u + (slot >> 2);
+                float t;
+                mask &= mask - 1u;
+                if (lrt__test_texel(w, &s, tx, ty, enter[slot], exit[slot], code, &t)) {
+                    hit->kind = LRT_HIT;
+                    /* back to the caller's ray: undo the restart and the rescale */
+                    t = (t + s.t_base) * t_scale;
+                    t = t < ray->tmin ? ray->tmin : t > ray->tmax ? ray->tmax : t;
+                    hit->t = t;
+                    hit->x = tx;
+                    hit->y = ty;
+                    return;
+                }
+            }
+        } else if (mask) {
+            /* push the children after the first, last first; descend into the first */
+            const uint32_t bw_log2 = tall ? 1u : 2u, cm = tall ? 1u : 3u;
+            uint32_t first = lrt__lowest_bit(mask) ^ flip, rest = mask & (mask - 1u);
+            while (rest) {
+                uint32_t hi = lrt__highest_bit(rest), slot = hi ^ flip;
+                rest &= ~(1u << hi);
+                stack[sp++] = ((lv - 1) << 28) | (((nx << bw_log2) + (slot & cm)) << 14) | ((ny << (3u - bw_log2)) + (slot >> bw_log2));
+            }
+            nx = (nx << bw_log2) + (first & cm);
+            ny = (ny << (3u - bw_log2)) + (first >> bw_log2);
+            lv -= 1;
+            continue;
+        }
+        if (sp == 0) break;
+        --sp;
+        lv = stack[sp] >> 28;
+        nx = (stack[sp] >> 14) & 0x3fffu;
+        ny = stack[sp] & 0x3fffu;
+    }
+    hit->kind = kind;
+}
+
+LINEAR_RT_DEF lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
+                                         lrt_hit *hits, size_t first, size_t end, uint32_t flags)
+{
+    lrt__walk w;
+    size_t i, stride;
+    lrt_result r;
+    if ((r = lrt__check_pair(bvh, depth, &stride)) != LRT_SUCCESS) return r;
+    if (flags & ~(uint32_t)LRT_TRACE_ANY_HIT) return LRT_ERROR_INVALID_OPTION;
+    if (first > end || end - first > LINEAR_RT_MAX_RAYS_PER_CALL) return LRT_ERROR_TOO_MANY_RAYS;
+    if (first == end) return LRT_SUCCESS;
+    if (!rays || !hits) return LRT_ERROR_NULL_POINTER;
+    lrt__walk_init(&w, bvh, depth, stride);
+    /* The walk already stops at the first (closest) hit, so any-hit needs no
+       separate path: the flag is accepted for what a caller means. */
+    for (i = first; i < end; ++i) lrt__trace_one(&w, &rays[i], &hits[i]);
+    return LRT_SUCCESS;
+}
+
+LINEAR_RT_DEF lrt_result lrt_trace(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays, lrt_hit *hits,
+                                   size_t count, uint32_t flags)
+{
+    return lrt_trace_range(bvh, depth, rays, hits, 0, count, flags);
+}
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* LINEAR_RT_IMPLEMENTATION_DONE */
+#endif /* LINEAR_RT_IMPLEMENTATION */
+
+/*
+------------------------------------------------------------------------------
+MIT License
+
+Copyright (c) 2026 the linear_rt authors
+
+Permission is hereby granted, free of charge, to any person obtaining a copy of
+this software and associated documentation files (the "Software"), to deal in
+the Software without restriction, including without limitation the rights to
+use, copy, modify, merge, publish, distribute, sublicense, and/or sell copies
+of the Software, and to permit persons to whom the Software is furnished to do
+so, subject to the following conditions:
+
+The above copyright notice and this permission notice shall be included in all
+copies or substantial portions of the Software.
+
+THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR
+IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY,
+FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE
+AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER
+LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM,
+OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE
+SOFTWARE.
+------------------------------------------------------------------------------
+*/

@@ -1,0 +1,664 @@
+/* tests/reference.h - the exact reference tracer of the tests, and the
+   comparator that judges a tracer's answers by /work/shared/MODEL.md
+   ("Right, and how right").
+
+   Header-only, every function `static`; C99 and C++11. It shares no code with
+   linear_rt.h and does not include it.
+
+   How it is exact
+   ---------------
+   The model (MODEL.md): texel (i, j) with depth d is the closed box
+   [i, i+1] x [j, j+1] x [d, 1]; a hit is the smallest t in [tmin, tmax] with
+   o + t v inside any box. Every decision the reference makes (does a box meet
+   the ray inside [tmin, tmax], which of two boxes is entered first, is the
+   point at tmax on the screen) is a comparison of two numbers of the form
+   (p - o_c) / v_c or a scalar t, where p is a box plane (an integer, a depth
+   value d, or 1). Such comparisons are made exactly: a cheap double-precision
+   test with a proven error bound decides the clear cases, and the rest (ties:
+   rays through texel corners, along cell edges, grazing texel tops) are
+   decided by the exact sign of a sum of products, using error-free
+   transformations (two-sum, fma two-product) and a growing floating-point
+   expansion. This is exact for every ray whose values are float32 values
+   widened to double (the inputs the tests pass); with arbitrary doubles it is
+   exact unless a product overflows or underflows.
+   The walk that picks the candidate boxes is a plain loop over the columns
+   (or rows: the axis along which the ray moves fastest) that the ray's xy
+   projection crosses, and over the 2 to 4 cells of the other axis in each;
+   it is generous (a margin of 1e-9 texel) because each candidate is tested
+   exactly. The reported t is the double nearest the exact hit t (within two
+   ulps). Huge finite values work: the ray is clipped to the screen box
+   [0,W] x [0,H] x [0,1] first, exactly, and screen positions at the clip
+   events are computed from an exact expansion, so a ray with o = 1e30,
+   v = -1e30 is walked over the texels it really crosses.
+
+   The depth values are the doubles of ref_map (converted once by
+   ref_map_from_raw); the model is exact with respect to those doubles.
+*/
+#ifndef LINEAR_RT_TESTS_REFERENCE_H
+#define LINEAR_RT_TESTS_REFERENCE_H
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The error-free transformations need IEEE double arithmetic rounded to
+   nearest, without excess precision or reassociation. */
+#if defined(__FAST_MATH__)
+#error "tests/reference.h: do not build the exact reference with -ffast-math"
+#endif
+#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 2
+#error "tests/reference.h: needs double arithmetic without excess precision (use SSE2)"
+#endif
+
+#if defined(__GNUC__)
+#define REF_FUNC static __attribute__((unused))
+#else
+#define REF_FUNC static
+#endif
+
+/* ---------------------------------------------------------------- API --- */
+
+/* d[j*w+i], depth already converted: 0 near, 1 far, in [0,1] */
+typedef struct ref_map { int w, h; double *d; } ref_map;
+
+enum { REF_HIT = 1, REF_MISS_TMAX = 2, REF_MISS_OFF_SCREEN = 3, REF_MISS_INVALID = 4 };
+
+/* kind as above; for a hit: t and the texel (x, y). For a miss: t = 0,
+   x = y = -1. */
+typedef struct ref_result { int kind; double t; int x, y; } ref_result;
+
+/* what a tracer returned for a ray: kind as above, t, texel x,y */
+typedef struct ref_answer { int kind; float t; int x, y; } ref_answer;
+
+/* ray as float32 values, as the tracer saw it */
+typedef struct ref_ray { float o[3], v[3], tmin, tmax; } ref_ray;
+
+#define REF_FORMAT_UNORM8 1
+#define REF_FORMAT_UNORM16 2
+#define REF_FORMAT_FLOAT32 3
+
+/* ------------------------------------------------ exact arithmetic ----- */
+
+static int ref__finite(double x)
+{
+    return x == x && x != HUGE_VAL && x != -HUGE_VAL;
+}
+
+/* s + e == a + b exactly (round to nearest, no overflow) */
+static void ref__two_sum(double a, double b, double *s, double *e)
+{
+    double x = a + b;
+    double bv = x - a;
+    double av = x - bv;
+    *s = x;
+    *e = (a - av) + (b - bv);
+}
+
+/* p + e == a * b exactly (no overflow/underflow) */
+static void ref__two_prod(double a, double b, double *p, double *e)
+{
+    double x = a * b;
+    *p = x;
+    *e = fma(a, b, -x);
+}
+
+/* Sum x[0..n-1] exactly into a nonoverlapping expansion e (increasing
+   magnitude, zeros allowed); returns its length (n <= 16). */
+static int ref__expand(const double *x, int n, double *e)
+{
+    int m = 0, i, k;
+    for (k = 0; k < n; k++) {
+        double q = x[k];
+        if (q == 0) continue;
+        for (i = 0; i < m; i++) {
+            double s, h;
+            ref__two_sum(q, e[i], &s, &h);
+            e[i] = h;
+            q = s;
+        }
+        e[m++] = q;
+    }
+    return m;
+}
+
+/* exact sign of x[0] + ... + x[n-1] */
+static int ref__sign_sum(const double *x, int n)
+{
+    double e[16];
+    int m = ref__expand(x, n, e), i;
+    for (i = m - 1; i >= 0; i--)
+        if (e[i] != 0) return e[i] > 0 ? 1 : -1;
+    return 0;
+}
+
+/* x[0] + ... + x[n-1], correct to a few ulps */
+static double ref__approx_sum(const double *x, int n)
+{
+    double e[16], s = 0;
+    int m = ref__expand(x, n, e), i;
+    for (i = 0; i < m; i++) s += e[i];
+    return s;
+}
+
+/* An event: the parameter t = (n0 + n1) / d exactly, d != 0;
+   a is the double nearest to it within two ulps. */
+typedef struct ref__ev { double n0, n1, d, a; } ref__ev;
+
+static ref__ev ref__ev_scalar(double t)
+{
+    ref__ev e;
+    e.n0 = t; e.n1 = 0; e.d = 1; e.a = t;
+    return e;
+}
+
+/* where o + t v crosses the plane p (v != 0) */
+static ref__ev ref__ev_plane(double p, double o, double v)
+{
+    ref__ev e;
+    ref__two_sum(p, -o, &e.n0, &e.n1);
+    e.d = v;
+    e.a = e.n0 / v;
+    return e;
+}
+
+/* exact sign of (x - y) */
+static int ref__cmp(const ref__ev *x, const ref__ev *y)
+{
+    double a = x->a, b = y->a, t[8];
+    int s;
+    if (ref__finite(a) && ref__finite(b)) {
+        /* each approximation is within 2.3e-16 relative of its event */
+        double bound = 1e-15 * (fabs(a) + fabs(b)) + 1e-300;
+        if (b - a > bound) return -1;
+        if (a - b > bound) return 1;
+        if (x->d == 1 && y->d == 1 && x->n1 == 0 && y->n1 == 0)
+            return a < b ? -1 : (a > b ? 1 : 0);
+    }
+    /* (x.n0 + x.n1) * y.d - (y.n0 + y.n1) * x.d, sign-corrected by x.d*y.d */
+    ref__two_prod(x->n0, y->d, &t[0], &t[1]);
+    ref__two_prod(x->n1, y->d, &t[2], &t[3]);
+    ref__two_prod(-y->n0, x->d, &t[4], &t[5]);
+    ref__two_prod(-y->n1, x->d, &t[6], &t[7]);
+    s = ref__sign_sum(t, 8);
+    if ((x->d < 0) != (y->d < 0)) s = -s;
+    return s;
+}
+
+/* coordinate o + t v at event e, approximately; *err bounds the error */
+static double ref__coord(double o, double v, const ref__ev *e, double *err)
+{
+    double tv, val, eb, t[6];
+    if (v == 0) { *err = 0; return o; }
+    tv = v * e->a;
+    val = o + tv;
+    eb = 4e-16 * fabs(o) + 8e-16 * fabs(tv);
+    if (ref__finite(val) && eb < 1e-7) { *err = eb + 1e-300; return val; }
+    /* (o * d + v * (n0 + n1)) / d from an exact expansion */
+    ref__two_prod(o, e->d, &t[0], &t[1]);
+    ref__two_prod(v, e->n0, &t[2], &t[3]);
+    ref__two_prod(v, e->n1, &t[4], &t[5]);
+    val = ref__approx_sum(t, 6) / e->d;
+    *err = 4e-15 * fabs(val) + 1e-300;
+    return val;
+}
+
+/* exact: lo <= o + t v <= hi */
+static int ref__in_slab_at(double o, double v, double t, double lo, double hi)
+{
+    double x[4];
+    x[0] = o;
+    ref__two_prod(t, v, &x[1], &x[2]);
+    x[3] = -lo;
+    if (ref__sign_sum(x, 4) < 0) return 0;
+    x[0] = -o; x[1] = -x[1]; x[2] = -x[2]; x[3] = hi;
+    return ref__sign_sum(x, 4) >= 0;
+}
+
+/* Exact ray/box test: the t-interval where o + t v lies in the closed box
+   [lo3, hi3], intersected with [*t0, *t1]. Returns 1 and writes the
+   interval's ends when it is not empty. */
+static int ref__box(const double o[3], const double v[3], const double lo3[3],
+                    const double hi3[3], const ref__ev *t0, const ref__ev *t1,
+                    ref__ev *enter_out, ref__ev *exit_out)
+{
+    ref__ev lo = *t0, hi = *t1;
+    int c;
+    for (c = 0; c < 3; c++) {
+        ref__ev e1, e2;
+        if (v[c] == 0) {
+            if (!(lo3[c] <= o[c] && o[c] <= hi3[c])) return 0;
+            continue;
+        }
+        e1 = ref__ev_plane(lo3[c], o[c], v[c]);
+        e2 = ref__ev_plane(hi3[c], o[c], v[c]);
+        if (v[c] < 0) { ref__ev tmp = e1; e1 = e2; e2 = tmp; }
+        if (ref__cmp(&e1, &lo) > 0) lo = e1;
+        if (ref__cmp(&e2, &hi) < 0) hi = e2;
+        if (ref__cmp(&lo, &hi) > 0) return 0;
+    }
+    if (enter_out) *enter_out = lo;
+    if (exit_out) *exit_out = hi;
+    return 1;
+}
+
+/* cells k in [0, n-1] whose closed [k, k+1] meets [lo - mg, hi + mg];
+   empty when *k0 > *k1 */
+static void ref__cells(double lo, double hi, double mg, int n, int *k0, int *k1)
+{
+    double a, b;
+    if (!(lo == lo) || !(hi == hi) || !(mg == mg)) { *k0 = 0; *k1 = n - 1; return; }
+    a = ceil(lo - mg) - 1;
+    b = floor(hi + mg);
+    if (a < 0) a = 0;
+    if (a > n) a = n;
+    if (b > n - 1) b = n - 1;
+    if (b < -1) b = -1;
+    *k0 = (int)a;
+    *k1 = (int)b;
+}
+
+/* ------------------------------------------------------- depth maps --- */
+
+/* Build from raw input. format: 1 = 8-bit unorm (v/255), 2 = 16-bit unorm
+   (v/65535), 3 = float32. row_stride in bytes (0 = tightly packed).
+   reversed != 0: reversed Z. Integer formats: d = v/max, reversed:
+   d = (max - v)/max, in double. float32: f' = reversed ? 1.0f - f (in
+   float32) : f; NaN and values > 1 -> 1, values < 0 -> 0.
+   Returns 0 on success, -1 on bad arguments or out of memory (m->d = NULL). */
+REF_FUNC int ref_map_from_raw(ref_map *m, const void *data, int w, int h,
+                              size_t row_stride, int format, int reversed)
+{
+    size_t bpp, i, j;
+    const unsigned char *base = (const unsigned char *)data;
+    if (!m) return -1;
+    m->w = 0; m->h = 0; m->d = NULL;
+    if (!data || w < 1 || h < 1) return -1;
+    if (format == REF_FORMAT_UNORM8) bpp = 1;
+    else if (format == REF_FORMAT_UNORM16) bpp = 2;
+    else if (format == REF_FORMAT_FLOAT32) bpp = 4;
+    else return -1;
+    if ((size_t)w > ((size_t)-1) / bpp) return -1;
+    if (row_stride == 0) row_stride = (size_t)w * bpp;
+    if (row_stride < (size_t)w * bpp) return -1;
+    if ((size_t)w > ((size_t)-1) / sizeof(double) / (size_t)h) return -1;
+    m->d = (double *)malloc((size_t)w * (size_t)h * sizeof(double));
+    if (!m->d) return -1;
+    m->w = w; m->h = h;
+    for (j = 0; j < (size_t)h; j++) {
+        const unsigned char *row = base + j * row_stride;
+        for (i = 0; i < (size_t)w; i++) {
+            const unsigned char *p = row + i * bpp;
+            double d;
+            if (format == REF_FORMAT_UNORM8) {
+                double v = (double)p[0];
+                d = reversed ? (255.0 - v) / 255.0 : v / 255.0;
+            } else if (format == REF_FORMAT_UNORM16) {
+                unsigned short u;
+                double v;
+                memcpy(&u, p, sizeof u);
+                v = (double)u;
+                d = reversed ? (65535.0 - v) / 65535.0 : v / 65535.0;
+            } else {
+                float f, g;
+                memcpy(&f, p, sizeof f);
+                if (reversed) {
+                    volatile float one_minus = 1.0f - f; /* rounded to float32 */
+                    g = one_minus;
+                } else {
+                    g = f;
+                }
+                if (g != g || g > 1.0f) d = 1.0;
+                else if (g < 0.0f) d = 0.0;
+                else if (g == 0.0f) d = 0.0; /* -0 -> +0 */
+                else d = (double)g;
+            }
+            m->d[j * (size_t)w + i] = d;
+        }
+    }
+    return 0;
+}
+
+REF_FUNC void ref_map_free(ref_map *m)
+{
+    if (!m) return;
+    free(m->d);
+    m->d = NULL;
+    m->w = m->h = 0;
+}
+
+/* ---------------------------------------------------------- tracer ---- */
+
+/* exact test of one texel against the ray, t in [*t0, *t1] */
+static int ref__texel(const ref_map *m, int i, int j, const double o[3],
+                      const double v[3], const ref__ev *t0, const ref__ev *t1,
+                      ref__ev *enter)
+{
+    double lo3[3], hi3[3];
+    lo3[0] = i; lo3[1] = j; lo3[2] = m->d[(size_t)j * (size_t)m->w + (size_t)i];
+    hi3[0] = i + 1.0; hi3[1] = j + 1.0; hi3[2] = 1.0;
+    return ref__box(o, v, lo3, hi3, t0, t1, enter, NULL);
+}
+
+/* Keep the earlier of the current best and texel (i, j). */
+static void ref__consider(const ref_map *m, int i, int j, const double o[3],
+                          const double v[3], const ref__ev *t0, const ref__ev *t1,
+                          int *found, ref__ev *best, int *bx, int *by)
+{
+    ref__ev e;
+    if (!ref__texel(m, i, j, o, v, t0, t1, &e)) return;
+    if (!*found || ref__cmp(&e, best) < 0) {
+        *found = 1; *best = e; *bx = i; *by = j;
+    }
+}
+
+/* The exact answer for the ray o + t v, t in [tmin, tmax] (see MODEL.md). */
+REF_FUNC ref_result ref_trace(const ref_map *m, const double o[3], const double v[3],
+                              double tmin, double tmax)
+{
+    ref_result r;
+    ref__ev tmin_e, tmax_e, T0, T1, best;
+    double slo[3], shi[3];
+    int c, found = 0, bx = -1, by = -1;
+
+    r.kind = REF_MISS_INVALID; r.t = 0; r.x = -1; r.y = -1;
+    if (!m || !m->d || m->w < 1 || m->h < 1) return r;
+    for (c = 0; c < 3; c++)
+        if (!ref__finite(o[c]) || !ref__finite(v[c])) return r;
+    if (!ref__finite(tmin) || !ref__finite(tmax)) return r;
+    if (tmin < 0 || tmin > tmax) return r;
+
+    tmin_e = ref__ev_scalar(tmin);
+    tmax_e = ref__ev_scalar(tmax);
+    best = T0 = T1 = tmin_e;
+    slo[0] = 0; slo[1] = 0; slo[2] = 0;
+    shi[0] = m->w; shi[1] = m->h; shi[2] = 1;
+
+    /* clip to the screen box (every texel box lies inside it) */
+    if (ref__box(o, v, slo, shi, &tmin_e, &tmax_e, &T0, &T1)) {
+        /* a: the axis of the walk (the faster one), b: the other */
+        int a = fabs(v[0]) >= fabs(v[1]) ? 0 : 1, b = 1 - a;
+        int na = a == 0 ? m->w : m->h, nb = b == 0 ? m->w : m->h;
+        if (v[a] == 0) {
+            /* v.x = v.y = 0: the (up to 4) texels whose footprint holds o.xy */
+            int i0, i1, j0, j1, i, j;
+            ref__cells(o[0], o[0], 0, m->w, &i0, &i1);
+            ref__cells(o[1], o[1], 0, m->h, &j0, &j1);
+            for (j = j0; j <= j1; j++)
+                for (i = i0; i <= i1; i++)
+                    ref__consider(m, i, j, o, v, &tmin_e, &tmax_e, &found, &best, &bx, &by);
+        } else {
+            double e0, e1, A0, A1;
+            int k0, k1, k, step = v[a] > 0 ? 1 : -1;
+            A0 = ref__coord(o[a], v[a], &T0, &e0);
+            A1 = ref__coord(o[a], v[a], &T1, &e1);
+            ref__cells(A0 < A1 ? A0 : A1, A0 < A1 ? A1 : A0,
+                       (e0 > e1 ? e0 : e1) + 1e-9, na, &k0, &k1);
+            /* columns in the order the ray meets them: a hit in column k is
+               at t <= (crossing of plane k+1) <= any hit in the next one */
+            for (k = step > 0 ? k0 : k1; k >= k0 && k <= k1 && !found; k += step) {
+                ref__ev pk = ref__ev_plane((double)k, o[a], v[a]);
+                ref__ev pk1 = ref__ev_plane((double)k + 1.0, o[a], v[a]);
+                ref__ev en = step > 0 ? pk : pk1, ex = step > 0 ? pk1 : pk;
+                double B0, B1, Z0, Z1, eb0, eb1, ez0, ez1, zmax;
+                int j0, j1, j;
+                if (ref__cmp(&en, &T0) < 0) en = T0;
+                if (ref__cmp(&ex, &T1) > 0) ex = T1;
+                if (ref__cmp(&en, &ex) > 0) continue;
+                B0 = ref__coord(o[b], v[b], &en, &eb0);
+                B1 = ref__coord(o[b], v[b], &ex, &eb1);
+                ref__cells(B0 < B1 ? B0 : B1, B0 < B1 ? B1 : B0,
+                           (eb0 > eb1 ? eb0 : eb1) + 1e-9, nb, &j0, &j1);
+                Z0 = ref__coord(o[2], v[2], &en, &ez0);
+                Z1 = ref__coord(o[2], v[2], &ex, &ez1);
+                zmax = Z0 + ez0 > Z1 + ez1 ? Z0 + ez0 : Z1 + ez1;
+                zmax += 1e-9;
+                if (!(zmax == zmax)) zmax = 2; /* cannot happen with finite input */
+                for (j = j0; j <= j1; j++) {
+                    int i = a == 0 ? k : j, jj = a == 0 ? j : k;
+                    if (m->d[(size_t)jj * (size_t)m->w + (size_t)i] > zmax) continue;
+                    ref__consider(m, i, jj, o, v, &tmin_e, &tmax_e, &found, &best, &bx, &by);
+                }
+            }
+        }
+    }
+
+    if (found) {
+        r.kind = REF_HIT;
+        r.t = best.a;
+        r.x = bx;
+        r.y = by;
+        return r;
+    }
+    /* a miss: on the screen (closed rectangle, x and y only) at tmax? */
+    if (ref__in_slab_at(o[0], v[0], tmax, 0, (double)m->w) &&
+        ref__in_slab_at(o[1], v[1], tmax, 0, (double)m->h))
+        r.kind = REF_MISS_TMAX;
+    else
+        r.kind = REF_MISS_OFF_SCREEN;
+    return r;
+}
+
+/* the same for a float32 ray */
+REF_FUNC ref_result ref_trace_ray(const ref_map *m, const ref_ray *ray)
+{
+    double o[3], v[3];
+    int c;
+    for (c = 0; c < 3; c++) { o[c] = ray->o[c]; v[c] = ray->v[c]; }
+    return ref_trace(m, o, v, ray->tmin, ray->tmax);
+}
+
+/* ------------------------------------------------------ comparator ---- */
+
+static const char *ref__kind_name(int kind)
+{
+    switch (kind) {
+    case REF_HIT: return "hit";
+    case REF_MISS_TMAX: return "tmax-miss";
+    case REF_MISS_OFF_SCREEN: return "off-screen-miss";
+    case REF_MISS_INVALID: return "invalid";
+    default: return "bad-kind";
+    }
+}
+
+static void ref__why(char *why, size_t n, const char *msg)
+{
+    if (why && n > 0) {
+        size_t k = strlen(msg);
+        if (k >= n) k = n - 1;
+        memcpy(why, msg, k);
+        why[k] = 0;
+    }
+}
+
+/* Does `got` match the exact answer E of the ray (po, pv) (the given ray,
+   or a perturbed one)? The reported hit point is taken on the given ray
+   (o, v). Exact mode only (any-hit is handled by ref_check). */
+static int ref__match(const ref_map *m, const double o[3], const double v[3],
+                      const double po[3], const double pv[3], const ref_result *E,
+                      const ref_answer *got, char *msg, size_t n)
+{
+    double t = got->t, lo[3], hi[3];
+    int c;
+    if (got->kind != E->kind) {
+        if (msg) snprintf(msg, n, "kind: got %s, exact %s", ref__kind_name(got->kind),
+                          ref__kind_name(E->kind));
+        return 0;
+    }
+    if (E->kind != REF_HIT) return 1;
+    if (!ref__finite(t)) {
+        if (msg) snprintf(msg, n, "hit with non-finite t");
+        return 0;
+    }
+    if (got->x < 0 || got->x >= m->w || got->y < 0 || got->y >= m->h) {
+        if (msg) snprintf(msg, n, "hit texel (%d,%d) outside the %dx%d map", got->x, got->y,
+                          m->w, m->h);
+        return 0;
+    }
+    lo[0] = got->x; lo[1] = got->y;
+    lo[2] = m->d[(size_t)got->y * (size_t)m->w + (size_t)got->x];
+    hi[0] = got->x + 1.0; hi[1] = got->y + 1.0; hi[2] = 1.0;
+    for (c = 0; c < 3; c++) {
+        double p = o[c] + t * v[c];
+        double e = po[c] + E->t * pv[c];
+        double tol = 1e-5 * (1 + fabs(o[c]) + fabs(t * v[c]));
+        if (!(fabs(p - e) <= tol)) {
+            if (msg) snprintf(msg, n,
+                              "hit point: got t=%.9g (%d,%d), exact t=%.17g (%d,%d); "
+                              "component %d: got %.17g, exact %.17g, tol %.3g",
+                              t, got->x, got->y, E->t, E->x, E->y, c, p, e, tol);
+            return 0;
+        }
+        if (!(e >= lo[c] - tol && e <= hi[c] + tol)) {
+            if (msg) snprintf(msg, n,
+                              "texel: got (%d,%d) t=%.9g, exact (%d,%d) t=%.17g; "
+                              "exact hit point component %d = %.17g not in [%.17g, %.17g] "
+                              "+- %.3g",
+                              got->x, got->y, t, E->x, E->y, E->t, c, e, lo[c], hi[c], tol);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* x moved by k float32 ulps (nextafterf steps; never to infinity) */
+static float ref__ulps(float x, int k)
+{
+    while (k > 0) { x = nextafterf(x, FLT_MAX); k--; }
+    while (k < 0) { x = nextafterf(x, -FLT_MAX); k++; }
+    return x;
+}
+
+/* Is there a ray among the given one's perturbations (3^6 combinations of
+   {-8,0,+8} ulps on o and v, then of {-1,0,+1}) whose exact answer matches
+   `got`? any_hit: only the kind has to match. */
+static int ref__perturbed_match(const ref_map *m, const ref_ray *ray, const double o[3],
+                                const double v[3], const ref_answer *got, int any_hit)
+{
+    static const int steps[2] = { 8, 1 };
+    int s, combo, q;
+    for (s = 0; s < 2; s++) {
+        for (combo = 0; combo < 729; combo++) {
+            double po[3], pv[3];
+            ref_result E;
+            int code = combo, ok = 1;
+            if (combo == 364) continue; /* all digits 1: the ray itself */
+            for (q = 0; q < 6; q++) {
+                int dig = code % 3 - 1;
+                float f = q < 3 ? ray->o[q] : ray->v[q - 3];
+                code /= 3;
+                f = ref__ulps(f, dig * steps[s]);
+                if (!ref__finite(f)) ok = 0;
+                if (q < 3) po[q] = f; else pv[q - 3] = f;
+            }
+            if (!ok) continue;
+            E = ref_trace(m, po, pv, ray->tmin, ray->tmax);
+            if (any_hit) {
+                if (E.kind == got->kind) return 1;
+            } else if (ref__match(m, o, v, po, pv, &E, got, NULL, 0)) {
+                return 1;
+            }
+        }
+    }
+    return 0;
+}
+
+/* Returns 1 if `got` is right for `ray` by MODEL.md's rule "Right, and how
+   right", else 0 and writes a one-line reason into why (may be NULL).
+
+   Exact mode (any_hit == 0): right when it matches the exact answer of the
+   ray, or of one of its perturbations (each component of o and v moved by
+   {-8,0,+8} ulps, then by {-1,0,+1}; tmin, tmax unchanged). Matching: same
+   kind; for a hit, each component c of p = o + t v (double, from the float
+   ray and the reported t) within tol_c = 1e-5 * (1 + |o_c| + |t v_c|) of the
+   exact hit point, and the reported texel's box containing the exact hit
+   point within tol_c per component.
+
+   any_hit != 0: a hit need not be the closest. A reported hit must be a real
+   hit point: t in [tmin, tmax] (within 1e-5 * (1 + |tmin|), 1e-5 * (1 + |tmax|))
+   and p = o + t v in the reported texel's box within tol_c per component;
+   and the exact answer of the ray or of one of its perturbations must be a
+   hit. A reported miss must have the exact answer's kind (again for the ray
+   or one of its perturbations). */
+REF_FUNC int ref_check(const ref_map *m, const ref_ray *ray, const ref_answer *got,
+                       int any_hit, char *why, size_t why_size)
+{
+    double o[3], v[3];
+    ref_result E;
+    char msg[512];
+    int c;
+
+    if (why && why_size > 0) why[0] = 0;
+    for (c = 0; c < 3; c++) { o[c] = ray->o[c]; v[c] = ray->v[c]; }
+    E = ref_trace(m, o, v, ray->tmin, ray->tmax);
+
+    if (got->kind < REF_HIT || got->kind > REF_MISS_INVALID) {
+        snprintf(msg, sizeof msg, "bad kind %d (exact: %s)", got->kind, ref__kind_name(E.kind));
+        ref__why(why, why_size, msg);
+        return 0;
+    }
+    if (E.kind == REF_MISS_INVALID || got->kind == REF_MISS_INVALID) {
+        /* validity does not depend on rounding */
+        if (E.kind == got->kind) return 1;
+        snprintf(msg, sizeof msg, "kind: got %s, exact %s", ref__kind_name(got->kind),
+                 ref__kind_name(E.kind));
+        ref__why(why, why_size, msg);
+        return 0;
+    }
+
+    if (any_hit) {
+        if (got->kind == REF_HIT) {
+            double t = got->t, lo[3], hi[3];
+            if (!ref__finite(t) || !(t >= (double)ray->tmin - 1e-5 * (1 + fabs((double)ray->tmin))) ||
+                !(t <= (double)ray->tmax + 1e-5 * (1 + fabs((double)ray->tmax)))) {
+                snprintf(msg, sizeof msg, "any-hit: t=%.9g outside [tmin, tmax] = [%.9g, %.9g]",
+                         t, (double)ray->tmin, (double)ray->tmax);
+                ref__why(why, why_size, msg);
+                return 0;
+            }
+            if (got->x < 0 || got->x >= m->w || got->y < 0 || got->y >= m->h) {
+                snprintf(msg, sizeof msg, "any-hit: texel (%d,%d) outside the %dx%d map",
+                         got->x, got->y, m->w, m->h);
+                ref__why(why, why_size, msg);
+                return 0;
+            }
+            lo[0] = got->x; lo[1] = got->y;
+            lo[2] = m->d[(size_t)got->y * (size_t)m->w + (size_t)got->x];
+            hi[0] = got->x + 1.0; hi[1] = got->y + 1.0; hi[2] = 1.0;
+            for (c = 0; c < 3; c++) {
+                double p = o[c] + t * v[c];
+                double tol = 1e-5 * (1 + fabs(o[c]) + fabs(t * v[c]));
+                if (!(p >= lo[c] - tol && p <= hi[c] + tol)) {
+                    snprintf(msg, sizeof msg,
+                             "any-hit: point at t=%.9g, component %d = %.17g, is not in "
+                             "texel (%d,%d)'s box [%.17g, %.17g] +- %.3g",
+                             t, c, p, got->x, got->y, lo[c], hi[c], tol);
+                    ref__why(why, why_size, msg);
+                    return 0;
+                }
+            }
+        }
+        if (E.kind == got->kind) return 1;
+        if (ref__perturbed_match(m, ray, o, v, got, 1)) return 1;
+        snprintf(msg, sizeof msg, "any-hit: got %s, exact %s (t=%.17g texel (%d,%d)), "
+                 "also for all perturbed rays", ref__kind_name(got->kind),
+                 ref__kind_name(E.kind), E.t, E.x, E.y);
+        ref__why(why, why_size, msg);
+        return 0;
+    }
+
+    if (ref__match(m, o, v, o, v, &E, got, msg, sizeof msg)) return 1;
+    if (ref__perturbed_match(m, ray, o, v, got, 0)) return 1;
+    {
+        char full[768];
+        snprintf(full, sizeof full, "%s (got %s t=%.9g (%d,%d); exact %s t=%.17g (%d,%d); "
+                 "no perturbed ray matches)", msg, ref__kind_name(got->kind), (double)got->t,
+                 got->x, got->y, ref__kind_name(E.kind), E.t, E.x, E.y);
+        ref__why(why, why_size, full);
+    }
+    return 0;
+}
+
+#endif /* LINEAR_RT_TESTS_REFERENCE_H */

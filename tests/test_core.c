@@ -1,0 +1,744 @@
+/* tests/test_core.c - the CPU path of linear_rt.h against MODEL.md.
+
+   Every traced ray is judged by the separate exact reference of
+   tests/reference.h (ref_check: MODEL.md's "Right, and how right"). Also:
+   the named cases of MODEL.md, Morton mapping and level geometry, update
+   versus rebuild byte for byte, every bad argument's result code, the
+   allocator hooks and caller-owned memory.
+
+   Prints one line per failure and ends with "N passed, M failed". */
+#define LINEAR_RT_IMPLEMENTATION
+#include "../linear_rt.h"
+#include "reference.h"
+#include "../examples/scene.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <math.h>
+#include <float.h>
+
+static int g_pass, g_fail;
+
+#define CHECK(cond, ...)                                                  \
+    do {                                                                  \
+        if (cond) ++g_pass;                                               \
+        else {                                                            \
+            ++g_fail;                                                     \
+            printf("FAIL %s:%d: ", __FILE__, __LINE__);                 \
+            printf(__VA_ARGS__);                                          \
+            printf("\n");                                                 \
+        }                                                                 \
+    } while (0)
+
+/* ---- deterministic random numbers ---------------------------------------- */
+static uint64_t g_rng = 0x9e3779b97f4a7c15ull;
+static uint32_t rnd(void)
+{
+    g_rng ^= g_rng << 13;
+    g_rng ^= g_rng >> 7;
+    g_rng ^= g_rng << 17;
+    return (uint32_t)(g_rng >> 16);
+}
+static float rndf(void) { return (float)(rnd() & 0xffffff) / 16777216.0f; } /* [0,1) */
+static int rndi(int n) { return (int)(rnd() % (uint32_t)n); }
+
+/* ---- a depth map in any format, with its reference twin ------------------ */
+typedef struct test_map {
+    lrt_depth depth;
+    void *storage;
+    ref_map ref;
+    const char *name;
+} test_map;
+
+enum { SHAPE_NOISE, SHAPE_TERRACES, SHAPE_SCENE, SHAPE_POLES, SHAPE_FAR, SHAPE_WILD, SHAPE_COUNT };
+static const char *shape_names[SHAPE_COUNT] = {"noise", "terraces", "scene", "poles", "far", "wild"};
+
+/* depth value in [0,1] of texel (i,j) for a shape (float model units) */
+static float shape_depth(int shape, int i, int j, int w, int h, const float *scene)
+{
+    switch (shape) {
+    case SHAPE_NOISE: return rndf();
+    case SHAPE_TERRACES: { /* flat camera-facing steps of 8-bit depth */
+        float d = 0.3f + 0.5f * (float)(i / 5 + j / 7) / (float)(w / 5 + h / 7 + 1);
+        return floorf(d * 255.0f) / 255.0f;
+    }
+    case SHAPE_SCENE: return scene[(size_t)j * (size_t)w + (size_t)i];
+    case SHAPE_POLES: return ((i % 13) == 5 || (j % 11 == 3 && i % 3 == 0)) ? 0.2f + 0.01f * (float)(i % 7) : 0.95f;
+    case SHAPE_FAR: return 1.0f;
+    default: return rndf();
+    }
+}
+
+static void make_map(test_map *m, int w, int h, int shape, lrt_format format, int reversed, int padded)
+{
+    uint32_t bpp = format == LRT_FORMAT_UNORM8 ? 1 : format == LRT_FORMAT_UNORM16 ? 2 : 4;
+    size_t stride = (size_t)w * bpp + (padded ? 3 : 0); /* odd stride: unaligned rows */
+    unsigned char *bytes;
+    float *scene = NULL;
+    int i, j;
+    memset(m, 0, sizeof *m);
+    if (shape == SHAPE_SCENE) {
+        scene_camera cam = scene_default_camera();
+        scene = (float *)malloc(sizeof(float) * (size_t)w * (size_t)h);
+        scene_render(w, h, &cam, scene, NULL);
+    }
+    bytes = (unsigned char *)malloc(stride * (size_t)h + 1);
+    for (j = 0; j < h; ++j) {
+        for (i = 0; i < w; ++i) {
+            float d = shape_depth(shape, i, j, w, h, scene);
+            unsigned char *p = bytes + 1 + stride * (size_t)j + (size_t)i * bpp; /* +1: unaligned data */
+            if (reversed) d = 1.0f - d;
+            if (format == LRT_FORMAT_UNORM8) {
+                p[0] = (unsigned char)(d * 255.0f + 0.5f);
+            } else if (format == LRT_FORMAT_UNORM16) {
+                uint16_t v = (uint16_t)(d * 65535.0f + 0.5f);
+                memcpy(p, &v, 2);
+            } else {
+                float f = d;
+                if (shape == SHAPE_WILD) { /* values the model clamps */
+                    int r = rndi(10);
+                    if (r == 0) f = NAN;
+                    else if (r == 1) f = 1.5f;
+                    else if (r == 2) f = -0.25f;
+                    else if (r == 3) f = INFINITY;
+                }
+                memcpy(p, &f, 4);
+            }
+        }
+    }
+    free(scene);
+    m->storage = bytes;
+    m->depth.data = bytes + 1;
+    m->depth.width = (uint32_t)w;
+    m->depth.height = (uint32_t)h;
+    m->depth.row_stride = padded ? stride : 0;
+    m->depth.format = format;
+    m->depth.flags = reversed ? LRT_DEPTH_REVERSED_Z : 0u;
+    m->name = shape_names[shape];
+    if (ref_map_from_raw(&m->ref, m->depth.data, w, h, stride, (int)format, reversed) != 0) {
+        printf("reference could not convert the map\n");
+        exit(2);
+    }
+}
+
+static void free_map(test_map *m)
+{
+    free(m->storage);
+    ref_map_free(&m->ref);
+}
+
+/* ---- ray kinds -------------------------------------------------------------- */
+enum {
+    RAY_PRIMARY, RAY_SEGMENT, RAY_REFLECT, RAY_GRAZING, RAY_EDGE, RAY_CORNER, RAY_INSIDE, RAY_LEAVING,
+    RAY_POINT, RAY_ZERO_DIR, RAY_HUGE, RAY_INVALID, RAY_SHORT, RAY_KIND_COUNT
+};
+static const char *ray_names[RAY_KIND_COUNT] = {"primary", "segment", "reflect", "grazing", "edge", "corner",
+                                                "inside", "leaving", "tmin==tmax", "v=0", "huge", "invalid", "short"};
+
+static float depth_at(const test_map *m, int i, int j) { return (float)m->ref.d[(size_t)j * (size_t)m->ref.w + (size_t)i]; }
+
+static lrt_ray make_ray(const test_map *m, int kind)
+{
+    const int w = m->ref.w, h = m->ref.h;
+    lrt_ray r;
+    int i = rndi(w), j = rndi(h);
+    float d = depth_at(m, i, j);
+    memset(&r, 0, sizeof r);
+    r.tmin = 0.0f;
+    r.tmax = 1.0f;
+    switch (kind) {
+    case RAY_PRIMARY:
+        r.origin[0] = (float)i + 0.5f; r.origin[1] = (float)j + 0.5f; r.origin[2] = 0.0f;
+        r.dir[2] = 1.0f;
+        break;
+    case RAY_SEGMENT: { /* random segment across the screen ending a little behind the surface */
+        int i1 = rndi(w), j1 = rndi(h);
+        float z0 = d * rndf(), z1 = depth_at(m, i1, j1) + 0.05f * rndf();
+        r.origin[0] = (float)i + rndf(); r.origin[1] = (float)j + rndf(); r.origin[2] = z0;
+        r.dir[0] = (float)i1 + rndf() - r.origin[0]; r.dir[1] = (float)j1 + rndf() - r.origin[1]; r.dir[2] = z1 - z0;
+        break;
+    }
+    case RAY_REFLECT: { /* from the surface, towards the camera a little, across the screen */
+        float a = 6.2831853f * rndf(), len = 4.0f + rndf() * (float)(w > h ? w : h);
+        r.origin[0] = (float)i + 0.5f; r.origin[1] = (float)j + 0.5f; r.origin[2] = d;
+        r.dir[0] = cosf(a) * len; r.dir[1] = sinf(a) * len; r.dir[2] = -0.3f * d * rndf();
+        r.tmin = 0.75f / len; /* leave the own texel first: the examples' policy */
+        break;
+    }
+    case RAY_GRAZING: /* almost level with a texel top */
+        r.origin[0] = (float)i + rndf(); r.origin[1] = (float)j + rndf(); r.origin[2] = d - 1e-6f * rndf();
+        r.dir[0] = (rndf() - 0.5f) * (float)w; r.dir[1] = (rndf() - 0.5f) * (float)h;
+        r.dir[2] = (rnd() & 1) ? 0.0f : 1e-5f * (rndf() - 0.5f);
+        break;
+    case RAY_EDGE: /* along a cell edge */
+        if (rnd() & 1) {
+            r.origin[0] = (float)rndi(w + 1); r.origin[1] = rndf() * (float)h; r.dir[1] = (rndf() - 0.5f) * (float)h;
+        } else {
+            r.origin[1] = (float)rndi(h + 1); r.origin[0] = rndf() * (float)w; r.dir[0] = (rndf() - 0.5f) * (float)w;
+        }
+        r.origin[2] = rndf(); r.dir[2] = (rndf() - 0.3f) * 0.5f;
+        break;
+    case RAY_CORNER: { /* through texel corners: integer origin, diagonal-ish direction */
+        int sx = (rnd() & 1) ? 1 : -1, sy = (rnd() & 1) ? 1 : -1, k = 1 + rndi(3);
+        r.origin[0] = (float)rndi(w + 1); r.origin[1] = (float)rndi(h + 1); r.origin[2] = rndf() * 0.9f;
+        r.dir[0] = (float)(sx * k * 4); r.dir[1] = (float)(sy * 4 * (1 + rndi(2))); r.dir[2] = (rndf() - 0.2f) * 0.2f;
+        r.tmax = (float)(1 + rndi(8));
+        break;
+    }
+    case RAY_INSIDE:
+        r.origin[0] = (float)i + rndf(); r.origin[1] = (float)j + rndf(); r.origin[2] = d + (1.0f - d) * rndf();
+        r.dir[0] = rndf() - 0.5f; r.dir[1] = rndf() - 0.5f; r.dir[2] = rndf() - 0.5f;
+        r.tmin = rndf();
+        r.tmax = r.tmin + rndf();
+        break;
+    case RAY_LEAVING: /* over everything, out through an edge of the screen */
+        r.origin[0] = (float)i + rndf(); r.origin[1] = (float)j + rndf(); r.origin[2] = 0.0f;
+        r.dir[0] = (rndf() - 0.5f) * 4.0f * (float)w; r.dir[1] = (rndf() - 0.5f) * 4.0f * (float)h; r.dir[2] = 1e-4f * rndf();
+        r.tmax = 2.0f;
+        break;
+    case RAY_POINT: /* tmin == tmax */
+        r.origin[0] = (float)i + rndf(); r.origin[1] = (float)j + rndf(); r.origin[2] = rndf();
+        r.dir[0] = rndf() - 0.5f; r.dir[1] = rndf() - 0.5f; r.dir[2] = rndf() - 0.5f;
+        r.tmin = r.tmax = rndf();
+        break;
+    case RAY_ZERO_DIR:
+        r.origin[0] = (rnd() & 3) ? (float)i + rndf() : (float)(rndi(w + 1)); r.origin[1] = (float)j + rndf();
+        r.origin[2] = (rnd() & 1) ? d : rndf();
+        if ((rnd() & 7) == 0) r.origin[0] = -1.0f - rndf();
+        break;
+    case RAY_HUGE: {
+        float big = ldexpf(1.0f, 20 + rndi(100));
+        float a = 6.2831853f * rndf();
+        r.origin[0] = (float)i + 0.5f - cosf(a) * big; r.origin[1] = (float)j + 0.5f - sinf(a) * big;
+        r.origin[2] = (rnd() & 1) ? -big : 0.0f;
+        r.dir[0] = cosf(a) * big; r.dir[1] = sinf(a) * big; r.dir[2] = (r.origin[2] != 0.0f) ? big + rndf() : rndf();
+        r.tmin = 0.0f; r.tmax = (rnd() & 1) ? 2.0f : FLT_MAX;
+        if (rnd() & 1) { /* huge time instead of huge direction */
+            r.origin[0] = (float)i + rndf(); r.origin[1] = (float)j + rndf(); r.origin[2] = 0.0f;
+            r.dir[0] = (rndf() - 0.5f) * 1e-30f; r.dir[1] = (rndf() - 0.5f) * 1e-30f; r.dir[2] = 1e-31f;
+            r.tmax = 3e38f;
+        }
+        break;
+    }
+    case RAY_INVALID: {
+        int which = rndi(7);
+        r.origin[0] = (float)i; r.origin[1] = (float)j; r.dir[2] = 1.0f;
+        if (which == 0) r.origin[rndi(3)] = NAN;
+        else if (which == 1) r.dir[rndi(3)] = INFINITY;
+        else if (which == 2) r.tmin = -1e-3f;
+        else if (which == 3) { r.tmin = 2.0f; r.tmax = 1.0f; }
+        else if (which == 4) r.tmax = NAN;
+        else if (which == 5) r.tmax = INFINITY;
+        else r.dir[rndi(3)] = -NAN;
+        break;
+    }
+    default: /* short AO-like ray */
+        r.origin[0] = (float)i + 0.5f; r.origin[1] = (float)j + 0.5f; r.origin[2] = d - 1e-3f;
+        r.dir[0] = (rndf() - 0.5f) * 16.0f; r.dir[1] = (rndf() - 0.5f) * 16.0f; r.dir[2] = -rndf() * 0.05f;
+        break;
+    }
+    return r;
+}
+
+static ref_ray to_ref(const lrt_ray *r)
+{
+    ref_ray q;
+    memcpy(q.o, r->origin, sizeof q.o);
+    memcpy(q.v, r->dir, sizeof q.v);
+    q.tmin = r->tmin;
+    q.tmax = r->tmax;
+    return q;
+}
+
+static ref_answer to_answer(const lrt_hit *h)
+{
+    ref_answer a;
+    a.kind = (int)h->kind;
+    a.t = h->t;
+    a.x = (int)h->x;
+    a.y = (int)h->y;
+    return a;
+}
+
+/* Traces rays with the BVH and judges every answer by the reference. */
+static void trace_and_judge(const char *what, const lrt_bvh *bvh, const test_map *m, const lrt_ray *rays,
+                            const int *kinds, size_t n, uint32_t flags)
+{
+    lrt_hit *hits = (lrt_hit *)malloc(sizeof(lrt_hit) * (n ? n : 1));
+    size_t i, bad = 0;
+    lrt_result r = lrt_trace(bvh, &m->depth, rays, hits, n, flags);
+    CHECK(r == LRT_SUCCESS, "%s: trace returned %s", what, lrt_result_string(r));
+    for (i = 0; i < n && r == LRT_SUCCESS; ++i) {
+        ref_ray q = to_ref(&rays[i]);
+        ref_answer a = to_answer(&hits[i]);
+        char why[256];
+        if (!ref_check(&m->ref, &q, &a, (flags & LRT_TRACE_ANY_HIT) != 0, why, sizeof why)) {
+            if (bad < 5)
+                printf("FAIL %s ray %zu (%s) o=(%.9g %.9g %.9g) v=(%.9g %.9g %.9g) t=[%.9g %.9g]: %s\n", what, i,
+                       ray_names[kinds[i]], q.o[0], q.o[1], q.o[2], q.v[0], q.v[1], q.v[2], q.tmin, q.tmax, why);
+            ++bad;
+        }
+    }
+    CHECK(bad == 0, "%s: %zu of %zu rays disagree with the reference", what, bad, n);
+    free(hits);
+}
+
+/* ---- 1. randomised differential runs ---------------------------------------- */
+static void differential(int w, int h, int shape, lrt_format format, int reversed, uint32_t node_bits, size_t nrays,
+                         int padded)
+{
+    test_map m;
+    lrt_bvh bvh;
+    lrt_build_options opt;
+    lrt_ray *rays = (lrt_ray *)malloc(sizeof(lrt_ray) * nrays);
+    int *kinds = (int *)malloc(sizeof(int) * nrays);
+    char what[160];
+    size_t i;
+    lrt_result r;
+    make_map(&m, w, h, shape, format, reversed, padded);
+    memset(&opt, 0, sizeof opt);
+    opt.node_bits = node_bits;
+    r = lrt_bvh_build(&bvh, &m.depth, &opt, NULL);
+    snprintf(what, sizeof what, "%dx%d %s fmt=%d%s nodes=%u%s", w, h, m.name, (int)format, reversed ? " reversed" : "",
+             bvh.layout.node_bits, padded ? " strided" : "");
+    CHECK(r == LRT_SUCCESS, "%s: build returned %s", what, lrt_result_string(r));
+    if (r == LRT_SUCCESS) {
+        for (i = 0; i < nrays; ++i) {
+            kinds[i] = (int)(i % RAY_KIND_COUNT);
+            rays[i] = make_ray(&m, kinds[i]);
+        }
+        trace_and_judge(what, &bvh, &m, rays, kinds, nrays, 0);
+        if (nrays > 64) { /* any-hit on a slice */
+            strncat(what, " any-hit", sizeof what - strlen(what) - 1);
+            trace_and_judge(what, &bvh, &m, rays, kinds, 64 * (nrays / 64 > 4 ? 4 : nrays / 64), LRT_TRACE_ANY_HIT);
+        }
+    }
+    lrt_bvh_destroy(&bvh);
+    free_map(&m);
+    free(rays);
+    free(kinds);
+}
+
+static void test_differential(void)
+{
+    static const int sizes[][2] = {{1, 1}, {1, 23}, {23, 1}, {3, 5}, {7, 9}, {4, 2}, {8, 8}, {33, 20}, {64, 64}, {100, 37}, {5, 300}};
+    const size_t nsizes = sizeof sizes / sizeof sizes[0];
+    size_t s;
+    int shape, f;
+    for (s = 0; s < nsizes; ++s)
+        for (shape = 0; shape < SHAPE_COUNT; ++shape)
+            for (f = 1; f <= 3; ++f) {
+                if (shape == SHAPE_WILD && f != 3) continue;
+                differential(sizes[s][0], sizes[s][1], shape, (lrt_format)f, (int)(s & 1), (s % 3 == 0) ? 8u : 0u,
+                             2600, (int)(s & 2));
+            }
+    /* node precision both ways on each format, reversed Z on each */
+    for (f = 1; f <= 3; ++f) {
+        differential(61, 47, SHAPE_SCENE, (lrt_format)f, 0, 8, 4000, 0);
+        differential(61, 47, SHAPE_SCENE, (lrt_format)f, 1, 16, 4000, 1);
+        differential(61, 47, SHAPE_TERRACES, (lrt_format)f, 1, 8, 4000, 0);
+    }
+    /* the large sizes of the issue */
+    differential(1282, 1110, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 0, 30000, 0);
+    differential(1282, 1110, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 3000, 1);
+    differential(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 8, 30000, 0);
+    differential(1024, 1024, SHAPE_SCENE, LRT_FORMAT_UNORM8, 0, 0, 3000, 0);
+    differential(1024, 1024, SHAPE_POLES, LRT_FORMAT_FLOAT32, 1, 16, 3000, 0);
+}
+
+/* ---- 2. the named cases of MODEL.md ------------------------------------------ */
+static lrt_hit trace1(const lrt_bvh *bvh, const test_map *m, float ox, float oy, float oz, float vx, float vy, float vz,
+                      float tmin, float tmax)
+{
+    lrt_ray r;
+    lrt_hit h;
+    ref_ray q;
+    ref_answer a;
+    char why[256];
+    r.origin[0] = ox; r.origin[1] = oy; r.origin[2] = oz;
+    r.dir[0] = vx; r.dir[1] = vy; r.dir[2] = vz;
+    r.tmin = tmin; r.tmax = tmax;
+    memset(&h, 0xff, sizeof h);
+    CHECK(lrt_trace(bvh, &m->depth, &r, &h, 1, 0) == LRT_SUCCESS, "trace1 failed");
+    q = to_ref(&r);
+    a = to_answer(&h);
+    CHECK(ref_check(&m->ref, &q, &a, 0, why, sizeof why), "named case disagrees with the reference: %s", why);
+    return h;
+}
+
+static void test_named_cases(void)
+{
+    /* a 8x6 float map: floor at 0.8, a near block at 0.25 on texels (2..3, 1..2), a far-plane hole at (6,4) */
+    float d[6][8];
+    test_map m;
+    lrt_bvh bvh;
+    lrt_hit h;
+    int i, j;
+    for (j = 0; j < 6; ++j)
+        for (i = 0; i < 8; ++i) d[j][i] = (i >= 2 && i <= 3 && j >= 1 && j <= 2) ? 0.25f : 0.8f;
+    d[4][6] = 1.0f;
+    memset(&m, 0, sizeof m);
+    m.depth.data = d;
+    m.depth.width = 8;
+    m.depth.height = 6;
+    m.depth.format = LRT_FORMAT_FLOAT32;
+    ref_map_from_raw(&m.ref, d, 8, 6, 0, REF_FORMAT_FLOAT32, 0);
+    CHECK(lrt_bvh_build(&bvh, &m.depth, NULL, NULL) == LRT_SUCCESS, "named: build");
+
+    h = trace1(&bvh, &m, 2.5f, 1.5f, 0.0f, 0, 0, 1, 0, 1); /* primary ray: own texel at t = d */
+    CHECK(h.kind == LRT_HIT && h.t == 0.25f && h.x == 2 && h.y == 1, "primary ray: kind %u t %g (%u,%u)", h.kind, h.t, h.x, h.y);
+    h = trace1(&bvh, &m, 6.5f, 4.5f, 0.0f, 0, 0, 1, 0, 1); /* far-plane texel: hit at z = 1 = tmax */
+    CHECK(h.kind == LRT_HIT && h.t == 1.0f && h.x == 6 && h.y == 4, "far-plane texel: kind %u t %g", h.kind, h.t);
+    h = trace1(&bvh, &m, 6.5f, 4.5f, 0.0f, 0, 0, 1, 0, 0.999f); /* ... not reached before tmax */
+    CHECK(h.kind == LRT_MISS_TMAX, "far-plane texel before tmax: kind %u", h.kind);
+    h = trace1(&bvh, &m, 0.5f, 0.5f, 0.9f, 1, 0, 0, 0.25f, 2); /* origin inside the solid at tmin */
+    CHECK(h.kind == LRT_HIT && h.t == 0.25f, "inside at tmin: kind %u t %g", h.kind, h.t);
+    h = trace1(&bvh, &m, 0.5f, 3.5f, 0.5f, 1, 0, 0, 0, 100); /* over the floor, out the right edge */
+    CHECK(h.kind == LRT_MISS_OFF_SCREEN, "leaves the screen: kind %u", h.kind);
+    h = trace1(&bvh, &m, 0.5f, 3.5f, 0.5f, 1, 0, 0, 0, 3); /* over the floor, ends on screen */
+    CHECK(h.kind == LRT_MISS_TMAX, "reaches tmax: kind %u", h.kind);
+    h = trace1(&bvh, &m, -5.0f, -5.0f, 0.9f, -1, 0, 0, 0, 3); /* whole interval off the screen */
+    CHECK(h.kind == LRT_MISS_OFF_SCREEN, "whole interval off screen: kind %u", h.kind);
+    h = trace1(&bvh, &m, 0.5f, 1.5f, 0.5f, 1, 0, 0, 0, 7); /* into the side of the near block */
+    CHECK(h.kind == LRT_HIT && h.t == 1.5f && h.x == 2 && h.y == 1, "block side: kind %u t %g (%u,%u)", h.kind, h.t, h.x, h.y);
+    h = trace1(&bvh, &m, 4.5f, 1.5f, 0.85f, 0, 0, 0, 0, 1); /* v = 0 inside */
+    CHECK(h.kind == LRT_HIT && h.t == 0.0f, "v=0 inside: kind %u t %g", h.kind, h.t);
+    h = trace1(&bvh, &m, 4.5f, 1.5f, 0.5f, 0, 0, 0, 0.5f, 1); /* v = 0 outside */
+    CHECK(h.kind == LRT_MISS_TMAX, "v=0 outside: kind %u", h.kind);
+    h = trace1(&bvh, &m, 4.0f, 0.0f, 0.5f, 0, 1, 0.1f, 0, 10); /* along the cell edge x = 4, next to the block */
+    CHECK(h.kind == LRT_HIT, "along a cell edge: kind %u", h.kind);
+    h = trace1(&bvh, &m, 2.0f, 1.0f, 0.25f, 1, 1, 0, 0, 3); /* through corners, grazing the block top */
+    CHECK(h.kind == LRT_HIT && h.t == 0.0f, "corner on the block top: kind %u t %g", h.kind, h.t);
+    h = trace1(&bvh, &m, 2.5f, 1.5f, 0.25f, 0.5f, 0.3f, 0.2f, 0, 1); /* starts on its own surface, moves deeper */
+    CHECK(h.kind == LRT_HIT && h.t == 0.0f && h.x == 2 && h.y == 1, "own surface: kind %u t %g", h.kind, h.t);
+    h = trace1(&bvh, &m, 1e30f, 1.5f, 0.5f, -1e30f, 0, 0, 0, 2); /* huge finite values */
+    CHECK(h.kind == LRT_HIT && h.x == 3 && h.y == 1, "huge values: kind %u (%u,%u)", h.kind, h.x, h.y);
+    h = trace1(&bvh, &m, 1.0f, 1.0f, 0.0f, NAN, 0, 1, 0, 1);
+    CHECK(h.kind == LRT_MISS_INVALID_RAY, "NaN direction: kind %u", h.kind);
+    h = trace1(&bvh, &m, 1.0f, 1.0f, 0.0f, 0, 0, 1, -1, 1);
+    CHECK(h.kind == LRT_MISS_INVALID_RAY, "tmin < 0: kind %u", h.kind);
+    h = trace1(&bvh, &m, 1.0f, 1.0f, 0.0f, 0, 0, 1, 1, 0.5f);
+    CHECK(h.kind == LRT_MISS_INVALID_RAY, "tmin > tmax: kind %u", h.kind);
+    h = trace1(&bvh, &m, 1.0f, 1.0f, 0.0f, 0, 0, 1, 0, INFINITY);
+    CHECK(h.kind == LRT_MISS_INVALID_RAY, "infinite tmax: kind %u", h.kind);
+    lrt_bvh_destroy(&bvh);
+    ref_map_free(&m.ref);
+}
+
+/* ---- 3. Morton mapping and level geometry --------------------------------------- */
+static uint32_t ilog2(uint32_t v) { uint32_t k = 0; while ((1u << k) < v) ++k; return k; }
+
+static void test_layout(void)
+{
+    static const int sizes[][2] = {{1, 1}, {1, 16384}, {16384, 1}, {3, 5}, {7, 9}, {1282, 1110}, {1024, 1024},
+                                   {16384, 16384}, {4, 2}, {5, 3}, {64, 256}};
+    size_t s;
+    for (s = 0; s < sizeof sizes / sizeof sizes[0]; ++s) {
+        lrt_layout L;
+        uint32_t w = (uint32_t)sizes[s][0], h = (uint32_t)sizes[s][1], lv, cw = w, ch = h;
+        size_t offset = 0;
+        int ok = 1;
+        CHECK(lrt_layout_compute(w, h, 8, &L) == LRT_SUCCESS, "layout %ux%u", w, h);
+        /* independent recomputation: 4x2 on even levels, 2x4 on odd, ceil */
+        for (lv = 0; lv < L.level_count; ++lv) {
+            uint32_t bw = (lv & 1) ? 2 : 4, bh = (lv & 1) ? 4 : 2;
+            cw = (cw + bw - 1) / bw;
+            ch = (ch + bh - 1) / bh;
+            ok &= L.levels[lv + 1].width == cw && L.levels[lv + 1].height == ch;
+            ok &= L.levels[lv].block_w == bw && L.levels[lv].block_h == bh;
+        }
+        ok &= cw == 1 && ch == 1; /* the root level is the first 1x1 one */
+        ok &= L.level_count == 1 || L.levels[L.level_count - 1].width * L.levels[L.level_count - 1].height > 1;
+        for (lv = 1; lv <= L.level_count; ++lv) {
+            size_t slots = lv == L.level_count ? 1 : (size_t)L.levels[lv + 1].width * L.levels[lv + 1].height * 8;
+            ok &= L.levels[lv].offset == offset && L.levels[lv].count == slots;
+            offset += slots;
+        }
+        ok &= L.node_count == offset && L.bytes == offset * 8;
+        CHECK(ok, "level sizes/offsets of %ux%u", w, h);
+        /* memory: about 1.14 bytes per texel at 8 bits for sizes that fill their blocks */
+        if (w >= 64 && h >= 64 && (w % 64) == 0 && (h % 64) == 0)
+            CHECK((double)L.bytes / ((double)w * h) < 1.2, "%ux%u: %.3f bytes per texel", w, h, (double)L.bytes / ((double)w * h));
+        /* Morton: every real node of every level gets a distinct index in its level */
+        if ((size_t)w * h <= (size_t)1 << 21) {
+            for (lv = 1; lv <= L.level_count; ++lv) {
+                size_t n = L.levels[lv].count, x, y;
+                unsigned char *seen = (unsigned char *)calloc(n, 1);
+                int distinct = 1;
+                for (y = 0; y < L.levels[lv].height; ++y)
+                    for (x = 0; x < L.levels[lv].width; ++x) {
+                        size_t k = lrt_layout_node_index(&L, lv, (uint32_t)x, (uint32_t)y);
+                        if (k >= n || seen[k]) distinct = 0;
+                        else seen[k] = 1;
+                    }
+                free(seen);
+                CHECK(distinct, "%ux%u level %u: Morton indices not distinct/in range", w, h, lv);
+            }
+        }
+    }
+    { /* bit by bit, as SEED.md writes it, where the parent grid width is a power of two */
+        lrt_layout L;
+        uint32_t lv, x, y;
+        int ok = 1;
+        lrt_layout_compute(1024, 1024, 16, &L);
+        for (lv = 1; lv < L.level_count; ++lv) {
+            uint32_t xb = ilog2(L.levels[lv + 1].width * L.levels[lv].block_w); /* bits of x at this level */
+            for (y = 0; y < L.levels[lv].height; y += 3)
+                for (x = 0; x < L.levels[lv].width; x += 5) {
+                    uint64_t code = 0;
+                    int bit = 0, b;
+                    if (L.levels[lv].block_w == 4) { /* y_n..y_1 | x_n..x_2 | y_0 x_1 x_0 */
+                        code |= (uint64_t)((x >> 0) & 1) << bit++;
+                        code |= (uint64_t)((x >> 1) & 1) << bit++;
+                        code |= (uint64_t)((y >> 0) & 1) << bit++;
+                        for (b = 2; b < (int)xb; ++b) code |= (uint64_t)((x >> b) & 1) << bit++;
+                        for (b = 1; b < 31; ++b) code |= (uint64_t)((y >> b) & 1) << bit++;
+                    } else { /* y_n..y_2 | x_n..x_1 | y_1 y_0 x_0 */
+                        code |= (uint64_t)((x >> 0) & 1) << bit++;
+                        code |= (uint64_t)((y >> 0) & 1) << bit++;
+                        code |= (uint64_t)((y >> 1) & 1) << bit++;
+                        for (b = 1; b < (int)xb; ++b) code |= (uint64_t)((x >> b) & 1) << bit++;
+                        for (b = 2; b < 31; ++b) code |= (uint64_t)((y >> b) & 1) << bit++;
+                    }
+                    ok &= code == lrt_layout_node_index(&L, lv, x, y);
+                }
+        }
+        CHECK(ok, "Morton codes differ from the bit-by-bit patterns of SEED.md");
+    }
+}
+
+/* ---- 4. update equals rebuild ------------------------------------------------- */
+static void paint_frame(float *d, int w, int h, int frame)
+{
+    int i, j;
+    float cx = (float)(w / 4 + (frame * 7) % (w / 2 + 1)), cy = (float)(h / 3 + (frame * 5) % (h / 3 + 1));
+    float r = 6.0f + (float)(frame % 5);
+    for (j = 0; j < h; ++j)
+        for (i = 0; i < w; ++i) {
+            float dx = (float)i - cx, dy = (float)j - cy, q = dx * dx + dy * dy;
+            float v = 0.7f + 0.2f * (float)j / (float)h; /* a floor */
+            if (q < r * r) v = 0.3f + 0.001f * sqrtf(q); /* a sphere that moves in and out */
+            d[(size_t)j * (size_t)w + (size_t)i] = v;
+        }
+}
+
+static void test_update(void)
+{
+    const int w = 203, h = 131;
+    float *d = (float *)malloc(sizeof(float) * w * h), *prev = (float *)malloc(sizeof(float) * w * h);
+    lrt_depth dm;
+    lrt_bvh live, fresh;
+    lrt_build_options opt;
+    int frame, bits;
+    for (bits = 8; bits <= 16; bits += 8) {
+        int same_full = 1, same_rect = 1;
+        memset(&dm, 0, sizeof dm);
+        dm.data = d;
+        dm.width = w;
+        dm.height = h;
+        dm.format = LRT_FORMAT_FLOAT32;
+        memset(&opt, 0, sizeof opt);
+        opt.node_bits = (uint32_t)bits;
+        paint_frame(d, w, h, 0);
+        CHECK(lrt_bvh_build(&live, &dm, &opt, NULL) == LRT_SUCCESS, "update: build");
+        for (frame = 1; frame < 24; ++frame) {
+            int i, j, x0 = w, y0 = h, x1 = -1, y1 = -1;
+            lrt_rect rect;
+            memcpy(prev, d, sizeof(float) * w * h);
+            paint_frame(d, w, h, frame);
+            for (j = 0; j < h; ++j)
+                for (i = 0; i < w; ++i)
+                    if (d[(size_t)j * w + i] != prev[(size_t)j * w + i]) {
+                        x0 = i < x0 ? i : x0; x1 = i > x1 ? i : x1;
+                        y0 = j < y0 ? j : y0; y1 = j > y1 ? j : y1;
+                    }
+            if (x1 < 0) { x0 = y0 = 0; x1 = y1 = -1; }
+            rect.x = (uint32_t)x0; rect.y = (uint32_t)y0;
+            rect.width = (uint32_t)(x1 - x0 + 1); rect.height = (uint32_t)(y1 - y0 + 1);
+            /* even frames: dirty rect; odd frames: whole map */
+            CHECK(lrt_bvh_update(&live, &dm, (frame & 1) ? NULL : &rect) == LRT_SUCCESS, "update frame %d", frame);
+            CHECK(lrt_bvh_build(&fresh, &dm, &opt, NULL) == LRT_SUCCESS, "rebuild frame %d", frame);
+            if (memcmp(live.nodes, fresh.nodes, live.layout.bytes) != 0) {
+                if (frame & 1) same_full = 0;
+                else same_rect = 0;
+            }
+            lrt_bvh_destroy(&fresh);
+        }
+        CHECK(same_full, "%d-bit: update of the whole map differs from a rebuild", bits);
+        CHECK(same_rect, "%d-bit: update of the dirty rect differs from a rebuild", bits);
+        lrt_bvh_destroy(&live);
+    }
+    { /* an update with a rect that misses the change must NOT equal a rebuild: the test can fail */
+        lrt_rect elsewhere = {0, 0, 4, 4};
+        paint_frame(d, w, h, 0);
+        lrt_bvh_build(&live, &dm, NULL, NULL);
+        paint_frame(d, w, h, 9);
+        lrt_bvh_update(&live, &dm, &elsewhere);
+        lrt_bvh_build(&fresh, &dm, NULL, NULL);
+        CHECK(memcmp(live.nodes, fresh.nodes, live.layout.bytes) != 0, "a stale update went unnoticed");
+        lrt_bvh_destroy(&fresh);
+        lrt_bvh_destroy(&live);
+    }
+    free(d);
+    free(prev);
+}
+
+/* ---- 5. bad arguments ------------------------------------------------------------ */
+static int g_allocs, g_frees;
+static void *count_alloc(void *user, size_t n) { ++*(int *)user; ++g_allocs; return malloc(n); }
+static void count_free(void *user, void *p) { (void)user; ++g_frees; free(p); }
+static void *fail_alloc(void *user, size_t n) { (void)user; (void)n; return NULL; }
+
+static void test_bad_arguments(void)
+{
+    float d[6] = {0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f};
+    lrt_depth dm, bad;
+    lrt_bvh bvh, untouched, other;
+    lrt_build_options opt;
+    lrt_allocator a;
+    lrt_ray ray;
+    lrt_hit hit;
+    lrt_rect rect;
+    size_t bytes;
+    int user = 0;
+    unsigned char sentinel[sizeof(lrt_bvh)];
+    memset(&dm, 0, sizeof dm);
+    dm.data = d;
+    dm.width = 3;
+    dm.height = 2;
+    dm.format = LRT_FORMAT_FLOAT32;
+    memset(&opt, 0, sizeof opt);
+    memset(&untouched, 0xab, sizeof untouched);
+    memcpy(sentinel, &untouched, sizeof sentinel);
+
+#define EXPECT_BUILD(depth_ptr, opt_ptr, code, what)                                                          \
+    do {                                                                                                      \
+        lrt_result r_ = lrt_bvh_build(&untouched, depth_ptr, opt_ptr, NULL);                                  \
+        CHECK(r_ == code, "%s: got %s", what, lrt_result_string(r_));                                         \
+        CHECK(memcmp(&untouched, sentinel, sizeof sentinel) == 0, "%s: the lrt_bvh was written", what);       \
+    } while (0)
+
+    EXPECT_BUILD(NULL, NULL, LRT_ERROR_NULL_POINTER, "null depth");
+    bad = dm; bad.data = NULL;
+    EXPECT_BUILD(&bad, NULL, LRT_ERROR_NULL_POINTER, "null data");
+    bad = dm; bad.width = 0;
+    EXPECT_BUILD(&bad, NULL, LRT_ERROR_INVALID_SIZE, "zero width");
+    bad = dm; bad.height = 0;
+    EXPECT_BUILD(&bad, NULL, LRT_ERROR_INVALID_SIZE, "zero height");
+    bad = dm; bad.width = LINEAR_RT_MAX_DIM + 1;
+    EXPECT_BUILD(&bad, NULL, LRT_ERROR_INVALID_SIZE, "oversized width");
+    bad = dm; bad.row_stride = 11;
+    EXPECT_BUILD(&bad, NULL, LRT_ERROR_INVALID_STRIDE, "stride smaller than a row");
+    bad = dm; bad.format = (lrt_format)7;
+    EXPECT_BUILD(&bad, NULL, LRT_ERROR_INVALID_FORMAT, "unknown format");
+    bad = dm; bad.format = (lrt_format)0;
+    EXPECT_BUILD(&bad, NULL, LRT_ERROR_INVALID_FORMAT, "format 0");
+    bad = dm; bad.flags = 0x80;
+    EXPECT_BUILD(&bad, NULL, LRT_ERROR_INVALID_OPTION, "unknown depth flag");
+    bad = dm; bad.row_stride = (size_t)-1 / 2 + 1;
+    EXPECT_BUILD(&bad, NULL, LRT_ERROR_SIZE_OVERFLOW, "byte count overflows");
+    opt.node_bits = 12;
+    EXPECT_BUILD(&dm, &opt, LRT_ERROR_INVALID_OPTION, "node bits 12");
+    opt.node_bits = 0;
+    CHECK(lrt_bvh_build(NULL, &dm, NULL, NULL) == LRT_ERROR_NULL_POINTER, "null bvh");
+
+    a.alloc = fail_alloc; a.free = count_free; a.user = NULL;
+    CHECK(lrt_bvh_build(&untouched, &dm, NULL, &a) == LRT_ERROR_OUT_OF_MEMORY, "out of memory");
+    CHECK(memcmp(&untouched, sentinel, sizeof sentinel) == 0, "out of memory: the lrt_bvh was written");
+    a.alloc = NULL;
+    CHECK(lrt_bvh_build(&untouched, &dm, NULL, &a) == LRT_ERROR_NULL_POINTER, "allocator without alloc");
+
+    /* allocator hooks: one allocation, freed by destroy */
+    a.alloc = count_alloc; a.free = count_free; a.user = &user;
+    g_allocs = g_frees = 0;
+    CHECK(lrt_bvh_build(&bvh, &dm, NULL, &a) == LRT_SUCCESS && user == 1 && g_allocs == 1, "allocator hooks used");
+    lrt_bvh_destroy(&bvh);
+    CHECK(g_frees == 1, "destroy frees through the hooks");
+    lrt_bvh_destroy(&bvh); /* twice is harmless */
+    CHECK(g_frees == 1, "second destroy frees nothing");
+
+    /* caller-owned memory */
+    CHECK(lrt_bvh_memory_size(3, 2, LRT_FORMAT_FLOAT32, NULL, &bytes) == LRT_SUCCESS && bytes == 16 + 15, "memory size 3x2 16-bit: %zu", bytes);
+    CHECK(lrt_bvh_memory_size(0, 2, LRT_FORMAT_FLOAT32, NULL, &bytes) == LRT_ERROR_INVALID_SIZE, "memory size of 0 width");
+    CHECK(lrt_bvh_memory_size(3, 2, (lrt_format)9, NULL, &bytes) == LRT_ERROR_INVALID_FORMAT, "memory size of bad format");
+    CHECK(lrt_bvh_memory_size(3, 2, LRT_FORMAT_FLOAT32, NULL, NULL) == LRT_ERROR_NULL_POINTER, "memory size to NULL");
+    {
+        unsigned char mem[32];
+        CHECK(lrt_bvh_build_in(&untouched, &dm, NULL, mem + 1, 30) == LRT_ERROR_BUFFER_TOO_SMALL, "buffer too small");
+        CHECK(memcmp(&untouched, sentinel, sizeof sentinel) == 0, "buffer too small: the lrt_bvh was written");
+        CHECK(lrt_bvh_build_in(&untouched, &dm, NULL, NULL, 16) == LRT_ERROR_NULL_POINTER, "null caller memory");
+        CHECK(lrt_bvh_build_in(&bvh, &dm, NULL, mem + 1, 31) == LRT_SUCCESS, "build in caller memory (unaligned)");
+        CHECK((unsigned char *)bvh.nodes >= mem + 1 && (unsigned char *)bvh.nodes + 16 <= mem + 32, "nodes inside caller memory");
+        ray.origin[0] = 1.5f; ray.origin[1] = 0.5f; ray.origin[2] = 0.0f;
+        ray.dir[0] = 0; ray.dir[1] = 0; ray.dir[2] = 1;
+        ray.tmin = 0; ray.tmax = 1;
+        CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, 0) == LRT_SUCCESS && hit.kind == LRT_HIT && hit.t == 0.5f,
+              "trace in caller memory");
+        lrt_bvh_destroy(&bvh); /* does not free caller memory (ASan would see it) */
+    }
+
+    /* update and trace arguments */
+    CHECK(lrt_bvh_build(&bvh, &dm, NULL, NULL) == LRT_SUCCESS, "build");
+    CHECK(lrt_bvh_update(NULL, &dm, NULL) == LRT_ERROR_NULL_POINTER, "update null bvh");
+    CHECK(lrt_bvh_update(&bvh, NULL, NULL) == LRT_ERROR_NULL_POINTER, "update null depth");
+    bad = dm; bad.width = 4; bad.row_stride = 16;
+    CHECK(lrt_bvh_update(&bvh, &bad, NULL) == LRT_ERROR_SIZE_MISMATCH, "update with another size");
+    rect.x = 2; rect.y = 0; rect.width = 2; rect.height = 1;
+    CHECK(lrt_bvh_update(&bvh, &dm, &rect) == LRT_ERROR_INVALID_RECT, "rect past the right edge");
+    rect.x = 0; rect.y = 1; rect.width = 1; rect.height = 0xffffffffu;
+    CHECK(lrt_bvh_update(&bvh, &dm, &rect) == LRT_ERROR_INVALID_RECT, "rect height wrapping around");
+    rect.x = 3; rect.y = 2; rect.width = 0; rect.height = 0;
+    CHECK(lrt_bvh_update(&bvh, &dm, &rect) == LRT_SUCCESS, "empty rect at the corner");
+    memset(&other, 0, sizeof other);
+    CHECK(lrt_trace(&other, &dm, &ray, &hit, 1, 0) == LRT_ERROR_INVALID_BVH, "trace an unbuilt bvh");
+    CHECK(lrt_bvh_update(&other, &dm, NULL) == LRT_ERROR_INVALID_BVH, "update an unbuilt bvh");
+    CHECK(lrt_trace(NULL, &dm, &ray, &hit, 1, 0) == LRT_ERROR_NULL_POINTER, "trace null bvh");
+    CHECK(lrt_trace(&bvh, &dm, NULL, &hit, 1, 0) == LRT_ERROR_NULL_POINTER, "trace null rays");
+    CHECK(lrt_trace(&bvh, &dm, &ray, NULL, 1, 0) == LRT_ERROR_NULL_POINTER, "trace null hits");
+    CHECK(lrt_trace(&bvh, &dm, NULL, NULL, 0, 0) == LRT_SUCCESS, "trace no rays");
+    CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, 0x10) == LRT_ERROR_INVALID_OPTION, "trace unknown flag");
+    CHECK(lrt_trace(&bvh, &dm, &ray, &hit, (size_t)LINEAR_RT_MAX_RAYS_PER_CALL + 1, 0) == LRT_ERROR_TOO_MANY_RAYS,
+          "too many rays");
+    CHECK(lrt_trace_range(&bvh, &dm, &ray, &hit, 2, 1, 0) == LRT_ERROR_TOO_MANY_RAYS, "range end before first");
+    CHECK(lrt_layout_compute(3, 2, 8, NULL) == LRT_ERROR_NULL_POINTER, "layout to NULL");
+    CHECK(lrt_layout_compute(16385, 2, 8, &bvh.layout) == LRT_ERROR_INVALID_SIZE, "layout oversized");
+    lrt_bvh_destroy(&bvh);
+    CHECK(strcmp(lrt_result_string(LRT_ERROR_INVALID_RECT), "unknown result code") != 0 &&
+              strcmp(lrt_result_string((lrt_result)999), "unknown result code") == 0,
+          "result strings");
+#undef EXPECT_BUILD
+}
+
+/* ---- 6. ranges: slices of a batch give what the whole batch gives ----------------- */
+static void test_ranges(void)
+{
+    test_map m;
+    lrt_bvh bvh;
+    enum { N = 3000 };
+    static lrt_ray rays[N];
+    static lrt_hit whole[N], parts[N];
+    size_t i;
+    make_map(&m, 90, 70, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 0);
+    lrt_bvh_build(&bvh, &m.depth, NULL, NULL);
+    for (i = 0; i < N; ++i) rays[i] = make_ray(&m, (int)(i % RAY_KIND_COUNT));
+    lrt_trace(&bvh, &m.depth, rays, whole, N, 0);
+    CHECK(lrt_trace_range(&bvh, &m.depth, rays, parts, 0, 1234, 0) == LRT_SUCCESS &&
+              lrt_trace_range(&bvh, &m.depth, rays, parts, 1234, N, 0) == LRT_SUCCESS,
+          "trace_range");
+    CHECK(memcmp(whole, parts, sizeof whole) == 0, "two ranges differ from one batch");
+    lrt_bvh_destroy(&bvh);
+    free_map(&m);
+}
+
+int main(void)
+{
+    test_named_cases();
+    test_layout();
+    test_update();
+    test_bad_arguments();
+    test_ranges();
+    test_differential();
+    printf("%d passed, %d failed\n", g_pass, g_fail);
+    return g_fail ? 1 : 0;
+}

@@ -1,0 +1,754 @@
+/* tests/test_reference.c - self-test of the exact reference tracer
+   (tests/reference.h) on hand-made cases with known answers, plus a
+   cross-check against an all-texel scan and against dense sampling.
+
+   gcc -std=c99 -O2 -Wall -Wextra -Wpedantic -Werror tests/test_reference.c -o /tmp/test_reference -lm
+   g++ -x c++ -std=c++11 -O2 -Wall -Wextra -Werror tests/test_reference.c -o /tmp/test_reference_cpp -lm
+*/
+#include "reference.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int g_pass, g_fail;
+
+#define CHECK(cond, ...)                                                        \
+    do {                                                                        \
+        if (cond) {                                                             \
+            g_pass++;                                                           \
+        } else {                                                                \
+            g_fail++;                                                           \
+            printf("FAIL %s:%d: ", __FILE__, __LINE__);                         \
+            printf(__VA_ARGS__);                                                \
+            printf("\n");                                                       \
+        }                                                                       \
+    } while (0)
+
+/* ------------------------------------------------------------ helpers -- */
+
+static ref_map map_const(int w, int h, double d)
+{
+    ref_map m;
+    int k;
+    m.w = w;
+    m.h = h;
+    m.d = (double *)malloc((size_t)w * (size_t)h * sizeof(double));
+    for (k = 0; k < w * h; k++) m.d[k] = d;
+    return m;
+}
+
+static void set_d(ref_map *m, int i, int j, double d) { m->d[j * m->w + i] = d; }
+
+static ref_ray mkray(double ox, double oy, double oz, double vx, double vy, double vz,
+                     double tmin, double tmax)
+{
+    ref_ray r;
+    r.o[0] = (float)ox; r.o[1] = (float)oy; r.o[2] = (float)oz;
+    r.v[0] = (float)vx; r.v[1] = (float)vy; r.v[2] = (float)vz;
+    r.tmin = (float)tmin; r.tmax = (float)tmax;
+    return r;
+}
+
+static ref_result tr(const ref_map *m, ref_ray r) { return ref_trace_ray(m, &r); }
+
+static int near_t(double got, double want)
+{
+    return fabs(got - want) <= 1e-12 * (1 + fabs(want));
+}
+
+#define EXPECT_HIT(res, tt, xx, yy)                                                     \
+    CHECK((res).kind == REF_HIT && near_t((res).t, (tt)) && (res).x == (xx) &&          \
+              (res).y == (yy),                                                          \
+          "expected hit t=%.17g (%d,%d), got kind %d t=%.17g (%d,%d)", (double)(tt),    \
+          (xx), (yy), (res).kind, (res).t, (res).x, (res).y)
+
+#define EXPECT_KIND(res, k)                                                             \
+    CHECK((res).kind == (k), "expected kind %d, got kind %d t=%.17g (%d,%d)", (k),      \
+          (res).kind, (res).t, (res).x, (res).y)
+
+static ref_answer ans(int kind, double t, int x, int y)
+{
+    ref_answer a;
+    a.kind = kind; a.t = (float)t; a.x = x; a.y = y;
+    return a;
+}
+
+/* ----------------------------------------------------------- the cases -- */
+
+static void test_one_texel(void)
+{
+    ref_map m = map_const(1, 1, 0.5);
+    ref_result r;
+    r = tr(&m, mkray(0.5, 0.5, 0, 0, 0, 1, 0, 1));
+    EXPECT_HIT(r, 0.5, 0, 0);
+    r = tr(&m, mkray(0.5, 0.5, 0, 0, 0, 1, 0, 0.25));
+    EXPECT_KIND(r, REF_MISS_TMAX);
+    /* the whole interval off the screen */
+    r = tr(&m, mkray(2, 2, 0, 1, 0, 0, 0, 1));
+    EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+    /* on the screen edge x = 1 (closed): still in the footprint */
+    r = tr(&m, mkray(1, 0.5, 0, 0, 0, 1, 0, 1));
+    EXPECT_HIT(r, 0.5, 0, 0);
+    /* corner of the screen */
+    r = tr(&m, mkray(0, 1, 0, 0, 0, 1, 0, 1));
+    EXPECT_HIT(r, 0.5, 0, 0);
+    /* tmin == tmax, point in the solid */
+    r = tr(&m, mkray(0.5, 0.5, 0, 0, 0, 1, 0.75, 0.75));
+    EXPECT_HIT(r, 0.75, 0, 0);
+    ref_map_free(&m);
+}
+
+static void test_floor_primary(void)
+{
+    int w = 13, h = 7, i, j;
+    ref_map m = map_const(w, h, 0);
+    for (j = 0; j < h; j++)
+        for (i = 0; i < w; i++) set_d(&m, i, j, (double)((i * 7 + j * 3) % 17) / 16.0);
+    set_d(&m, 3, 2, 1.0);
+    set_d(&m, 4, 2, 0.0);
+    for (j = 0; j < h; j++)
+        for (i = 0; i < w; i++) {
+            ref_result r = tr(&m, mkray(i + 0.5, j + 0.5, 0, 0, 0, 1, 0, 1));
+            EXPECT_HIT(r, m.d[j * w + i], i, j);
+        }
+    /* 8-bit depths (not dyadic): t = d exactly as the double */
+    {
+        unsigned char px[6] = { 0, 1, 77, 128, 254, 255 };
+        ref_map m8;
+        CHECK(ref_map_from_raw(&m8, px, 3, 2, 0, REF_FORMAT_UNORM8, 0) == 0, "from_raw 8");
+        for (j = 0; j < 2; j++)
+            for (i = 0; i < 3; i++) {
+                ref_result r = tr(&m8, mkray(i + 0.5, j + 0.5, 0, 0, 0, 1, 0, 1));
+                EXPECT_HIT(r, px[j * 3 + i] / 255.0, i, j);
+            }
+        ref_map_free(&m8);
+    }
+    ref_map_free(&m);
+}
+
+static void test_inside_and_surface(void)
+{
+    ref_map m = map_const(4, 4, 0.5);
+    ref_result r;
+    /* starts inside the solid */
+    r = tr(&m, mkray(1.5, 1.5, 0.8, 1, 0.25, -1, 0, 10));
+    EXPECT_HIT(r, 0, 1, 1);
+    r = tr(&m, mkray(1.5, 1.5, 0.8, 1, 0.25, -1, 0.125, 10));
+    EXPECT_HIT(r, 0.125, 1, 1); /* at t=0.125: (1.625, 1.53, 0.675) */
+    /* starts on its own surface, going deeper or going up: closed box */
+    r = tr(&m, mkray(1.5, 1.5, 0.5, 1, 0, 0.1, 0, 10));
+    EXPECT_HIT(r, 0, 1, 1);
+    r = tr(&m, mkray(1.5, 1.5, 0.5, 1, 0, -0.1, 0, 10));
+    EXPECT_HIT(r, 0, 1, 1);
+    /* starts on the surface going up, tmin past the texel: flat floor,
+       leaves the screen above it */
+    r = tr(&m, mkray(1.5, 1.5, 0.5, 1, 0, -0.1, 1, 10));
+    EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+    /* starts above, comes down onto the floor */
+    r = tr(&m, mkray(0.5, 0.5, 0.25, 1, 1, 0.125, 0, 10));
+    EXPECT_HIT(r, 2, 2, 2);
+    ref_map_free(&m);
+}
+
+static void test_miss_kinds(void)
+{
+    ref_map m = map_const(4, 4, 1.0);
+    ref_result r;
+    /* z stays 0.25: no hit */
+    r = tr(&m, mkray(0.5, 0.5, 0.25, 1, 0, 0, 0, 2));
+    EXPECT_KIND(r, REF_MISS_TMAX);
+    r = tr(&m, mkray(0.5, 0.5, 0.25, 1, 0, 0, 0, 3.5)); /* ends on x = 4 exactly */
+    EXPECT_KIND(r, REF_MISS_TMAX);
+    r = tr(&m, mkray(0.5, 0.5, 0.25, 1, 0, 0, 0, 3.5000002));
+    EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+    r = tr(&m, mkray(0.5, 0.5, 0.25, 1, 0, 0, 0, 10));
+    EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+    r = tr(&m, mkray(0.5, 0.5, 0.25, 1, 0, 0, 0, FLT_MAX));
+    EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+    /* whole interval off the screen, starting on screen earlier: tmin past */
+    r = tr(&m, mkray(0.5, 0.5, 0.25, 1, 0, 0, 5, 6));
+    EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+    /* comes from off the screen, ends on it */
+    r = tr(&m, mkray(-3, 0.5, 0.25, 1, 0, 0, 0, 4));
+    EXPECT_KIND(r, REF_MISS_TMAX);
+    /* behind the far plane and staying on the screen: z plays no part */
+    r = tr(&m, mkray(0.5, 0.5, 1.5, 1, 0, 0.5, 0, 2));
+    EXPECT_KIND(r, REF_MISS_TMAX);
+    /* in front of the near plane */
+    r = tr(&m, mkray(0.5, 0.5, -1, 1, 1, -0.5, 0, 2));
+    EXPECT_KIND(r, REF_MISS_TMAX);
+    ref_map_free(&m);
+}
+
+static void test_zero_direction(void)
+{
+    ref_map m = map_const(2, 1, 0.9);
+    ref_result r;
+    set_d(&m, 1, 0, 0.3);
+    r = tr(&m, mkray(0.5, 0.5, 0.95, 0, 0, 0, 0.25, 7));
+    EXPECT_HIT(r, 0.25, 0, 0);
+    r = tr(&m, mkray(0.5, 0.5, 0.5, 0, 0, 0, 0.25, 7));
+    EXPECT_KIND(r, REF_MISS_TMAX);
+    r = tr(&m, mkray(5, 0.5, 0.95, 0, 0, 0, 0, 1));
+    EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+    r = tr(&m, mkray(0.5, 0.5, 1.5, 0, 0, 0, 0, 1)); /* behind the far plane */
+    EXPECT_KIND(r, REF_MISS_TMAX);
+    /* on the edge x = 1 between d = 0.9 and d = 0.3: only texel 1 holds z=0.5 */
+    r = tr(&m, mkray(1, 0.5, 0.5, 0, 0, 0, 2, 3));
+    EXPECT_HIT(r, 2, 1, 0);
+    /* on the far-plane face of the screen, on the screen corner */
+    r = tr(&m, mkray(2, 1, 1, 0, 0, 0, 0, 0));
+    EXPECT_HIT(r, 0, 1, 0);
+    ref_map_free(&m);
+}
+
+static void test_invalid(void)
+{
+    ref_map m = map_const(2, 2, 0.5);
+    double nan = strtod("nan", NULL), inf = HUGE_VAL;
+    ref_result r;
+    int c;
+    for (c = 0; c < 8; c++) {
+        double vals[8] = { 0.5, 0.5, 0, 0, 0, 1, 0, 1 };
+        vals[c] = nan;
+        r = tr(&m, mkray(vals[0], vals[1], vals[2], vals[3], vals[4], vals[5], vals[6], vals[7]));
+        EXPECT_KIND(r, REF_MISS_INVALID);
+        vals[c] = inf;
+        r = tr(&m, mkray(vals[0], vals[1], vals[2], vals[3], vals[4], vals[5], vals[6], vals[7]));
+        EXPECT_KIND(r, REF_MISS_INVALID);
+        vals[c] = -inf;
+        r = tr(&m, mkray(vals[0], vals[1], vals[2], vals[3], vals[4], vals[5], vals[6], vals[7]));
+        EXPECT_KIND(r, REF_MISS_INVALID);
+    }
+    r = tr(&m, mkray(0.5, 0.5, 0, 0, 0, 1, -1e-30, 1));
+    EXPECT_KIND(r, REF_MISS_INVALID);
+    r = tr(&m, mkray(0.5, 0.5, 0, 0, 0, 1, 0.6, 0.5));
+    EXPECT_KIND(r, REF_MISS_INVALID);
+    r = tr(&m, mkray(0.5, 0.5, 0, 0, 0, 1, -0.0, 1)); /* -0 is not < 0 */
+    EXPECT_HIT(r, 0.5, 0, 0);
+    ref_map_free(&m);
+}
+
+static void test_edges_and_corners(void)
+{
+    ref_result r;
+    {
+        /* columns: x in [0,1] near (0.3), x in [1,2] far (0.8) */
+        ref_map m = map_const(2, 2, 0.8);
+        set_d(&m, 0, 0, 0.3);
+        set_d(&m, 0, 1, 0.3);
+        r = tr(&m, mkray(1, 0.5, 0, 0, 0, 1, 0, 1));
+        EXPECT_HIT(r, 0.3, 0, 0);
+        r = tr(&m, mkray(1, 0.125, 0, 0, 0.5, 1, 0, 1)); /* along the edge x = 1 */
+        EXPECT_HIT(r, 0.3, 0, 0);
+        r = tr(&m, mkray(1, 1.875, 0, 0, -0.5, 1, 0, 1));
+        EXPECT_HIT(r, 0.3, 0, 1);
+        ref_map_free(&m);
+    }
+    {
+        /* along the edge y = 1 between rows 0 and 1 */
+        ref_map m = map_const(4, 2, 1.0);
+        set_d(&m, 2, 0, 0.4);
+        r = tr(&m, mkray(0.5, 1, 0.5, 1, 0, 0, 0, 10));
+        EXPECT_HIT(r, 1.5, 2, 0);
+        r = tr(&m, mkray(3.5, 1, 0.5, -1, 0, 0, 0, 10));
+        EXPECT_HIT(r, 0.5, 2, 0);
+        r = tr(&m, mkray(0.5, 1.0000001, 0.5, 1, 0, 0, 0, 10)); /* just above: misses */
+        EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+        ref_map_free(&m);
+    }
+    {
+        /* 2x2, only (1,0) near: the diagonal y = x touches it at the corner */
+        ref_map m = map_const(2, 2, 1.0);
+        set_d(&m, 1, 0, 0.2);
+        r = tr(&m, mkray(0.5, 0.5, 0.5, 1, 1, 0, 0, 10));
+        EXPECT_HIT(r, 0.5, 1, 0);
+        r = tr(&m, mkray(1.5, 1.5, 0.5, -1, -1, 0, 0, 10));
+        EXPECT_HIT(r, 0.5, 1, 0);
+        /* one ulp off the corner on the other side: misses */
+        r = tr(&m, mkray(0.5, nextafterf(0.5f, 1.0f), 0.5, 1, 1, 0, 0, 10));
+        EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+        /* one ulp below: enters the near texel through its left side at t = 0.5 */
+        r = tr(&m, mkray(0.5, nextafterf(0.5f, 0.0f), 0.5, 1, 1, 0, 0, 10));
+        EXPECT_HIT(r, 0.5, 1, 0);
+        /* one ulp right: enters it a little before the corner */
+        r = tr(&m, mkray(nextafterf(0.5f, 1.0f), 0.5, 0.5, 1, 1, 0, 0, 10));
+        CHECK(r.kind == REF_HIT && r.x == 1 && r.y == 0 && r.t < 0.5 && r.t > 0.4999999,
+              "ulp below corner: kind %d t %.17g (%d,%d)", r.kind, r.t, r.x, r.y);
+        /* the other diagonal through the same corner: from (0,1) to (1,0) */
+        r = tr(&m, mkray(0.5, 1.5, 0.5, 1, -1, 0, 0, 10));
+        EXPECT_HIT(r, 0.5, 1, 0);
+        ref_map_free(&m);
+    }
+    {
+        /* a corner touched by a ray crossing the other diagonal: (0,1) -> (1,0)
+           touches (0,0) only at the corner (1,1) */
+        ref_map m = map_const(2, 2, 1.0);
+        set_d(&m, 0, 0, 0.2);
+        r = tr(&m, mkray(0.5, 1.5, 0.5, 1, -1, 0, 0, 10));
+        EXPECT_HIT(r, 0.5, 0, 0);
+        /* and a shallow ray (walk along x) through the same corner:
+           (0, 1.5) + 0.5 * (2, -1) = (1, 1) */
+        r = tr(&m, mkray(0, 1.5, 0.5, 2, -1, 0, 0, 10));
+        EXPECT_HIT(r, 0.5, 0, 0);
+        /* and a steep one (walk along y): (0.75, 2) + 0.25 * (1, -4) = (1, 1) */
+        r = tr(&m, mkray(0.75, 2, 0.5, 1, -4, 0, 0, 10));
+        EXPECT_HIT(r, 0.25, 0, 0);
+        ref_map_free(&m);
+    }
+    {
+        /* corner with a steep ray (walk along y) */
+        ref_map m = map_const(3, 3, 1.0);
+        set_d(&m, 2, 0, 0.1);
+        /* steep ray (walk along y) entering (2,0) through its corner (2,1):
+           (1, 3) + 1 * (1, -2) = (2, 1) */
+        r = tr(&m, mkray(1, 3, 0.5, 1, -2, 0, 0, 10));
+        EXPECT_HIT(r, 1, 2, 0);
+        ref_map_free(&m);
+    }
+}
+
+static void test_far_plane(void)
+{
+    ref_map m = map_const(3, 3, 1.0);
+    ref_result r;
+    r = tr(&m, mkray(0.5, 0.5, 0, 0, 0, 2, 0, 1));
+    EXPECT_HIT(r, 0.5, 0, 0);
+    r = tr(&m, mkray(0.5, 0.5, 0, 0, 0, 2, 0, 0.4));
+    EXPECT_KIND(r, REF_MISS_TMAX);
+    r = tr(&m, mkray(0.5, 0.5, 0, 1, 1, 0.5, 0, 10)); /* z = 1 at t = 2: (2.5, 2.5) */
+    EXPECT_HIT(r, 2, 2, 2);
+    r = tr(&m, mkray(0.5, 0.5, 0, 1, 1, 0.25, 0, 10)); /* z = 1 at t = 4: off screen */
+    EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+    ref_map_free(&m);
+}
+
+static void test_huge(void)
+{
+    ref_map m = map_const(8, 8, 1.0);
+    ref_result r;
+    float big = 1e30f;
+    set_d(&m, 5, 3, 0.25);
+    r = tr(&m, mkray(big, 3.5, 0.5, -big, 0, 0, 0, 2));
+    EXPECT_HIT(r, (6.0 - (double)big) / (-(double)big), 5, 3);
+    r = tr(&m, mkray(-big, 3.5, 0.5, big, 0, 0, 0, 2));
+    EXPECT_HIT(r, 1.0, 5, 3);
+    r = tr(&m, mkray(FLT_MAX, 3.5, 0.5, -FLT_MAX, 0, 0, 0, 2));
+    EXPECT_HIT(r, 1.0, 5, 3);
+    r = tr(&m, mkray(FLT_MAX, 3.5, 0.5, -FLT_MAX, 0, 0, 0, FLT_MAX));
+    EXPECT_HIT(r, 1.0, 5, 3);
+    /* y = x diagonal through the texel corners, huge: misses (5,3) */
+    r = tr(&m, mkray(big, big, 0.5, -big, -big, 0, 0, 2));
+    EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+    r = tr(&m, mkray(big, big, 0.5, -big, -big, 0, 0, 1));
+    EXPECT_KIND(r, REF_MISS_TMAX); /* ends at (0,0) exactly */
+    set_d(&m, 4, 4, 0.25);
+    r = tr(&m, mkray(big, big, 0.5, -big, -big, 0, 0, 2));
+    EXPECT_HIT(r, 1.0, 4, 4);
+    /* huge and almost along the edge y = 3: y = 3 + 0.5 x / 1e30 runs above
+       row 2 and touches it only at x = 0 (t = 1); double arithmetic on
+       t = (plane - o) / v cannot tell these apart, exact predicates can */
+    {
+        ref_map m2 = map_const(8, 8, 1.0);
+        set_d(&m2, 5, 2, 0.25);
+        r = tr(&m2, mkray(big, 3.5, 0.5, -big, -0.5, 0, 0, 2));
+        EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+        set_d(&m2, 0, 2, 0.25);
+        r = tr(&m2, mkray(big, 3.5, 0.5, -big, -0.5, 0, 0, 2));
+        EXPECT_HIT(r, 1.0, 0, 2);
+        set_d(&m2, 6, 3, 0.25); /* row 3 is crossed at x in [6,7] */
+        r = tr(&m2, mkray(big, 3.5, 0.5, -big, -0.5, 0, 0, 2));
+        EXPECT_HIT(r, 1.0, 6, 3);
+        ref_map_free(&m2);
+    }
+    /* off the screen, huge */
+    r = tr(&m, mkray(big, big, 0, big, 0, 0, 0, FLT_MAX));
+    EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+    r = tr(&m, mkray(-big, -big, -big, -big, -big, -big, 0, FLT_MAX));
+    EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+    /* coming in through the near plane from huge negative z */
+    r = tr(&m, mkray(4.5, 4.5, -big, 0, 0, big, 0, 2));
+    EXPECT_HIT(r, 1.0, 4, 4);
+    /* tiny direction, huge t */
+    {
+        ref_map m1 = map_const(1, 1, 1e-7);
+        float tiny = nextafterf(0.0f, 1.0f);
+        r = tr(&m1, mkray(0.5, 0.5, 0, tiny, 0, tiny, 0, FLT_MAX));
+        EXPECT_HIT(r, 1e-7 / (double)tiny, 0, 0);
+        r = tr(&m1, mkray(0.5, 0.5, 0, tiny, 0, tiny, 0, 1e37));
+        EXPECT_KIND(r, REF_MISS_TMAX);
+        ref_map_free(&m1);
+    }
+    ref_map_free(&m);
+}
+
+static void test_from_raw(void)
+{
+    ref_map m;
+    {
+        unsigned char px[4] = { 0, 255, 128, 51 };
+        CHECK(ref_map_from_raw(&m, px, 2, 2, 0, REF_FORMAT_UNORM8, 0) == 0, "8-bit");
+        CHECK(m.w == 2 && m.h == 2 && m.d[0] == 0 && m.d[1] == 1 && m.d[2] == 128.0 / 255.0 &&
+                  m.d[3] == 51.0 / 255.0, "8-bit values");
+        ref_map_free(&m);
+        CHECK(ref_map_from_raw(&m, px, 2, 2, 0, REF_FORMAT_UNORM8, 1) == 0, "8-bit rev");
+        CHECK(m.d[0] == 1 && m.d[1] == 0 && m.d[2] == 127.0 / 255.0 && m.d[3] == 204.0 / 255.0,
+              "8-bit reversed values %.17g %.17g %.17g %.17g", m.d[0], m.d[1], m.d[2], m.d[3]);
+        ref_map_free(&m);
+    }
+    {
+        /* 16-bit, padded rows, unaligned start */
+        unsigned char buf[1 + 2 * 8];
+        unsigned short vals[4] = { 0, 65535, 1, 40000 };
+        memset(buf, 0xAB, sizeof buf);
+        memcpy(buf + 1, &vals[0], 2);
+        memcpy(buf + 3, &vals[1], 2);
+        memcpy(buf + 1 + 8, &vals[2], 2);
+        memcpy(buf + 3 + 8, &vals[3], 2);
+        CHECK(ref_map_from_raw(&m, buf + 1, 2, 2, 8, REF_FORMAT_UNORM16, 0) == 0, "16-bit");
+        CHECK(m.d[0] == 0 && m.d[1] == 1 && m.d[2] == 1.0 / 65535.0 &&
+                  m.d[3] == 40000.0 / 65535.0, "16-bit values");
+        ref_map_free(&m);
+        CHECK(ref_map_from_raw(&m, buf + 1, 2, 2, 8, REF_FORMAT_UNORM16, 1) == 0, "16-bit rev");
+        CHECK(m.d[0] == 1 && m.d[1] == 0 && m.d[2] == 65534.0 / 65535.0 &&
+                  m.d[3] == 25535.0 / 65535.0, "16-bit reversed values");
+        ref_map_free(&m);
+    }
+    {
+        float f[8];
+        unsigned char buf[1 + sizeof f];
+        float one_minus = 1.0f - 0.1f; /* float32 arithmetic */
+        f[0] = 0.25f;
+        f[1] = (float)strtod("nan", NULL);
+        f[2] = 2.0f;
+        f[3] = -1.0f;
+        f[4] = 0.1f;
+        f[5] = (float)HUGE_VAL;
+        f[6] = -(float)HUGE_VAL;
+        f[7] = -0.0f;
+        memcpy(buf + 1, f, sizeof f);
+        CHECK(ref_map_from_raw(&m, buf + 1, 4, 2, 0, REF_FORMAT_FLOAT32, 0) == 0, "float");
+        CHECK(m.d[0] == 0.25 && m.d[1] == 1 && m.d[2] == 1 && m.d[3] == 0 &&
+                  m.d[4] == (double)0.1f && m.d[5] == 1 && m.d[6] == 0 && m.d[7] == 0 &&
+                  !signbit(m.d[7]),
+              "float values");
+        ref_map_free(&m);
+        CHECK(ref_map_from_raw(&m, buf + 1, 4, 2, 0, REF_FORMAT_FLOAT32, 1) == 0, "float rev");
+        CHECK(m.d[0] == 0.75 && m.d[1] == 1 /* NaN is far also reversed */ &&
+                  m.d[2] == 0 /* 1-2 = -1 */ && m.d[3] == 1 /* 1+1 = 2 */ &&
+                  m.d[4] == (double)one_minus && m.d[4] != 1.0 - (double)0.1f &&
+                  m.d[5] == 0 && m.d[6] == 1 && m.d[7] == 1,
+              "float reversed values %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g", m.d[0],
+              m.d[1], m.d[2], m.d[3], m.d[4], m.d[5], m.d[6], m.d[7]);
+        ref_map_free(&m);
+        /* a texel converted from NaN is a far-plane texel */
+        CHECK(ref_map_from_raw(&m, buf + 1, 4, 2, 0, REF_FORMAT_FLOAT32, 0) == 0, "float");
+        {
+            ref_result r = tr(&m, mkray(1.5, 0.5, 0, 0, 0, 1, 0, 2));
+            EXPECT_HIT(r, 1.0, 1, 0);
+        }
+        ref_map_free(&m);
+    }
+    {
+        unsigned char px[4] = { 0, 0, 0, 0 };
+        CHECK(ref_map_from_raw(&m, px, 0, 2, 0, REF_FORMAT_UNORM8, 0) != 0, "w = 0 refused");
+        CHECK(ref_map_from_raw(&m, px, 2, 2, 1, REF_FORMAT_UNORM8, 0) != 0, "short stride");
+        CHECK(ref_map_from_raw(&m, px, 2, 2, 0, 7, 0) != 0, "bad format refused");
+        CHECK(m.d == NULL, "d NULL on failure");
+    }
+}
+
+static void test_check(void)
+{
+    char why[512];
+    ref_answer a;
+    ref_ray ray;
+    {
+        ref_map m = map_const(6, 5, 0.5);
+        set_d(&m, 2, 3, 0.625);
+        ray = mkray(2.5, 3.5, 0, 0, 0, 1, 0, 1);
+        a = ans(REF_HIT, 0.625, 2, 3);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "exact answer refused: %s", why);
+        a = ans(REF_HIT, 0.625 + 1e-6, 2, 3);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "t within tolerance refused: %s",
+              why);
+        a = ans(REF_HIT, 0.626, 2, 3);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "t off by 1e-3 accepted");
+        CHECK(strlen(why) > 0, "no reason given");
+        a = ans(REF_HIT, 0.625, 3, 3);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "wrong texel accepted");
+        a = ans(REF_HIT, 0.625, 2, 4);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "wrong texel accepted");
+        a = ans(REF_HIT, 0.625, 7, 3);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "texel off the map accepted");
+        a = ans(REF_MISS_TMAX, 0, -1, -1);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "miss for a hit accepted");
+        a = ans(REF_MISS_INVALID, 0, -1, -1);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "invalid for a hit accepted");
+        /* misses: kind matters */
+        ray = mkray(0.5, 0.5, 0.25, 1, 0, 0, 0, 10);
+        a = ans(REF_MISS_OFF_SCREEN, 0, -1, -1);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "off-screen miss refused: %s", why);
+        a = ans(REF_MISS_TMAX, 0, -1, -1);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "wrong miss kind accepted");
+        a = ans(REF_HIT, 3, 3, 0);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "hit for a miss accepted");
+        /* invalid rays */
+        ray = mkray(0.5, 0.5, 0, 0, 0, 1, 0, 1);
+        ray.v[1] = (float)strtod("nan", NULL);
+        a = ans(REF_MISS_INVALID, 0, -1, -1);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "invalid refused: %s", why);
+        a = ans(REF_MISS_TMAX, 0, -1, -1);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "miss for invalid accepted");
+        ref_map_free(&m);
+    }
+    {
+        /* the corner case: the diagonal touches (1,0) only at its corner */
+        ref_map m = map_const(2, 2, 1.0);
+        set_d(&m, 1, 0, 0.2);
+        ray = mkray(0.5, 0.5, 0.5, 1, 1, 0, 0, 10);
+        a = ans(REF_HIT, 0.5, 1, 0);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "corner hit refused: %s", why);
+        /* a float tracer that saw the ray one ulp above the corner: a miss */
+        a = ans(REF_MISS_OFF_SCREEN, 0, -1, -1);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "corner ulp miss refused: %s", why);
+        a = ans(REF_MISS_TMAX, 0, -1, -1);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "tmax miss accepted at corner");
+        /* (0,0) contains the corner point in x,y but is far (d = 1 > 0.5) */
+        a = ans(REF_HIT, 0.5, 0, 0);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "far texel at corner accepted");
+        a = ans(REF_HIT, 0.5, 1, 1);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "far texel at corner accepted");
+        ref_map_free(&m);
+    }
+    {
+        /* only a 1-ulp perturbation explains it: the hit point is off by
+           more than the tolerance of an 8-ulp move, but the kind changes only
+           within 1 ulp. Build a grazing ray whose exact answer is a hit at
+           t = 1 on a texel top, and a tracer answer that misses: every
+           perturbation moves the ray off the top edge, so the miss is right. */
+        ref_map m = map_const(3, 1, 1.0);
+        set_d(&m, 1, 0, 0.5);
+        ray = mkray(0.5, 0.5, 0.5, 1, 0, 0, 0, 10); /* slides along the top of (1,0) */
+        a = ans(REF_HIT, 0.5, 1, 0);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "grazing hit refused: %s", why);
+        a = ans(REF_MISS_OFF_SCREEN, 0, -1, -1);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "grazing miss refused: %s", why);
+        a = ans(REF_HIT, 1.5, 1, 0); /* a later point on the top: not the first */
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "late grazing hit accepted");
+        CHECK(ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit grazing refused: %s", why);
+        ref_map_free(&m);
+    }
+    {
+        /* any-hit: two hits along the ray */
+        ref_map m = map_const(4, 1, 1.0);
+        set_d(&m, 1, 0, 0.5);
+        set_d(&m, 3, 0, 0.3);
+        ray = mkray(0.5, 0.5, 0.9, 1, 0, 0, 0, 10);
+        a = ans(REF_HIT, 0.5, 1, 0);
+        CHECK(ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit closest refused: %s", why);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "closest refused: %s", why);
+        a = ans(REF_HIT, 2.7, 3, 0);
+        CHECK(ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit later refused: %s", why);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "later hit accepted as closest");
+        a = ans(REF_HIT, 1.7, 2, 0); /* (2.2, 0.5, 0.9): above the far texel 2 */
+        CHECK(!ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit non-solid accepted");
+        a = ans(REF_HIT, 2.7, 2, 0); /* point in texel 3, texel 2 reported */
+        CHECK(!ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit wrong texel accepted");
+        a = ans(REF_HIT, 12, 3, 0);
+        CHECK(!ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit t > tmax accepted");
+        a = ans(REF_MISS_OFF_SCREEN, 0, -1, -1);
+        CHECK(!ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit miss accepted");
+        ray = mkray(0.5, 0.5, 0.2, 1, 0, 0, 0, 10);
+        CHECK(ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit miss refused: %s", why);
+        a = ans(REF_MISS_TMAX, 0, -1, -1);
+        CHECK(!ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit wrong miss accepted");
+        ref_map_free(&m);
+    }
+    {
+        /* huge ray: tolerance is relative to |o|, the exact texel still
+           decides nothing, the kind does */
+        ref_map m = map_const(8, 8, 1.0);
+        set_d(&m, 5, 3, 0.25);
+        ray = mkray(1e30, 3.5, 0.5, -1e30, 0, 0, 0, 2);
+        a = ans(REF_HIT, 1.0, 5, 3);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "huge exact refused: %s", why);
+        a = ans(REF_MISS_OFF_SCREEN, 0, -1, -1);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "huge miss accepted");
+        ref_map_free(&m);
+    }
+}
+
+/* ------------------------------------------ cross-checks on random rays -- */
+
+static unsigned long long g_rng = 0x9E3779B97F4A7C15ull;
+static double rnd(void) /* [0, 1) */
+{
+    g_rng ^= g_rng << 13;
+    g_rng ^= g_rng >> 7;
+    g_rng ^= g_rng << 17;
+    return (double)(g_rng >> 11) / 9007199254740992.0;
+}
+static double rnd_coord(double lo, double hi, int quantised)
+{
+    double x = lo + (hi - lo) * rnd();
+    if (quantised) x = floor(x * 4) / 4;
+    return x;
+}
+
+/* brute force: every texel of the map, exact box test (shares the box test
+   with the reference, not the walk) */
+static ref_result brute(const ref_map *m, const ref_ray *ray, ref__ev *best_out)
+{
+    double o[3], v[3];
+    ref__ev t0 = ref__ev_scalar(ray->tmin), t1 = ref__ev_scalar(ray->tmax), best = t0;
+    int found = 0, bx = -1, by = -1, i, j, c;
+    ref_result r;
+    for (c = 0; c < 3; c++) { o[c] = ray->o[c]; v[c] = ray->v[c]; }
+    for (j = 0; j < m->h; j++)
+        for (i = 0; i < m->w; i++) ref__consider(m, i, j, o, v, &t0, &t1, &found, &best, &bx, &by);
+    r.t = 0; r.x = -1; r.y = -1;
+    if (found) {
+        r.kind = REF_HIT; r.t = best.a; r.x = bx; r.y = by;
+    } else {
+        double x = o[0] + (double)ray->tmax * v[0], y = o[1] + (double)ray->tmax * v[1];
+        r.kind = (x >= 0 && x <= m->w && y >= 0 && y <= m->h) ? REF_MISS_TMAX
+                                                               : REF_MISS_OFF_SCREEN;
+    }
+    *best_out = best;
+    return r;
+}
+
+/* independent: is the point strictly inside the solid (by margin eps)? */
+static int in_solid(const ref_map *m, double x, double y, double z, double eps)
+{
+    int i, j;
+    if (x < 0 || y < 0 || x > m->w || y > m->h || z > 1 - eps) return 0;
+    i = (int)floor(x);
+    j = (int)floor(y);
+    if (i >= m->w || j >= m->h) return 0;
+    if (x - i < eps || i + 1 - x < eps || y - j < eps || j + 1 - y < eps) return 0;
+    return z >= m->d[j * m->w + i] + eps;
+}
+
+/* loosely: is the point in the closed solid, within eps? */
+static int on_solid(const ref_map *m, double x, double y, double z, double eps)
+{
+    int i, j;
+    for (j = (int)floor(y - eps); j <= (int)floor(y + eps); j++)
+        for (i = (int)floor(x - eps); i <= (int)floor(x + eps); i++) {
+            if (i < 0 || j < 0 || i >= m->w || j >= m->h) continue;
+            if (x >= i - eps && x <= i + 1 + eps && y >= j - eps && y <= j + 1 + eps &&
+                z >= m->d[j * m->w + i] - eps && z <= 1 + eps)
+                return 1;
+        }
+    return 0;
+}
+
+static void test_random(void)
+{
+    static const double levels[6] = { 0, 0.25, 0.5, 0.75, 1, 0.3 };
+    int n, bad_brute = 0, bad_sample = 0, bad_check = 0, count = 0;
+    for (n = 0; n < 400; n++) {
+        int w = 1 + (int)(rnd() * 9), h = 1 + (int)(rnd() * 9), k, q;
+        ref_map m = map_const(w, h, 1);
+        for (k = 0; k < w * h; k++) m.d[k] = n % 2 ? levels[(int)(rnd() * 6)] : rnd();
+        for (q = 0; q < 100; q++) {
+            int quant = (q % 3) != 0, c;
+            ref_ray ray;
+            ref_result r, b;
+            ref__ev be;
+            double o[3], v[3];
+            ray.o[0] = (float)rnd_coord(-2, w + 2, quant);
+            ray.o[1] = (float)rnd_coord(-2, h + 2, quant);
+            ray.o[2] = (float)rnd_coord(-0.5, 1.5, quant);
+            for (c = 0; c < 3; c++) {
+                double s = rnd();
+                ray.v[c] = s < 0.15 ? 0.0f : (float)rnd_coord(-3, 3, quant);
+            }
+            ray.tmin = rnd() < 0.5 ? 0.0f : (float)rnd_coord(0, 1, quant);
+            ray.tmax = ray.tmin + (float)rnd_coord(0, 6, quant);
+            for (c = 0; c < 3; c++) { o[c] = ray.o[c]; v[c] = ray.v[c]; }
+            count++;
+            r = ref_trace_ray(&m, &ray);
+            b = brute(&m, &ray, &be);
+            /* walk vs all-texel scan: same kind, same exact t, and the
+               reported texel is entered at that same t */
+            if (r.kind != b.kind) {
+                if (bad_brute++ < 5)
+                    printf("brute kind: ref %d brute %d ray o(%.9g %.9g %.9g) v(%.9g %.9g %.9g) "
+                           "[%.9g %.9g] map %dx%d\n", r.kind, b.kind, o[0], o[1], o[2], v[0],
+                           v[1], v[2], (double)ray.tmin, (double)ray.tmax, w, h);
+            } else if (r.kind == REF_HIT) {
+                ref__ev t0 = ref__ev_scalar(ray.tmin), t1 = ref__ev_scalar(ray.tmax), e;
+                int ok = ref__texel(&m, r.x, r.y, o, v, &t0, &t1, &e) && ref__cmp(&e, &be) == 0;
+                if (!ok && bad_brute++ < 5)
+                    printf("brute t: ref %.17g (%d,%d) brute %.17g (%d,%d)\n", r.t, r.x, r.y,
+                           b.t, b.x, b.y);
+            }
+            /* independent: the hit point is in the solid; no sample before it
+               (or at all, for a miss) is strictly inside the solid */
+            {
+                int s, ok = 1, ns = 400;
+                double tend = r.kind == REF_HIT ? r.t : (double)ray.tmax;
+                if (r.kind == REF_HIT) {
+                    if (!(r.t >= ray.tmin && r.t <= ray.tmax)) ok = 0;
+                    if (!on_solid(&m, o[0] + r.t * v[0], o[1] + r.t * v[1], o[2] + r.t * v[2],
+                                  1e-9))
+                        ok = 0;
+                    {
+                        double px = o[0] + r.t * v[0], py = o[1] + r.t * v[1],
+                               pz = o[2] + r.t * v[2], d = m.d[r.y * w + r.x];
+                        if (!(px >= r.x - 1e-9 && px <= r.x + 1 + 1e-9 && py >= r.y - 1e-9 &&
+                              py <= r.y + 1 + 1e-9 && pz >= d - 1e-9 && pz <= 1 + 1e-9))
+                            ok = 0;
+                    }
+                }
+                for (s = 0; s <= ns && ok; s++) {
+                    double t = ray.tmin + (tend - ray.tmin) * s / ns;
+                    if (t >= tend - 1e-9 * (1 + tend) && r.kind == REF_HIT) break;
+                    if (in_solid(&m, o[0] + t * v[0], o[1] + t * v[1], o[2] + t * v[2], 1e-9))
+                        ok = 0;
+                }
+                if (!ok && bad_sample++ < 5)
+                    printf("sample: ref kind %d t %.17g (%d,%d) ray o(%.9g %.9g %.9g) "
+                           "v(%.9g %.9g %.9g) [%.9g %.9g]\n", r.kind, r.t, r.x, r.y, o[0], o[1],
+                           o[2], v[0], v[1], v[2], (double)ray.tmin, (double)ray.tmax);
+            }
+            /* the comparator accepts the reference's own answer */
+            {
+                ref_answer a;
+                char why[512];
+                a.kind = r.kind; a.t = (float)r.t; a.x = r.x; a.y = r.y;
+                if (!ref_check(&m, &ray, &a, 0, why, sizeof why) && bad_check++ < 5)
+                    printf("check refuses the reference: %s\n", why);
+            }
+        }
+        ref_map_free(&m);
+    }
+    CHECK(bad_brute == 0, "%d of %d random rays differ from the all-texel scan", bad_brute, count);
+    CHECK(bad_sample == 0, "%d of %d random rays fail the sampling check", bad_sample, count);
+    CHECK(bad_check == 0, "%d of %d random rays: comparator refuses the reference", bad_check,
+          count);
+}
+
+int main(void)
+{
+    test_one_texel();
+    test_floor_primary();
+    test_inside_and_surface();
+    test_miss_kinds();
+    test_zero_direction();
+    test_invalid();
+    test_edges_and_corners();
+    test_far_plane();
+    test_huge();
+    test_from_raw();
+    test_check();
+    test_random();
+    printf("%d passed, %d failed\n", g_pass, g_fail);
+    return g_fail > 0 ? 1 : 0;
+}
