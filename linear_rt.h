@@ -58,8 +58,10 @@
      8 or 16 bits (so a compressed bound never cuts off a hit); a node's own
      height is the max of its children's and lives in its parent.
    - the texel level is not stored (its heights sit in the level-1 nodes), so
-     the tree costs about 1.02 bytes per texel with 8-bit nodes and 2.03 with
-     16-bit nodes, about half of what storing a leaf level too would cost.
+     the tree costs about 1.14 bytes per texel with 8-bit nodes and 2.29 with
+     16-bit nodes (each level has 1/8 of the nodes of the one below): a
+     stored leaf level of one height per texel would add 1 or 2 bytes more,
+     so skipping it saves about half.
    - within a level, node (x,y) sits at its modified Morton code: for a level
      grouped 4x2 into its parent, (parent block index) << 3 | y0 x1 x0, for
      2x4, (parent block index) << 3 | y1 y0 x0, the parent block index being
@@ -214,7 +216,7 @@ typedef struct lrt_rect { uint32_t x, y, width, height; } lrt_rect; /* texels */
 LINEAR_RT_API lrt_result lrt_bvh_update(lrt_bvh *bvh, const lrt_depth *depth, const lrt_rect *dirty);
 
 /* ---- traversal ------------------------------------------------------------- */
-typedef struct lrt_ray {     /* screen space; the same layout as the GPU's */
+typedef struct lrt_ray {     /* screen space; 8 floats, the same layout as the GPU's */
     float origin[3];         /* x, y in texels, z depth (0 near)              */
     float tmin;              /* 0 <= tmin <= tmax                             */
     float dir[3];            /* need not be normalised; may be 0              */
@@ -290,6 +292,7 @@ LINEAR_RT_API const char *lrt_result_string(lrt_result result);
 #else
 #define LINEAR_RT_DEF
 #endif
+#define LRT__INLINE static inline /* C99 and C++: the hot path's small helpers */
 
 #ifdef __cplusplus
 extern "C" {
@@ -355,7 +358,7 @@ static lrt_result lrt__check_depth(const lrt_depth *depth, size_t *out_stride)
 
 /* Depth of texel (x, y) as the model states it (0 near, 1 far, clamped),
    exactly: integer depths are divided in double. */
-static double lrt__load_depth_exact(const lrt_depth *depth, size_t stride, uint32_t x, uint32_t y)
+LRT__INLINE double lrt__load_depth_exact(const lrt_depth *depth, size_t stride, uint32_t x, uint32_t y)
 {
     const unsigned char *row = (const unsigned char *)depth->data + stride * y;
     int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
@@ -746,16 +749,17 @@ typedef struct lrt__ray_setup {
     uint32_t neg_x, neg_y, neg_z; /* sign bits of the direction (-0 counts) */
     float t_lo, t_hi;             /* the ray clipped to the screen and to z <= 1 */
     float t_base;                 /* t of the origin used here on the caller's ray */
-    double iv_z_d;                /* 1/v.z for the exact texel test */
 } lrt__ray_setup;
 
 /* max/min that drop a NaN candidate (acc is never NaN) */
 #define LRT__MAX_KEEP(cand, acc) ((cand) > (acc) ? (cand) : (acc))
 #define LRT__MIN_KEEP(cand, acc) ((cand) < (acc) ? (cand) : (acc))
 
+#if !LRT__SSE
 static int lrt__finite(float f) { return f - f == 0.0f; }
+#endif
 
-static uint32_t lrt__sign_bit(float f)
+LRT__INLINE uint32_t lrt__sign_bit(float f)
 {
     uint32_t u;
     memcpy(&u, &f, 4);
@@ -763,7 +767,7 @@ static uint32_t lrt__sign_bit(float f)
 }
 
 /* Entering and leaving t of the slab [lo, hi] along one axis. */
-static void lrt__slab(float lo, float hi, float o, float iv, uint32_t neg, float *enter, float *exit)
+LRT__INLINE void lrt__slab(float lo, float hi, float o, float iv, uint32_t neg, float *enter, float *exit)
 {
     float a = (lo - o) * iv, b = (hi - o) * iv;
     *enter = LRT__MAX_KEEP(neg ? b : a, *enter);
@@ -773,11 +777,11 @@ static void lrt__slab(float lo, float hi, float o, float iv, uint32_t neg, float
 /* Clips the ray to the screen rectangle and to z <= 1 (nothing lies beyond
    the far plane). Returns the kind a miss would have: off the screen when
    the rectangle's part of [tmin, tmax] is empty or ends before tmax. */
-static uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t height, float tmin, float tmax)
+LRT__INLINE uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t height, float tmin, float tmax)
 {
     /* the far plane's t the way the texel test computes depth planes, so a
        far-plane texel (depth 1) is met exactly at the clip */
-    float xy_enter = -INFINITY, xy_exit = INFINITY, t1 = (float)((1.0 - (double)s->o[2]) * (1.0 / (double)s->v[2]));
+    float xy_enter = -INFINITY, xy_exit = INFINITY, t1 = (float)((1.0 - (double)s->o[2]) * (double)s->iv[2]);
     uint32_t kind;
     lrt__slab(0.0f, (float)width, s->o[0], s->iv[0], s->neg_x, &xy_enter, &xy_exit);
     lrt__slab(0.0f, (float)height, s->o[1], s->iv[1], s->neg_y, &xy_enter, &xy_exit);
@@ -828,23 +832,41 @@ static float lrt__crossing(float o_b, float o_a, float v_b, float v_a, double pl
 /* Validates and clips one ray; returns 0 with *kind set when nothing is left
    to walk. A direction whose components are all tiny is rescaled by a power
    of two (exact) so that 1/v stays finite where the ray really moves. */
-static int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t height, lrt__ray_setup *s, float *t_scale,
+LRT__INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t height, lrt__ray_setup *s, float *t_scale,
                           uint32_t *kind)
 {
     float v[3], tmin = ray->tmin, tmax = ray->tmax, m;
     int k;
     *t_scale = 1.0f;
+#if LRT__SSE
+    { /* the ray is 8 floats: origin, tmin, dir, tmax */
+        float f[8];
+        __m128 a, b, zero = _mm_setzero_ps();
+        memcpy(f, ray, sizeof f); /* one copy: no partial-store stall */
+        a = _mm_loadu_ps(f);
+        b = _mm_loadu_ps(f + 4);
+        /* x - x == 0 exactly when x is finite */
+        if (_mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(_mm_sub_ps(a, a), zero), _mm_cmpeq_ps(_mm_sub_ps(b, b), zero))) != 15 ||
+            !(tmin >= 0.0f) || !(tmin <= tmax)) {
+            *kind = LRT_MISS_INVALID_RAY;
+            return 0;
+        }
+    }
+#else
     for (k = 0; k < 3; ++k) {
         if (!lrt__finite(ray->origin[k]) || !lrt__finite(ray->dir[k])) {
             *kind = LRT_MISS_INVALID_RAY;
             return 0;
         }
-        s->o[k] = ray->origin[k];
-        v[k] = ray->dir[k];
     }
     if (!lrt__finite(tmin) || !lrt__finite(tmax) || !(tmin >= 0.0f) || !(tmin <= tmax)) {
         *kind = LRT_MISS_INVALID_RAY;
         return 0;
+    }
+#endif
+    for (k = 0; k < 3; ++k) {
+        s->o[k] = ray->origin[k];
+        v[k] = ray->dir[k];
     }
     m = fabsf(v[0]) > fabsf(v[1]) ? fabsf(v[0]) : fabsf(v[1]);
     m = fabsf(v[2]) > m ? fabsf(v[2]) : m;
@@ -856,6 +878,22 @@ static int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t height, l
         tmax = ldexpf(tmax, e);
         *t_scale = ldexpf(1.0f, -e);
     }
+#if LRT__SSE
+    {
+        const __m128 vv = _mm_set_ps(1.0f, v[2], v[1], v[0]);
+        const __m128 iv = _mm_div_ps(_mm_set1_ps(1.0f), vv); /* one division for three */
+        const int signs = _mm_movemask_ps(vv);
+        float ivs[4];
+        _mm_storeu_ps(ivs, iv);
+        for (k = 0; k < 3; ++k) {
+            s->v[k] = v[k];
+            s->iv[k] = ivs[k];
+        }
+        s->neg_x = (uint32_t)signs & 1u;
+        s->neg_y = ((uint32_t)signs >> 1) & 1u;
+        s->neg_z = ((uint32_t)signs >> 2) & 1u;
+    }
+#else
     for (k = 0; k < 3; ++k) {
         s->v[k] = v[k];
         s->iv[k] = 1.0f / v[k];
@@ -863,6 +901,7 @@ static int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t height, l
     s->neg_x = lrt__sign_bit(v[0]);
     s->neg_y = lrt__sign_bit(v[1]);
     s->neg_z = lrt__sign_bit(v[2]);
+#endif
     s->t_base = 0.0f;
     *kind = lrt__clip(s, width, height, tmin, tmax);
     if (s->t_lo > s->t_hi) return 0;
@@ -897,30 +936,32 @@ static int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t height, l
         s->t_base = (float)te;
         (void)lrt__clip(s, width, height, 0.0f, (float)((double)tmax - te));
     }
-    s->iv_z_d = 1.0 / (double)s->v[2];
     return s->t_lo <= s->t_hi;
 }
 
 /* Lowest level whose single node holds every texel the clipped segment can
-   touch: the walk starts there instead of at the root. The texel box is
-   widened by a margin far above float rounding, so it is conservative. */
-static uint32_t lrt__start_node(const lrt_layout *L, const lrt__ray_setup *s, uint32_t *sx, uint32_t *sy)
+   touch: the walk starts there instead of at the root, and a segment inside
+   one texel (a camera ray, say) is level 0: one exact box test. The texel
+   box is widened by a margin far above float rounding, so it is
+   conservative. */
+LRT__INLINE uint32_t lrt__start_node(const lrt_layout *L, const lrt__ray_setup *s, uint32_t *sx, uint32_t *sy)
 {
-    float lo[2], hi[2];
-    uint32_t i0[2], i1[2], lim[2], lv;
+    uint32_t i0[2], i1[2], lv;
     int k;
-    lim[0] = L->width - 1;
-    lim[1] = L->height - 1;
     for (k = 0; k < 2; ++k) {
+        const float lim = (float)((k ? L->height : L->width) - 1u);
         float a = s->o[k] + s->t_lo * s->v[k], b = s->o[k] + s->t_hi * s->v[k];
-        float mg = 1e-3f + 1e-5f * (fabsf(s->o[k]) + fabsf(s->t_lo * s->v[k]) + fabsf(s->t_hi * s->v[k]));
-        lo[k] = (a < b ? a : b) - mg;
-        hi[k] = (a < b ? b : a) + mg;
-        /* clamp before converting; NaN (from overflow) falls to "anywhere" */
-        i0[k] = lo[k] > 0.0f ? (lo[k] < (float)lim[k] ? (uint32_t)lo[k] : lim[k]) : 0u;
-        i1[k] = hi[k] < (float)lim[k] ? (hi[k] > 0.0f ? (uint32_t)hi[k] : 0u) : lim[k];
+        float mg = 1e-3f + 1e-5f * (fabsf(s->o[k]) + fabsf(a - s->o[k]) + fabsf(b - s->o[k]));
+        float lo = (a < b ? a : b) - mg, hi = (a < b ? b : a) + mg;
+        /* clamp, then convert; a NaN (from overflow) clamps to the whole map */
+        lo = lo > 0.0f ? lo : 0.0f;
+        lo = lo < lim ? lo : lim;
+        hi = hi < lim ? hi : lim;
+        hi = hi > 0.0f ? hi : 0.0f;
+        i0[k] = (uint32_t)(int32_t)lo;
+        i1[k] = (uint32_t)(int32_t)hi;
     }
-    for (lv = 1; lv < L->level_count; ++lv) {
+    for (lv = 0; lv < L->level_count; ++lv) {
         const lrt_level *v = &L->levels[lv];
         if ((i0[0] >> v->span_w_log2) == (i1[0] >> v->span_w_log2) &&
             (i0[1] >> v->span_h_log2) == (i1[1] >> v->span_h_log2))
@@ -985,7 +1026,7 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
 }
 
 /* First code of node (x, y) of level lv in the node array (slot units). */
-static size_t lrt__node_slot(const lrt__walk *w, uint32_t lv, uint32_t x, uint32_t y)
+LRT__INLINE size_t lrt__node_slot(const lrt__walk *w, uint32_t lv, uint32_t x, uint32_t y)
 {
     const lrt__walk_level *v = &w->lv[lv];
     size_t index = 0;
@@ -1002,7 +1043,7 @@ static size_t lrt__node_slot(const lrt__walk *w, uint32_t lv, uint32_t x, uint32
    Lane k of a wide (4x2) node is column k&3, row k>>2; of a tall (2x4) node
    column k&1, row k>>1. Each plane's t is computed once, the same way at
    every level, which keeps the culling monotone. */
-static uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
+LRT__INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
                                    size_t slot0, float enter[8], float exit[8])
 {
     const lrt__walk_level *v = &w->lv[lv];
@@ -1093,17 +1134,17 @@ static uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, 
 }
 
 /* The exact test of one candidate texel against its true depth. The depth
-   plane's crossing is computed in double: a unorm depth such as v/65535 is
-   no float, and its rounding, divided by a grazing ray's tiny v.z, would move
-   the hit along the texel top by far more than float rounding of t. */
-static int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float enter,
+   plane's distance d - o.z is taken in double: a unorm depth such as v/65535
+   is no float, and its rounding, divided by a grazing ray's tiny v.z, would
+   move the hit along the texel top by far more than float rounding of t. */
+LRT__INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float enter,
                            float exit, uint32_t code, float *t)
 {
     double d;
     float tz;
     if (tx >= w->L->width || ty >= w->L->height) return 0; /* padding */
     d = w->exact_codes ? (double)(w->qmax - code) / (double)w->qmax : lrt__load_depth_exact(w->depth, w->stride, tx, ty);
-    tz = (float)((d - (double)s->o[2]) * s->iv_z_d);
+    tz = (float)((d - (double)s->o[2]) * (double)s->iv[2]);
     if (s->neg_z) exit = LRT__MIN_KEEP(tz, exit);
     else enter = LRT__MAX_KEEP(tz, enter);
     *t = enter;
@@ -1113,7 +1154,7 @@ static int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uint32_t
 /* Reorders a slot mask so that bit k is slot k ^ flip: then walking bits from
    the lowest is walking the children front to back. XOR by 4, 2, 1 swaps
    nibbles, bit pairs, neighbours. */
-static uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
+LRT__INLINE uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
 {
     if (flip & 4u) m = ((m & 0x0fu) << 4) | ((m >> 4) & 0x0fu);
     if (flip & 2u) m = ((m & 0x33u) << 2) | ((m >> 2) & 0x33u);
@@ -1121,7 +1162,7 @@ static uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
     return m;
 }
 
-static uint32_t lrt__lowest_bit(uint32_t m)
+LRT__INLINE uint32_t lrt__lowest_bit(uint32_t m)
 {
 #if defined(__GNUC__) || defined(__clang__)
     return (uint32_t)__builtin_ctz(m);
@@ -1132,7 +1173,7 @@ static uint32_t lrt__lowest_bit(uint32_t m)
 #endif
 }
 
-static uint32_t lrt__highest_bit(uint32_t m)
+LRT__INLINE uint32_t lrt__highest_bit(uint32_t m)
 {
 #if defined(__GNUC__) || defined(__clang__)
     return 31u - (uint32_t)__builtin_clz(m);
@@ -1141,6 +1182,23 @@ static uint32_t lrt__highest_bit(uint32_t m)
     while (!((m >> k) & 1u)) --k;
     return k;
 #endif
+}
+
+LRT__INLINE uint32_t lrt__code(const lrt__walk *w, size_t slot)
+{
+    return w->wide_codes ? ((const uint16_t *)w->nodes)[slot] : ((const uint8_t *)w->nodes)[slot];
+}
+
+/* A hit at t of the walked ray, told in the caller's ray: undo the restart
+   and the rescale, and stay inside [tmin, tmax] despite rounding. */
+LRT__INLINE void lrt__report_hit(const lrt_ray *ray, const lrt__ray_setup *s, float t_scale, float t, uint32_t tx,
+                            uint32_t ty, lrt_hit *hit)
+{
+    t = (t + s->t_base) * t_scale;
+    hit->t = t < ray->tmin ? ray->tmin : t > ray->tmax ? ray->tmax : t;
+    hit->x = tx;
+    hit->y = ty;
+    hit->kind = LRT_HIT;
 }
 
 #define LRT__STACK (LINEAR_RT_MAX_LEVELS * 7u + 1u)
@@ -1159,6 +1217,24 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
         return;
     }
     lv = lrt__start_node(L, &s, &nx, &ny);
+    if (lv == 0) { /* one texel: its box alone decides */
+        const float x0 = (float)nx, y0 = (float)ny;
+        const float ax = (x0 - s.o[0]) * s.iv[0], bx = ((x0 + 1.0f) - s.o[0]) * s.iv[0];
+        const float ay = (y0 - s.o[1]) * s.iv[1], by = ((y0 + 1.0f) - s.o[1]) * s.iv[1];
+        const size_t slot0 = lrt__node_slot(w, 1, nx >> 2, ny >> 1);
+        const uint32_t slot = ((ny & 1u) << 2) | (nx & 3u);
+        float en = s.t_lo, ex = s.t_hi, t;
+        en = LRT__MAX_KEEP(s.neg_x ? bx : ax, en);
+        en = LRT__MAX_KEEP(s.neg_y ? by : ay, en);
+        ex = LRT__MIN_KEEP(s.neg_x ? ax : bx, ex);
+        ex = LRT__MIN_KEEP(s.neg_y ? ay : by, ex);
+        if (lrt__test_texel(w, &s, nx, ny, en, ex, lrt__code(w, slot0 + slot), &t)) {
+            lrt__report_hit(ray, &s, t_scale, t, nx, ny, hit);
+            return;
+        }
+        hit->kind = kind;
+        return;
+    }
     for (;;) {
         const uint32_t tall = w->lv[lv].tall;
         /* front-to-back order: flip the bits of each axis that runs backwards */
@@ -1169,19 +1245,12 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
         if (lv == 1) {
             while (mask) { /* texels: the exact test, front to back */
                 uint32_t slot = lrt__lowest_bit(mask) ^ flip;
-                uint32_t code = w->wide_codes ? ((const uint16_t *)w->nodes)[slot0 + slot]
-                                              : ((const uint8_t *)w->nodes)[slot0 + slot];
+                uint32_t code = lrt__code(w, slot0 + slot);
                 uint32_t tx = nx * 4u + (slot & 3u), ty = ny * 2u + (slot >> 2);
                 float t;
                 mask &= mask - 1u;
                 if (lrt__test_texel(w, &s, tx, ty, enter[slot], exit[slot], code, &t)) {
-                    hit->kind = LRT_HIT;
-                    /* back to the caller's ray: undo the restart and the rescale */
-                    t = (t + s.t_base) * t_scale;
-                    t = t < ray->tmin ? ray->tmin : t > ray->tmax ? ray->tmax : t;
-                    hit->t = t;
-                    hit->x = tx;
-                    hit->y = ty;
+                    lrt__report_hit(ray, &s, t_scale, t, tx, ty, hit);
                     return;
                 }
             }
