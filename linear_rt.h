@@ -15,9 +15,9 @@
    Needs nothing but the C standard library.
 
    USE (CPU)
-       lrt_depth depth = {0};                 // describe the depth buffer
-       depth.data = pixels; depth.width = 1024; depth.height = 1024;
-       depth.format = LRT_FORMAT_FLOAT32;     // or UNORM8 / UNORM16
+       // describe the depth buffer: data, width, height, row stride in bytes
+       // (0: packed), format (or LRT_FORMAT_UNORM8 / _UNORM16), flags
+       lrt_depth depth = {pixels, 1024, 1024, 0, LRT_FORMAT_FLOAT32, 0};
        lrt_bvh bvh;
        lrt_result r = lrt_bvh_build(&bvh, &depth, NULL, NULL); // once per size
        ...each frame, after the depth changed:
@@ -38,6 +38,8 @@
                                    default allocator when lrt_bvh_build gets no
                                    lrt_allocator (default: malloc / free); define
                                    both or neither
+       LINEAR_RT_NO_SIMD           plain C instead of the SSE2 child test (the
+                                   answers are the same bit for bit)
    Memory: lrt_bvh_build allocates once (allocator hooks or the macros);
    lrt_bvh_build_in uses caller-owned memory sized by lrt_bvh_memory_size.
    Update and trace never allocate.
@@ -288,7 +290,11 @@ LINEAR_RT_API const char *lrt_result_string(lrt_result result);
 #endif
 
 #ifdef LINEAR_RT_STATIC
+#if defined(__GNUC__) || defined(__clang__)
+#define LINEAR_RT_DEF static __attribute__((unused)) /* a file may use only part of the API */
+#else
 #define LINEAR_RT_DEF static
+#endif
 #else
 #define LINEAR_RT_DEF
 #endif

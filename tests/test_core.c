@@ -303,7 +303,7 @@ static void differential(int w, int h, int shape, lrt_format format, int reverse
     snprintf(what, sizeof what, "%dx%d %s fmt=%d%s nodes=%u%s", w, h, m.name, (int)format, reversed ? " reversed" : "",
              bvh.layout.node_bits, padded ? " strided" : "");
     CHECK(r == LRT_SUCCESS, "%s: build returned %s", what, lrt_result_string(r));
-    if (r == LRT_SUCCESS) {
+    if (r == LRT_SUCCESS && rays && kinds) {
         for (i = 0; i < nrays; ++i) {
             kinds[i] = (int)(i % RAY_KIND_COUNT);
             rays[i] = make_ray(&m, kinds[i]);
