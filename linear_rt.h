@@ -362,19 +362,26 @@ static lrt_result lrt__check_depth(const lrt_depth *depth, size_t *out_stride)
     return LRT_SUCCESS;
 }
 
+/* v / vmax in double, as a product with the rounded reciprocal: the GPU
+   kernels compute the very same double (their division is not exact). */
+static double lrt__unorm_depth(uint32_t v, uint32_t vmax)
+{
+    return (double)v * (vmax == 255u ? 1.0 / 255.0 : 1.0 / 65535.0);
+}
+
 /* Depth of texel (x, y) as the model states it (0 near, 1 far, clamped),
-   exactly: integer depths are divided in double. */
+   exactly: integer depths in double. */
 LRT__INLINE double lrt__load_depth_exact(const lrt_depth *depth, size_t stride, uint32_t x, uint32_t y)
 {
     const unsigned char *row = (const unsigned char *)depth->data + stride * y;
     int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
     if (depth->format == LRT_FORMAT_UNORM8) {
         uint32_t v = row[x];
-        return (double)(reversed ? 255u - v : v) / 255.0;
+        return lrt__unorm_depth(reversed ? 255u - v : v, 255u);
     } else if (depth->format == LRT_FORMAT_UNORM16) {
         uint16_t v;
         memcpy(&v, row + 2 * (size_t)x, 2);
-        return (double)(reversed ? 65535u - v : v) / 65535.0;
+        return lrt__unorm_depth(reversed ? 65535u - v : v, 65535u);
     } else {
         float f;
         memcpy(&f, row + 4 * (size_t)x, 4);
@@ -1149,7 +1156,12 @@ LRT__INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uin
     double d;
     float tz;
     if (tx >= w->L->width || ty >= w->L->height) return 0; /* padding */
-    d = w->exact_codes ? (double)(w->qmax - code) / (double)w->qmax : lrt__load_depth_exact(w->depth, w->stride, tx, ty);
+    if (w->exact_codes) { /* the code is the input's own integer, scaled by qmax/vmax (1 or 257) */
+        const uint32_t vmax = w->depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
+        d = lrt__unorm_depth((w->qmax - code) / (w->qmax / vmax), vmax);
+    } else {
+        d = lrt__load_depth_exact(w->depth, w->stride, tx, ty);
+    }
     tz = (float)((d - (double)s->o[2]) * (double)s->iv[2]);
     if (s->neg_z) exit = LRT__MIN_KEEP(tz, exit);
     else enter = LRT__MAX_KEEP(tz, enter);

@@ -1,0 +1,503 @@
+// linear_rt.glsl - the BVH of linear_rt.h in GLSL: layout maths, Morton
+// index, height codes, depth reads and the traversal (lrt_trace_ray), for the
+// library's own kernels and for an engine shader that traces inline.
+//
+// The includer declares, before including:
+//   #define LRT_DEPTH_IMAGE 0 or 1
+//   #define LRT_NODE_WORD(i)      word i of the node array (uint)
+//   #define LRT_DEPTH_WORD(i)     word i of the depth buffer (LRT_DEPTH_IMAGE 0)
+//   #define LRT_DEPTH_TEXEL(x, y) texelFetch(depth, ivec2(x, y), 0).r (LRT_DEPTH_IMAGE 1)
+// and passes an LrtParams (the push constants of shaders/README.md).
+// Needs GL_ARB_gpu_shader_fp64 (shaderFloat64).
+//
+// The numbers follow linear_rt.h step by step, so both paths give the same
+// answers: every plane crossing is (plane - o) * (1/v) in float, the depth
+// plane's distance is taken in double, a zero direction component is a
+// closed slab (handled without NaN or inf arithmetic), and children are
+// visited front to back, so the first texel hit is the closest.
+
+#ifndef LINEAR_RT_GLSL
+#define LINEAR_RT_GLSL
+
+#define LRT_MAX_LEVELS 16
+#define LRT_STACK (LRT_MAX_LEVELS * 7 + 1)
+#define LRT_HIT 1u
+#define LRT_MISS_TMAX 2u
+#define LRT_MISS_OFF_SCREEN 3u
+#define LRT_MISS_INVALID_RAY 4u
+#define LRT_INF uintBitsToFloat(0x7f800000u)
+
+struct LrtParams {
+    uint width, height, format, flags, node_bits, level_count, depth_offset, row_stride;
+};
+
+struct LrtHit {
+    float t;
+    uint x, y, kind;
+};
+
+// ============================================================================
+// Level geometry and the modified Morton mapping (as lrt_layout_compute)
+// ============================================================================
+
+// level L groups 4x2 into L+1 when L is even, 2x4 when odd
+uint lrt_bw_log2(uint level) { return (level & 1u) != 0u ? 1u : 2u; }
+uint lrt_bh_log2(uint level) { return (level & 1u) != 0u ? 2u : 1u; }
+// one node of a level covers (1 << span_w) x (1 << span_h) texels
+uint lrt_span_w_log2(uint level) { return level + ((level + 1u) >> 1); }
+uint lrt_span_h_log2(uint level) { return level + (level >> 1); }
+
+struct LrtLayout {
+    uint count;                        // stored levels; the root level is count
+    uint w[LRT_MAX_LEVELS + 2];        // grid size of each level (0: texels)
+    uint h[LRT_MAX_LEVELS + 2];
+    uint offset[LRT_MAX_LEVELS + 2];   // first node of each stored level
+};
+
+LrtLayout lrt_layout(uint width, uint height)
+{
+    LrtLayout L;
+    uint lv = 0u, total = 0u;
+    L.w[0] = width;
+    L.h[0] = height;
+    for (;;) {
+        L.w[lv + 1u] = (L.w[lv] + (1u << lrt_bw_log2(lv)) - 1u) >> lrt_bw_log2(lv);
+        L.h[lv + 1u] = (L.h[lv] + (1u << lrt_bh_log2(lv)) - 1u) >> lrt_bh_log2(lv);
+        if ((L.w[lv + 1u] == 1u && L.h[lv + 1u] == 1u) || lv + 1u >= uint(LRT_MAX_LEVELS)) break;
+        ++lv;
+    }
+    L.count = lv + 1u;
+    for (lv = 1u; lv <= L.count; ++lv) {
+        L.offset[lv] = total;
+        total += lv == L.count ? 1u : L.w[lv + 1u] * L.h[lv + 1u] * 8u;
+    }
+    return L;
+}
+
+// slot of node (x, y) among its parent's 8 children: y0 x1 x0 (4x2), y1 y0 x0 (2x4)
+uint lrt_child_slot(uint level, uint x, uint y)
+{
+    return lrt_bw_log2(level) == 2u ? ((y & 1u) << 2) | (x & 3u) : ((y & 3u) << 1) | (x & 1u);
+}
+
+// index of node (x, y) within its level: its modified Morton code
+uint lrt_node_index(LrtLayout L, uint level, uint x, uint y)
+{
+    if (level >= L.count) return 0u;
+    uint block = (y >> lrt_bh_log2(level)) * L.w[level + 1u] + (x >> lrt_bw_log2(level));
+    return block * 8u + lrt_child_slot(level, x, y);
+}
+
+// the first code of node (x, y) of a stored level, in code units
+uint lrt_node_slot(LrtLayout L, uint level, uint x, uint y)
+{
+    return (L.offset[level] + lrt_node_index(L, level, x, y)) * 8u;
+}
+
+uint lrt_code(uint node_bits, uint slot)
+{
+    if (node_bits == 16u) return (LRT_NODE_WORD(slot >> 1) >> ((slot & 1u) * 16u)) & 0xffffu;
+    return (LRT_NODE_WORD(slot >> 2) >> ((slot & 3u) * 8u)) & 0xffu;
+}
+
+// ============================================================================
+// Depth in: texel (x, y) as the model states it
+// ============================================================================
+
+// The raw depth: for unorm formats the integer v (reversed Z flipped in
+// integers); for float the bits of the float after the flip (in float) and
+// the model's clamp (NaN and above 1 -> 1, below 0 -> 0).
+uint lrt_clamp_float_bits(float g)
+{
+    uint b = floatBitsToUint(g);
+    if ((b & 0x7fffffffu) > 0x7f800000u) return 0x3f800000u;   // NaN
+    if ((b >> 31) != 0u || (b & 0x7fffffffu) == 0u) return 0u;  // below 0, -0, 0
+    if (b > 0x3f800000u) return 0x3f800000u;                    // above 1
+    return b;
+}
+
+#if LRT_DEPTH_IMAGE
+uint lrt_depth_raw(LrtParams p, uint x, uint y)
+{
+    float f = LRT_DEPTH_TEXEL(x, y);
+    bool rev = (p.flags & 1u) != 0u;
+    if (p.format == 1u) { uint v = uint(f * 255.0 + 0.5); return rev ? 255u - v : v; }
+    if (p.format == 2u) { uint v = uint(f * 65535.0 + 0.5); return rev ? 65535u - v : v; }
+    precise float g = rev ? 1.0 - f : f;
+    return lrt_clamp_float_bits(g);
+}
+#else
+uint lrt_depth_raw(LrtParams p, uint x, uint y)
+{
+    uint bpp = p.format == 1u ? 1u : p.format == 2u ? 2u : 4u;
+    uint addr = p.depth_offset + y * p.row_stride + x * bpp;
+    uint word = LRT_DEPTH_WORD(addr >> 2);
+    bool rev = (p.flags & 1u) != 0u;
+    if (p.format == 1u) { uint v = (word >> ((addr & 3u) * 8u)) & 0xffu; return rev ? 255u - v : v; }
+    if (p.format == 2u) { uint v = (word >> ((addr & 2u) * 8u)) & 0xffffu; return rev ? 65535u - v : v; }
+    precise float f = uintBitsToFloat(word);
+    precise float g = rev ? 1.0 - f : f;
+    return lrt_clamp_float_bits(g);
+}
+#endif
+
+// the depth of a raw value in double, as lrt__load_depth_exact
+double lrt_raw_depth(uint format, uint raw)
+{
+    if (format == 1u) return double(raw) * (1.0lf / 255.0lf);
+    if (format == 2u) return double(raw) * (1.0lf / 65535.0lf);
+    return double(uintBitsToFloat(raw));
+}
+
+// ============================================================================
+// Heights: code = qmax - floor(depth * qmax), rounded so a bound never cuts a hit
+// ============================================================================
+
+// floor(d * qmax) of a float d in [0,1], exactly: d = m * 2^(e - 150) with a
+// 24-bit m, so the product is m * qmax (at most 40 bits) shifted
+uint lrt_floor_scaled(uint dbits, uint qmax)
+{
+    uint e = (dbits >> 23) & 0xffu;
+    if (e == 0u) return 0u;
+    uint m = (dbits & 0x7fffffu) | 0x800000u, hi, lo;
+    umulExtended(m, qmax, hi, lo);
+    int sh = 150 - int(e);
+    if (sh >= 64) return 0u;
+    if (sh >= 32) return hi >> uint(sh - 32);
+    if (sh == 0) return lo;
+    return (lo >> uint(sh)) | (hi << uint(32 - sh));
+}
+
+uint lrt_texel_code(LrtParams p, uint x, uint y)
+{
+    uint qmax = p.node_bits == 16u ? 65535u : 255u;
+    uint raw = lrt_depth_raw(p, x, y);
+    if (p.format == 1u) return qmax - (raw * qmax) / 255u;
+    if (p.format == 2u) return qmax - (raw * qmax) / 65535u; // < 2^32
+    return qmax - lrt_floor_scaled(raw, qmax);
+}
+
+// ============================================================================
+// Traversal (RayQuery.Proceed of the design)
+// ============================================================================
+
+struct LrtSetup {
+    vec3 o, v, iv;
+    uvec3 neg;      // sign bits of the direction (-0 counts)
+    bvec3 zero;     // the direction component is 0: a closed slab, no planes
+    float t_lo, t_hi, t_base;
+};
+
+// entering / leaving t of the slab [lo, hi] along one axis, as linear_rt.h's
+// lrt__slab: an axis the ray does not move along is all or nothing
+void lrt_slab(float lo, float hi, float o, float iv, uint neg, bool zero, inout float en, inout float ex)
+{
+    precise float a = (lo - o) * iv, b = (hi - o) * iv;
+    if (zero) {
+        bool inside = lo <= o && o <= hi;
+        a = inside ? -LRT_INF : LRT_INF;
+        b = inside ? LRT_INF : -LRT_INF;
+        neg = 0u;
+    }
+    en = max(neg != 0u ? b : a, en);
+    ex = min(neg != 0u ? a : b, ex);
+}
+
+// the t where the ray's z reaches depth d (double distance, float t); for a
+// z that does not change, the box [d, 1] holds the ray wholly (-inf as an entry, +inf as an
+// exit) or not at all
+float lrt_depth_plane(LrtSetup s, double d)
+{
+    if (s.zero.z) {
+        bool inside = d <= double(s.o.z);
+        return (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
+    }
+    precise double dist = d - double(s.o.z);
+    precise double t = dist * double(s.iv.z);
+    return float(t);
+}
+
+// the far plane z = 1 and the screen rectangle; returns the kind of a miss
+uint lrt_clip(inout LrtSetup s, LrtParams p, float tmin, float tmax)
+{
+    float xy_en = -LRT_INF, xy_ex = LRT_INF;
+    lrt_slab(0.0, float(p.width), s.o.x, s.iv.x, s.neg.x, s.zero.x, xy_en, xy_ex);
+    lrt_slab(0.0, float(p.height), s.o.y, s.iv.y, s.neg.y, s.zero.y, xy_en, xy_ex);
+    s.t_lo = max(xy_en, tmin);
+    s.t_hi = min(xy_ex, tmax);
+    uint kind = (s.t_lo > s.t_hi || xy_ex < tmax) ? LRT_MISS_OFF_SCREEN : LRT_MISS_TMAX;
+    float t1 = lrt_depth_plane(s, 1.0lf);
+    if (s.neg.z != 0u) s.t_lo = max(t1, s.t_lo);
+    else s.t_hi = min(t1, s.t_hi);
+    return kind;
+}
+
+bool lrt_finite(float f) { return (floatBitsToUint(f) & 0x7f800000u) != 0x7f800000u; }
+
+// error-free sum and product of doubles (Knuth; Dekker's split, no fma needed)
+void lrt_two_sum(double a, double b, out double s, out double e)
+{
+    precise double ss = a + b;
+    precise double bb = ss - a;
+    precise double ee = (a - (ss - bb)) + (b - bb);
+    s = ss;
+    e = ee;
+}
+void lrt_two_prod(double a, double b, out double p, out double e)
+{
+    precise double pp = a * b;
+    precise double ca = 134217729.0lf * a, cb = 134217729.0lf * b; // 2^27 + 1
+    precise double ah = ca - (ca - a), al = a - ah;
+    precise double bh = cb - (cb - b), bl = b - bh;
+    precise double ee = ((ah * bh - pp) + ah * bl + al * bh) + al * bl;
+    p = pp;
+    e = ee;
+}
+
+// o_b + (plane - o_a) v_b / v_a from an exact expansion, as lrt__crossing
+float lrt_crossing(float o_b, float o_a, float v_b, float v_a, double plane)
+{
+    double terms[5], acc[5], s, e, x;
+    lrt_two_sum(plane, -double(o_a), s, e);
+    terms[0] = double(o_b) * double(v_a);
+    lrt_two_prod(s, double(v_b), terms[1], terms[2]);
+    lrt_two_prod(e, double(v_b), terms[3], terms[4]);
+    int n = 0;
+    for (int i = 0; i < 5; ++i) {
+        x = terms[i];
+        for (int j = 0; j < n; ++j) {
+            double hi, lo;
+            lrt_two_sum(acc[j], x, hi, lo);
+            acc[j] = lo;
+            x = hi;
+        }
+        acc[n++] = x;
+    }
+    precise double sum = 0.0lf;
+    for (int i = 0; i < n; ++i) sum += acc[i];
+    return float(sum / double(v_a));
+}
+
+// validates and clips a ray; false with kind set when nothing is left to walk
+bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out float t_scale, out uint kind)
+{
+    t_scale = 1.0;
+    s.o = o;
+    s.t_base = 0.0;
+    if (!lrt_finite(o.x) || !lrt_finite(o.y) || !lrt_finite(o.z) || !lrt_finite(v.x) || !lrt_finite(v.y) ||
+        !lrt_finite(v.z) || !lrt_finite(tmin) || !lrt_finite(tmax) || !(tmin >= 0.0) || !(tmin <= tmax)) {
+        kind = LRT_MISS_INVALID_RAY;
+        return false;
+    }
+    float m = max(max(abs(v.x), abs(v.y)), abs(v.z));
+    if (m != 0.0 && m < 1e-30) { // rare: rescale so that max |v| is about 1
+        int e;
+        frexp(m, e);
+        v = vec3(ldexp(v.x, -e), ldexp(v.y, -e), ldexp(v.z, -e));
+        tmin = ldexp(tmin, e);
+        tmax = ldexp(tmax, e);
+        t_scale = ldexp(1.0, -e);
+    }
+    s.v = v;
+    s.neg = uvec3(floatBitsToUint(v.x) >> 31, floatBitsToUint(v.y) >> 31, floatBitsToUint(v.z) >> 31);
+    s.zero = bvec3(v.x == 0.0, v.y == 0.0, v.z == 0.0);
+    // 1/v correctly rounded: a double quotient rounded once to float
+    s.iv = vec3(s.zero.x ? 0.0 : float(1.0lf / double(v.x)), s.zero.y ? 0.0 : float(1.0lf / double(v.y)),
+                s.zero.z ? 0.0 : float(1.0lf / double(v.z)));
+    kind = lrt_clip(s, p, tmin, tmax);
+    if (s.t_lo > s.t_hi) return false;
+    // a far-away origin: restart on the screen box (see linear_rt.h)
+    if (abs(s.o.x) > 2.0 * float(p.width) + 16.0 || abs(s.o.y) > 2.0 * float(p.height) + 16.0 || abs(s.o.z) > 4.0) {
+        double hi3[3] = double[3](double(p.width), double(p.height), 1.0lf);
+        float o3[3] = float[3](s.o.x, s.o.y, s.o.z), v3[3] = float[3](v.x, v.y, v.z);
+        double te = double(tmin), plane = 0.0lf;
+        int axis = -1;
+        for (int k = 0; k < 3; ++k) {
+            if (v3[k] == 0.0) continue; // a zero axis never enters later
+            double pl = (floatBitsToUint(v3[k]) >> 31) != 0u ? hi3[k] : 0.0lf;
+            precise double en = (pl - double(o3[k])) * (1.0lf / double(v3[k]));
+            if (en > te) {
+                te = en;
+                axis = k;
+                plane = pl;
+            }
+        }
+        float n3[3];
+        for (int k = 0; k < 3; ++k) {
+            if (axis < 0) { precise double q = double(o3[k]) + te * double(v3[k]); n3[k] = float(q); }
+            else if (k == axis) n3[k] = float(plane);
+            else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane);
+        }
+        s.o = vec3(n3[0], n3[1], n3[2]);
+        s.t_base = float(te);
+        precise double rest = double(tmax) - te;
+        lrt_clip(s, p, 0.0, float(rest));
+    }
+    return s.t_lo <= s.t_hi;
+}
+
+// lowest level whose one node holds every texel the clipped segment can
+// touch (0: a single texel), as lrt__start_node
+uint lrt_start_node(LrtLayout L, LrtSetup s, out uint sx, out uint sy)
+{
+    uint i0[2], i1[2];
+    for (int k = 0; k < 2; ++k) {
+        float o = s.o[k], v = s.v[k];
+        float lim = float((k == 1 ? L.h[0] : L.w[0]) - 1u);
+        precise float a = o + s.t_lo * v, b = o + s.t_hi * v;
+        precise float mg = 1e-3 + 1e-5 * (abs(o) + abs(a - o) + abs(b - o));
+        precise float lo = min(a, b) - mg, hi = max(a, b) + mg;
+        lo = lo > 0.0 ? lo : 0.0;
+        lo = lo < lim ? lo : lim;
+        hi = hi < lim ? hi : lim;
+        hi = hi > 0.0 ? hi : 0.0;
+        i0[k] = uint(int(lo));
+        i1[k] = uint(int(hi));
+    }
+    uint lv = 0u;
+    for (; lv < L.count; ++lv) {
+        if ((i0[0] >> lrt_span_w_log2(lv)) == (i1[0] >> lrt_span_w_log2(lv)) &&
+            (i0[1] >> lrt_span_h_log2(lv)) == (i1[1] >> lrt_span_h_log2(lv)))
+            break;
+    }
+    sx = lv == L.count ? 0u : i0[0] >> lrt_span_w_log2(lv);
+    sy = lv == L.count ? 0u : i0[1] >> lrt_span_h_log2(lv);
+    return lv;
+}
+
+// the exact test of a candidate texel against its true depth
+bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float ex, out float t)
+{
+    t = 0.0;
+    if (tx >= p.width || ty >= p.height) return false; // padding
+    float tz = lrt_depth_plane(s, lrt_raw_depth(p.format, lrt_depth_raw(p, tx, ty)));
+    if (s.neg.z != 0u) ex = min(tz, ex);
+    else en = max(tz, en);
+    t = en;
+    return en <= ex;
+}
+
+LrtHit lrt_report(LrtSetup s, float t_scale, float t, float tmin, float tmax, uint tx, uint ty)
+{
+    precise float tt = (t + s.t_base) * t_scale;
+    LrtHit h;
+    h.t = tt < tmin ? tmin : tt > tmax ? tmax : tt;
+    h.x = tx;
+    h.y = ty;
+    h.kind = LRT_HIT;
+    return h;
+}
+
+// Traces one ray (screen space: x, y in texels, z depth, 0 near) through the
+// BVH; any_hit only stops at the first hit found, which here is the closest.
+LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, bool any_hit)
+{
+    LrtHit hit;
+    hit.t = 0.0;
+    hit.x = 0u;
+    hit.y = 0u;
+    LrtSetup s;
+    float t_scale;
+    uint kind;
+    if (!lrt_setup_ray(p, origin, tmin, dir, tmax, s, t_scale, kind)) {
+        hit.kind = kind;
+        return hit;
+    }
+    LrtLayout L = lrt_layout(p.width, p.height);
+    // just below 1/qmax, the same float as linear_rt.h's decode_scale
+    float decode_scale = p.node_bits == 16u ? uintBitsToFloat(0x37800078u) : uintBitsToFloat(0x3b808079u);
+    float qmaxf = p.node_bits == 16u ? 65535.0 : 255.0;
+    uint nx, ny;
+    uint lv = lrt_start_node(L, s, nx, ny);
+    uint stack[LRT_STACK];
+    uint sp = 0u;
+    for (;;) {
+        // the node's children: x/y planes (5+3 or 3+5 shared), then z per child
+        uint cl = lv == 0u ? 0u : lv - 1u;       // level of the children
+        bool tall = lv != 0u && lrt_bw_log2(cl) == 1u;
+        uint bw = lv == 0u ? 1u : (tall ? 2u : 4u), bh = lv == 0u ? 1u : (tall ? 4u : 2u);
+        float sw = float(1u << lrt_span_w_log2(cl)), sh = float(1u << lrt_span_h_log2(cl));
+        float x0 = float((nx * bw) << lrt_span_w_log2(cl)), y0 = float((ny * bh) << lrt_span_h_log2(cl));
+        float px[5], py[5];
+        for (uint k = 0u; k <= bw; ++k) { precise float P = x0 + float(k) * sw; precise float t = (P - s.o.x) * s.iv.x; px[k] = t; }
+        for (uint k = 0u; k <= bh; ++k) { precise float P = y0 + float(k) * sh; precise float t = (P - s.o.y) * s.iv.y; py[k] = t; }
+        uint slot0 = lv == 0u ? lrt_node_slot(L, 1u, nx >> 2, ny >> 1) : lrt_node_slot(L, lv, nx, ny);
+        uint flip = (s.neg.x != 0u ? (tall ? 1u : 3u) : 0u) | (s.neg.y != 0u ? (tall ? 6u : 4u) : 0u);
+        uint nkids = lv == 0u ? 1u : 8u;
+        float en8[8], ex8[8];
+        uint mask = 0u;
+        for (uint k = 0u; k < nkids; ++k) {
+            uint slot = k ^ (lv == 0u ? 0u : flip);      // front to back
+            uint c = tall ? (slot & 1u) : (slot & 3u), r = tall ? (slot >> 1) : (slot >> 2);
+            if (lv == 0u) { c = 0u; r = 0u; }
+            float en = s.t_lo, ex = s.t_hi;
+            float xa = px[c], xb = px[c + 1u], ya = py[r], yb = py[r + 1u];
+            if (s.zero.x) {
+                bool in_x = x0 + float(c) * sw <= s.o.x && s.o.x <= x0 + float(c + 1u) * sw;
+                xa = in_x ? -LRT_INF : LRT_INF;
+                xb = in_x ? LRT_INF : -LRT_INF;
+            }
+            if (s.zero.y) {
+                bool in_y = y0 + float(r) * sh <= s.o.y && s.o.y <= y0 + float(r + 1u) * sh;
+                ya = in_y ? -LRT_INF : LRT_INF;
+                yb = in_y ? LRT_INF : -LRT_INF;
+            }
+            bool nx_ = s.neg.x != 0u && !s.zero.x, ny_ = s.neg.y != 0u && !s.zero.y;
+            en = max(nx_ ? xb : xa, en);
+            ex = min(nx_ ? xa : xb, ex);
+            en = max(ny_ ? yb : ya, en);
+            ex = min(ny_ ? ya : yb, ex);
+            if (lv != 0u) { // the child's compressed bound, in float as the CPU's node test
+                uint code = lrt_code(p.node_bits, slot0 + slot);
+                float tz;
+                if (s.zero.z) {
+                    float dz = (qmaxf - float(code)) * decode_scale;
+                    bool inside = dz <= s.o.z;
+                    tz = (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
+                } else {
+                    precise float dz = (qmaxf - float(code)) * decode_scale;
+                    precise float tt = (dz - s.o.z) * s.iv.z;
+                    tz = tt;
+                }
+                if (s.neg.z != 0u) ex = min(tz, ex);
+                else en = max(tz, en);
+            }
+            en8[k] = en;
+            ex8[k] = ex;
+            if (en <= ex) mask |= 1u << k;
+        }
+        if (lv <= 1u) { // texels: the exact test, front to back
+            for (uint k = 0u; k < nkids; ++k) {
+                if ((mask & (1u << k)) == 0u) continue;
+                uint slot = k ^ (lv == 0u ? 0u : flip);
+                uint tx = lv == 0u ? nx : nx * 4u + (slot & 3u), ty = lv == 0u ? ny : ny * 2u + (slot >> 2);
+                float t;
+                if (lrt_test_texel(p, s, tx, ty, en8[k], ex8[k], t)) return lrt_report(s, t_scale, t, tmin, tmax, tx, ty);
+            }
+            if (lv == 0u) break;
+        } else if (mask != 0u) {
+            // descend into the first child; push the rest, last first
+            uint bwl = tall ? 1u : 2u, cm = tall ? 1u : 3u;
+            uint first = findLSB(mask), rest = mask & (mask - 1u);
+            while (rest != 0u) {
+                uint hi = uint(findMSB(rest)), slot = hi ^ flip;
+                rest &= ~(1u << hi);
+                stack[sp++] = ((lv - 1u) << 28) | (((nx << bwl) + (slot & cm)) << 14) | ((ny << (3u - bwl)) + (slot >> bwl));
+            }
+            uint fs = first ^ flip;
+            nx = (nx << bwl) + (fs & cm);
+            ny = (ny << (3u - bwl)) + (fs >> bwl);
+            lv -= 1u;
+            continue;
+        }
+        if (sp == 0u) break;
+        --sp;
+        lv = stack[sp] >> 28;
+        nx = (stack[sp] >> 14) & 0x3fffu;
+        ny = stack[sp] & 0x3fffu;
+    }
+    hit.kind = kind;
+    return hit;
+}
+
+#endif

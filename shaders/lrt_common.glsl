@@ -1,0 +1,42 @@
+// lrt_common.glsl - the bindings and push constants of linear_rt's own
+// kernels (shaders/README.md), then the shared code of linear_rt.glsl.
+#extension GL_ARB_gpu_shader_fp64 : enable
+
+layout(local_size_x = 64) in;
+
+layout(push_constant) uniform LrtPush {
+    uint width, height, format, flags, node_bits, level_count, depth_offset, row_stride;
+    uint rect_x0, rect_y0, rect_x1, rect_y1, build, ray_first, ray_count, trace_flags;
+} pc;
+
+#if LRT_DEPTH_IMAGE
+layout(set = 0, binding = 1) uniform sampler2D lrt_depth_image;
+#define LRT_DEPTH_TEXEL(x, y) texelFetch(lrt_depth_image, ivec2(int(x), int(y)), 0).r
+#else
+layout(set = 0, binding = 0, std430) readonly buffer LrtDepth { uint words[]; } lrt_depth;
+#define LRT_DEPTH_WORD(i) lrt_depth.words[i]
+#endif
+layout(set = 0, binding = 2, std430) coherent buffer LrtNodes { uint words[]; } lrt_nodes;
+#define LRT_NODE_WORD(i) lrt_nodes.words[i]
+
+#include "linear_rt.glsl"
+
+LrtParams lrt_params()
+{
+    LrtParams p;
+    p.width = pc.width;
+    p.height = pc.height;
+    p.format = pc.format;
+    p.flags = pc.flags;
+    p.node_bits = pc.node_bits;
+    p.level_count = pc.level_count;
+    p.depth_offset = pc.depth_offset;
+    p.row_stride = pc.row_stride;
+    return p;
+}
+
+// this invocation's index in a 1D or 2D dispatch of 64-wide groups
+uint lrt_invocation()
+{
+    return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;
+}

@@ -1,0 +1,87 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// lrt_refit.comp - BuildBVH and UpdateBVH of the design in one dispatch.
+//
+// Invocation i refits one level-1 node above the texel rectangle, then
+// climbs: after its node is written (and a buffer barrier), it counts itself
+// in at its parent; the invocation that completes the parent's count of
+// children inside the rectangle resets the counter, reads all 8 children and
+// writes the parent, and so on to the root. Nobody waits for anybody, so the
+// one dispatch is correct on any GPU. Heights may fall as well as rise: a
+// parent is recomputed from its children, never max-ed with its old value.
+#include "lrt_common.glsl"
+
+layout(set = 0, binding = 3, std430) coherent buffer LrtCounters { uint c[]; } lrt_counters;
+
+// writes 8 codes as node `slot0` (code units)
+void lrt_store_node(uint slot0, uint codes[8])
+{
+    if (pc.node_bits == 16u) {
+        for (uint k = 0u; k < 4u; ++k) lrt_nodes.words[(slot0 >> 1) + k] = codes[2u * k] | (codes[2u * k + 1u] << 16);
+    } else {
+        for (uint k = 0u; k < 2u; ++k)
+            lrt_nodes.words[(slot0 >> 2) + k] = codes[4u * k] | (codes[4u * k + 1u] << 8) |
+                                                (codes[4u * k + 2u] << 16) | (codes[4u * k + 3u] << 24);
+    }
+}
+
+// the largest of node `slot0`'s 8 codes: that node's own height
+uint lrt_node_max(uint slot0)
+{
+    uint m = 0u;
+    for (uint k = 0u; k < 8u; ++k) m = max(m, lrt_code(pc.node_bits, slot0 + k));
+    return m;
+}
+
+void main()
+{
+    LrtParams p = lrt_params();
+    LrtLayout L = lrt_layout(p.width, p.height);
+    // the level-1 rectangle above the texel rectangle (real nodes only)
+    uint x0 = pc.rect_x0 >> 2, x1 = pc.rect_x1 >> 2, y0 = pc.rect_y0 >> 1, y1 = pc.rect_y1 >> 1;
+    uint cols = x1 - x0 + 1u, idx = lrt_invocation();
+    if (idx >= cols * (y1 - y0 + 1u)) return;
+    uint nx = x0 + idx % cols, ny = y0 + idx / cols;
+    uint codes[8];
+    for (uint s = 0u; s < 8u; ++s) {
+        uint tx = nx * 4u + (s & 3u), ty = ny * 2u + (s >> 2);
+        codes[s] = (tx < p.width && ty < p.height) ? lrt_texel_code(p, tx, ty) : 0u;
+    }
+    lrt_store_node(lrt_node_slot(L, 1u, nx, ny), codes);
+
+    for (uint lv = 1u; lv < L.count; ++lv) {
+        uint bwl = lrt_bw_log2(lv), bhl = lrt_bh_log2(lv);
+        uint px = nx >> bwl, py = ny >> bhl;
+        // the parent's children inside this level's rectangle: how many arrive
+        uint cx0 = max(px << bwl, x0), cx1 = min(((px + 1u) << bwl) - 1u, x1);
+        uint cy0 = max(py << bhl, y0), cy1 = min(((py + 1u) << bhl) - 1u, y1);
+        uint expected = (cx1 - cx0 + 1u) * (cy1 - cy0 + 1u);
+        uint parent = lrt_node_slot(L, lv + 1u, px, py);
+        memoryBarrierBuffer(); // our node before our arrival
+        if (atomicAdd(lrt_counters.c[parent >> 3], 1u) + 1u != expected) return;
+        atomicExchange(lrt_counters.c[parent >> 3], 0u); // ready for the next dispatch
+        memoryBarrierBuffer(); // the siblings' nodes after their arrivals
+        // children of (px, py) are contiguous: level lv's block of the parent
+        uint first_child = (L.offset[lv] + (py * L.w[lv + 1u] + px) * 8u) * 8u;
+        for (uint s = 0u; s < 8u; ++s) {
+            uint cx = (px << bwl) + (bwl == 2u ? (s & 3u) : (s & 1u));
+            uint cy = (py << bhl) + (bwl == 2u ? (s >> 2) : (s >> 1));
+            if (cx < L.w[lv] && cy < L.h[lv]) {
+                codes[s] = lrt_node_max(first_child + s * 8u);
+            } else { // a padding child: height 0, and on a build its node is 0 too
+                codes[s] = 0u;
+                if (pc.build != 0u) {
+                    uint zero[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                    lrt_store_node(first_child + s * 8u, zero);
+                }
+            }
+        }
+        lrt_store_node(parent, codes);
+        nx = px;
+        ny = py;
+        x0 >>= bwl;
+        x1 >>= bwl;
+        y0 >>= bhl;
+        y1 >>= bhl;
+    }
+}

@@ -1,0 +1,23 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// lrt_trace.comp - one ray per invocation through the BVH: closest hit, or
+// any hit (trace_flags bit 0), into hits[ray_first + i].
+#include "lrt_common.glsl"
+
+struct LrtRayIn {
+    vec3 origin;
+    float tmin;
+    vec3 dir;
+    float tmax;
+};
+layout(set = 0, binding = 4, std430) readonly buffer LrtRays { LrtRayIn r[]; } lrt_rays;
+layout(set = 0, binding = 5, std430) writeonly buffer LrtHits { LrtHit h[]; } lrt_hits;
+
+void main()
+{
+    uint idx = lrt_invocation();
+    if (idx >= pc.ray_count) return;
+    uint i = pc.ray_first + idx;
+    LrtRayIn r = lrt_rays.r[i];
+    lrt_hits.h[i] = lrt_trace_ray(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, (pc.trace_flags & 1u) != 0u);
+}
