@@ -8,13 +8,16 @@
 //   #define LRT_DEPTH_WORD(i)     word i of the depth buffer (LRT_DEPTH_IMAGE 0)
 //   #define LRT_DEPTH_TEXEL(x, y) texelFetch(depth, ivec2(x, y), 0).r (LRT_DEPTH_IMAGE 1)
 // and passes an LrtParams (the push constants of shaders/README.md).
-// Needs GL_ARB_gpu_shader_fp64 (shaderFloat64).
+// Float and integer arithmetic only: no shaderFloat64, no reliance on fma.
 //
 // The numbers follow linear_rt.h step by step, so both paths give the same
-// answers: every plane crossing is (plane - o) * (1/v) in float, the depth
-// plane's distance is taken in double, a zero direction component is a
-// closed slab (handled without NaN or inf arithmetic), and children are
-// visited front to back, so the first texel hit is the closest.
+// answers up to float rounding: every plane crossing is (plane - o) * (1/v)
+// in float; a unorm depth plane's distance v/max - o.z is taken exactly
+// with Dekker's product (linear_rt.h uses double); a zero direction
+// component is a closed slab (handled without NaN or inf arithmetic); and
+// children are visited front to back, so the first texel hit is the closest.
+// `precise` keeps compilers from fusing or reordering what must round the
+// way it is written.
 
 #ifndef LINEAR_RT_GLSL
 #define LINEAR_RT_GLSL
@@ -141,14 +144,6 @@ uint lrt_depth_raw(LrtParams p, uint x, uint y)
 }
 #endif
 
-// the depth of a raw value in double, as lrt__load_depth_exact
-double lrt_raw_depth(uint format, uint raw)
-{
-    if (format == 1u) return double(raw) * (1.0lf / 255.0lf);
-    if (format == 2u) return double(raw) * (1.0lf / 65535.0lf);
-    return double(uintBitsToFloat(raw));
-}
-
 // ============================================================================
 // Heights: code = qmax - floor(depth * qmax), rounded so a bound never cuts a hit
 // ============================================================================
@@ -203,18 +198,53 @@ void lrt_slab(float lo, float hi, float o, float iv, uint neg, bool zero, inout 
     ex = min(neg != 0u ? a : b, ex);
 }
 
-// the t where the ray's z reaches depth d (double distance, float t); for a
-// z that does not change, the box [d, 1] holds the ray wholly (-inf as an entry, +inf as an
-// exit) or not at all
-float lrt_depth_plane(LrtSetup s, double d)
+// ---- error-free transformations in float (Knuth's sum, Dekker's product) ----
+void lrt_two_sum(float a, float b, out float s, out float e)
 {
+    precise float ss = a + b;
+    precise float bb = ss - a;
+    precise float ee = (a - (ss - bb)) + (b - bb);
+    s = ss;
+    e = ee;
+}
+void lrt_two_prod(float a, float b, out float p, out float e)
+{
+    precise float pp = a * b;
+    precise float ca = 4097.0 * a, cb = 4097.0 * b; // 2^12 + 1 splits a float in halves
+    precise float ah = ca - (ca - a), al = a - ah;
+    precise float bh = cb - (cb - b), bl = b - bh;
+    precise float ee = ((ah * bh - pp) + ah * bl + al * bh) + al * bl;
+    p = pp;
+    e = ee;
+}
+
+// the t where the ray's z reaches the depth plane of a raw depth (see
+// lrt_depth_raw); for a z that does not change, the box [d, 1] holds the
+// ray wholly (-inf as an entry, +inf as an exit) or not at all
+float lrt_depth_plane(LrtSetup s, uint format, uint raw)
+{
+    bool unorm = format != 3u && raw != (format == 1u ? 255u : 65535u); // v = max is d = 1 exactly
+    float d = format == 3u ? uintBitsToFloat(raw) : unorm ? 0.0 : 1.0;
     if (s.zero.z) {
-        bool inside = d <= double(s.o.z);
+        // v/max <= o.z, compared without rounding v/max: v <= o.z * max
+        bool inside = d <= s.o.z;
+        if (unorm) {
+            float qm = format == 1u ? 255.0 : 65535.0, p, e;
+            lrt_two_prod(s.o.z, qm, p, e);
+            inside = float(raw) < p || (float(raw) == p && e >= 0.0);
+        }
         return (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
     }
-    precise double dist = d - double(s.o.z);
-    precise double t = dist * double(s.iv.z);
-    return float(t);
+    if (!unorm) {
+        precise float t = (d - s.o.z) * s.iv.z;
+        return t;
+    }
+    // v/max - o.z = (v - o.z * max) / max, with o.z * max = p + e exactly
+    float qm = format == 1u ? 255.0 : 65535.0, p, e;
+    lrt_two_prod(s.o.z, qm, p, e);
+    precise float n = (float(raw) - p) - e;
+    precise float t = (n * (format == 1u ? 1.0 / 255.0 : 1.0 / 65535.0)) * s.iv.z;
+    return t;
 }
 
 // the far plane z = 1 and the screen rectangle; returns the kind of a miss
@@ -226,7 +256,7 @@ uint lrt_clip(inout LrtSetup s, LrtParams p, float tmin, float tmax)
     s.t_lo = max(xy_en, tmin);
     s.t_hi = min(xy_ex, tmax);
     uint kind = (s.t_lo > s.t_hi || xy_ex < tmax) ? LRT_MISS_OFF_SCREEN : LRT_MISS_TMAX;
-    float t1 = lrt_depth_plane(s, 1.0lf);
+    float t1 = lrt_depth_plane(s, 3u, floatBitsToUint(1.0));
     if (s.neg.z != 0u) s.t_lo = max(t1, s.t_lo);
     else s.t_hi = min(t1, s.t_hi);
     return kind;
@@ -234,48 +264,46 @@ uint lrt_clip(inout LrtSetup s, LrtParams p, float tmin, float tmax)
 
 bool lrt_finite(float f) { return (floatBitsToUint(f) & 0x7f800000u) != 0x7f800000u; }
 
-// error-free sum and product of doubles (Knuth; Dekker's split, no fma needed)
-void lrt_two_sum(double a, double b, out double s, out double e)
+// o_b + (plane - o_a) v_b / v_a (or o_b + t v_b when the start is tmin),
+// from an exact float expansion after scaling by powers of two (so no
+// product overflows), rounded once: as linear_rt.h's lrt__crossing
+float lrt_crossing(float o_b, float o_a, float v_b, float v_a, float plane, bool by_t, float t)
 {
-    precise double ss = a + b;
-    precise double bb = ss - a;
-    precise double ee = (a - (ss - bb)) + (b - bb);
-    s = ss;
-    e = ee;
-}
-void lrt_two_prod(double a, double b, out double p, out double e)
-{
-    precise double pp = a * b;
-    precise double ca = 134217729.0lf * a, cb = 134217729.0lf * b; // 2^27 + 1
-    precise double ah = ca - (ca - a), al = a - ah;
-    precise double bh = cb - (cb - b), bl = b - bh;
-    precise double ee = ((ah * bh - pp) + ah * bl + al * bh) + al * bl;
-    p = pp;
-    e = ee;
-}
-
-// o_b + (plane - o_a) v_b / v_a from an exact expansion, as lrt__crossing
-float lrt_crossing(float o_b, float o_a, float v_b, float v_a, double plane)
-{
-    double terms[5], acc[5], s, e, x;
-    lrt_two_sum(plane, -double(o_a), s, e);
-    terms[0] = double(o_b) * double(v_a);
-    lrt_two_prod(s, double(v_b), terms[1], terms[2]);
-    lrt_two_prod(e, double(v_b), terms[3], terms[4]);
+    int eo, ev;
+    frexp(max(max(abs(o_a), abs(o_b)), max(abs(plane), 1.0)), eo);
+    frexp(max(max(abs(v_a), abs(v_b)), by_t ? abs(t) : 0.0), ev);
+    float ob = ldexp(o_b, -eo), oa = ldexp(o_a, -eo), pl = ldexp(plane, -eo);
+    float vb = ldexp(v_b, -ev), va = ldexp(v_a, -ev);
+    float terms[6], acc[6];
     int n = 0;
-    for (int i = 0; i < 5; ++i) {
-        x = terms[i];
-        for (int j = 0; j < n; ++j) {
-            double hi, lo;
+    if (by_t) { // o_b + t v_b, all scaled by 2^-eo: t v_b 2^-eo = (t 2^-ev) ... keep t whole
+        float tt = ldexp(t, ev - eo);
+        lrt_two_prod(tt, vb, terms[0], terms[1]);
+        terms[2] = ob;
+        n = 3;
+    } else {
+        float s, e;
+        lrt_two_sum(pl, -oa, s, e);
+        lrt_two_prod(ob, va, terms[0], terms[1]);
+        lrt_two_prod(s, vb, terms[2], terms[3]);
+        lrt_two_prod(e, vb, terms[4], terms[5]);
+        n = 6;
+    }
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+        float x = terms[i];
+        for (int j = 0; j < m; ++j) {
+            float hi, lo;
             lrt_two_sum(acc[j], x, hi, lo);
             acc[j] = lo;
             x = hi;
         }
-        acc[n++] = x;
+        acc[m++] = x;
     }
-    precise double sum = 0.0lf;
-    for (int i = 0; i < n; ++i) sum += acc[i];
-    return float(sum / double(v_a));
+    precise float sum = 0.0;
+    for (int i = 0; i < m; ++i) sum += acc[i];
+    if (!by_t) sum = sum / va;
+    return ldexp(sum, eo);
 }
 
 // validates and clips a ray; false with kind set when nothing is left to walk
@@ -301,21 +329,19 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
     s.v = v;
     s.neg = uvec3(floatBitsToUint(v.x) >> 31, floatBitsToUint(v.y) >> 31, floatBitsToUint(v.z) >> 31);
     s.zero = bvec3(v.x == 0.0, v.y == 0.0, v.z == 0.0);
-    // 1/v correctly rounded: a double quotient rounded once to float
-    s.iv = vec3(s.zero.x ? 0.0 : float(1.0lf / double(v.x)), s.zero.y ? 0.0 : float(1.0lf / double(v.y)),
-                s.zero.z ? 0.0 : float(1.0lf / double(v.z)));
+    s.iv = vec3(s.zero.x ? 0.0 : 1.0 / v.x, s.zero.y ? 0.0 : 1.0 / v.y, s.zero.z ? 0.0 : 1.0 / v.z);
     kind = lrt_clip(s, p, tmin, tmax);
     if (s.t_lo > s.t_hi) return false;
     // a far-away origin: restart on the screen box (see linear_rt.h)
     if (abs(s.o.x) > 2.0 * float(p.width) + 16.0 || abs(s.o.y) > 2.0 * float(p.height) + 16.0 || abs(s.o.z) > 4.0) {
-        double hi3[3] = double[3](double(p.width), double(p.height), 1.0lf);
+        float hi3[3] = float[3](float(p.width), float(p.height), 1.0);
         float o3[3] = float[3](s.o.x, s.o.y, s.o.z), v3[3] = float[3](v.x, v.y, v.z);
-        double te = double(tmin), plane = 0.0lf;
+        float te = tmin, plane = 0.0;
         int axis = -1;
         for (int k = 0; k < 3; ++k) {
-            if (v3[k] == 0.0) continue; // a zero axis never enters later
-            double pl = (floatBitsToUint(v3[k]) >> 31) != 0u ? hi3[k] : 0.0lf;
-            precise double en = (pl - double(o3[k])) * (1.0lf / double(v3[k]));
+            if (v3[k] == 0.0) continue; // an axis the ray does not move along
+            float pl = (floatBitsToUint(v3[k]) >> 31) != 0u ? hi3[k] : 0.0;
+            precise float en = (pl - o3[k]) * (1.0 / v3[k]);
             if (en > te) {
                 te = en;
                 axis = k;
@@ -324,14 +350,14 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
         }
         float n3[3];
         for (int k = 0; k < 3; ++k) {
-            if (axis < 0) { precise double q = double(o3[k]) + te * double(v3[k]); n3[k] = float(q); }
-            else if (k == axis) n3[k] = float(plane);
-            else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane);
+            if (axis < 0) n3[k] = lrt_crossing(o3[k], 0.0, v3[k], 1.0, 0.0, true, te);
+            else if (k == axis) n3[k] = plane;
+            else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane, false, 0.0);
         }
         s.o = vec3(n3[0], n3[1], n3[2]);
-        s.t_base = float(te);
-        precise double rest = double(tmax) - te;
-        lrt_clip(s, p, 0.0, float(rest));
+        s.t_base = te;
+        precise float rest = tmax - te;
+        lrt_clip(s, p, 0.0, rest);
     }
     return s.t_lo <= s.t_hi;
 }
@@ -370,7 +396,7 @@ bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float e
 {
     t = 0.0;
     if (tx >= p.width || ty >= p.height) return false; // padding
-    float tz = lrt_depth_plane(s, lrt_raw_depth(p.format, lrt_depth_raw(p, tx, ty)));
+    float tz = lrt_depth_plane(s, p.format, lrt_depth_raw(p, tx, ty));
     if (s.neg.z != 0u) ex = min(tz, ex);
     else en = max(tz, en);
     t = en;

@@ -1,6 +1,6 @@
 // lrt_common.glsl - the bindings and push constants of linear_rt's own
 // kernels (shaders/README.md), then the shared code of linear_rt.glsl.
-#extension GL_ARB_gpu_shader_fp64 : enable
+
 
 layout(local_size_x = 64) in;
 
