@@ -1,6 +1,7 @@
 # Makefile of linear_rt (GNU make).
 #   make demo    build build/demo (-O3) and run the headline workload
 #   make test    every test; ends with one line "N passed, M failed"
+#   make spv     compile shaders/*.comp and regenerate shaders_spv.h (needs glslang)
 #   make clean
 CC ?= cc
 CFLAGS ?= -O2 -g
@@ -17,11 +18,34 @@ B := build
 LIB := linear_rt.h
 REF := tests/reference.h
 SCENE := examples/scene.h
+RAYS := tests/rays.h
+SPV_H := shaders_spv.h
+VK_UTIL := tests/vk_util.h
+
+# Vulkan: the headers decide whether the demo and tests get the Vulkan path.
+# Nothing links against Vulkan: the loader is opened at run time (-ldl).
+HAVE_VULKAN := $(shell printf '\043include <vulkan/vulkan.h>\n' | $(CC) -E -x c - >/dev/null 2>&1 && echo 1)
+VK_FLAGS := -DLINEAR_RT_VULKAN -DLINEAR_RT_VULKAN_DEVICE_HELPER
+# tests and the demo prove it: no Vulkan prototypes, so no link-time Vulkan symbol
+VK_PROGRAM_FLAGS := $(VK_FLAGS) -DVK_NO_PROTOTYPES
+VK_LIBS := -ldl
+ifeq ($(HAVE_VULKAN),1)
+DEMO_VK := $(VK_PROGRAM_FLAGS)
+DEMO_VK_DEPS := $(SPV_H) $(VK_UTIL)
+DEMO_VK_LIBS := $(VK_LIBS)
+endif
+
+# SPIR-V: glslang and spirv-tools (Debian: glslang-tools, spirv-tools)
+GLSLANG ?= glslangValidator
+SPIRV_VAL ?= spirv-val
+SPV_ENV := --target-env vulkan1.2
+SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl)
+SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 
 # what `make test` runs, one count each in its summary line
-TESTS := test-reference test-core test-sanitize-reference test-sanitize-core test-header test-demo
+TESTS := test-reference test-core test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-demo
 
-.PHONY: all demo test deps clean $(TESTS) test-sanitize
+.PHONY: all demo test deps clean spv spv-check $(TESTS) test-sanitize
 
 all: $(B)/demo $(B)/test_reference $(B)/test_core
 
@@ -35,8 +59,8 @@ $(B):
 	@mkdir -p $(B)
 
 # ---- demo ---------------------------------------------------------------------
-$(B)/demo: examples/demo.c $(LIB) $(SCENE) $(REF) | deps $(B)
-	$(CC) $(DEMO_FLAGS) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" examples/demo.c -o $@ $(LDLIBS)
+$(B)/demo: examples/demo.c $(LIB) $(SCENE) $(REF) $(DEMO_VK_DEPS) | deps $(B)
+	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" examples/demo.c -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
 
 demo: $(B)/demo
 	$(B)/demo
@@ -45,13 +69,13 @@ demo: $(B)/demo
 $(B)/test_reference: tests/test_reference.c $(REF) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) $< -o $@ $(LDLIBS)
 
-$(B)/test_core: tests/test_core.c $(LIB) $(REF) $(SCENE) | deps $(B)
+$(B)/test_core: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) $< -o $@ $(LDLIBS)
 
 $(B)/test_reference_san: tests/test_reference.c $(REF) | deps $(B)
 	$(CC) $(STD) $(WARN) $(SAN) $< -o $@ $(LDLIBS)
 
-$(B)/test_core_san: tests/test_core.c $(LIB) $(REF) $(SCENE) | deps $(B)
+$(B)/test_core_san: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
 	$(CC) $(STD) $(WARN) $(SAN) $< -o $@ $(LDLIBS)
 
 test-reference: $(B)/test_reference
@@ -88,8 +112,77 @@ test-header: | deps $(B)
 	run gcc $(STD) $(STRICT) -I. $(B)/readme_sample.c -o $(B)/readme_sample -lm; \
 	run $(B)/readme_sample; \
 	run g++ -x c++ -std=c++11 $(STRICT) -I. -c $(B)/readme_sample.c -o $(B)/readme_sample_gxx.o; \
+	if gcc $(STD) -E $(B)/header_tu.c | grep -q 'vulkan'; then echo "  FAIL: the CPU-only build includes Vulkan headers"; bad=$$((bad + 1)); \
+	else echo "  the CPU-only build includes no Vulkan header"; n=$$((n + 1)); fi; \
+	if [ "$(HAVE_VULKAN)" = 1 ]; then \
+	  printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n' > $(B)/header_vk_tu.c; \
+	  run gcc $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_gcc.o; \
+	  run g++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_gxx.o; \
+	  if command -v clang >/dev/null 2>&1; then \
+	    run clang $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_clang.o; fi; \
+	  if command -v clang++ >/dev/null 2>&1; then \
+	    run clang++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_clangxx.o; fi; \
+	  run gcc $(STD) $(STRICT) $(VK_FLAGS) -DVK_NO_PROTOTYPES -DLINEAR_RT_STATIC -c $(B)/header_vk_tu.c -o $(B)/header_vk_static.o; \
+	  run gcc $(STD) $(STRICT) -DLINEAR_RT_VULKAN -c $(B)/header_vk_tu.c -o $(B)/header_vk_nohelper.o; \
+	  printf '#include "../linear_rt.h"\n#define LINEAR_RT_VULKAN\n#include "../linear_rt.h"\nint f(void);\nint f(void) { return (int)sizeof(lrt_vk_depth); }\n' > $(B)/header_vk_twice.c; \
+	  run gcc $(STD) $(STRICT) -c $(B)/header_vk_twice.c -o $(B)/header_vk_twice.o; \
+	  if nm $(B)/header_vk_gcc.o | grep -q ' U vk'; then echo "  FAIL: a link-time Vulkan symbol:"; nm $(B)/header_vk_gcc.o | grep ' U vk'; bad=$$((bad + 1)); \
+	  else echo "  no link-time Vulkan symbol in the Vulkan build"; n=$$((n + 1)); fi; \
+	else echo "  note: <vulkan/vulkan.h> not found: Vulkan variants skipped"; fi; \
 	echo "test-header: $$n passed, $$bad failed"; \
 	[ $$bad -eq 0 ]
+
+# ---- SPIR-V --------------------------------------------------------------------
+$(B)/spv2h: tools/spv2h.c | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) $< -o $@
+
+# $(call spv_compile,FOLDER,HEADER): both kernels in both depth variants into
+# FOLDER/lrt_<kernel>_<variant>.spv, each validated, then embedded in HEADER
+define spv_compile
+	@mkdir -p $(1)
+	@set -e; for name in $(SPV_NAMES); do \
+	  kernel=$${name%_*}; variant=$${name#*_}; image=0; [ $$variant = image ] && image=1; \
+	  echo "  $(GLSLANG) -V $(SPV_ENV) -DLRT_DEPTH_IMAGE=$$image -o $(1)/lrt_$$name.spv shaders/lrt_$$kernel.comp"; \
+	  $(GLSLANG) -V $(SPV_ENV) -DLRT_DEPTH_IMAGE=$$image -o $(1)/lrt_$$name.spv shaders/lrt_$$kernel.comp \
+	    > $(1)/lrt_$$name.log 2>&1 || { cat $(1)/lrt_$$name.log; exit 1; }; \
+	  echo "  $(SPIRV_VAL) $(SPV_ENV) $(1)/lrt_$$name.spv"; \
+	  $(SPIRV_VAL) $(SPV_ENV) $(1)/lrt_$$name.spv; \
+	done
+	$(B)/spv2h $(2) $(foreach n,$(SPV_NAMES),lrt_spv_$(n)=$(1)/lrt_$(n).spv)
+endef
+
+# Regenerates the committed shaders_spv.h from shaders/ (glslang 12 of
+# Debian 12: another glslang version writes other bytes, which test-spv sees).
+spv: $(B)/spv2h $(SPV_SOURCES)
+	@command -v $(GLSLANG) >/dev/null 2>&1 && command -v $(SPIRV_VAL) >/dev/null 2>&1 || \
+	  { echo "spv: $(GLSLANG) and $(SPIRV_VAL) are needed: tools/install-deps.sh installs them"; exit 1; }
+	$(call spv_compile,$(B)/spv,$(SPV_H))
+
+# shaders_spv.h must be what make spv makes of shaders/ now.
+test-spv: $(B)/spv2h
+	@if ! command -v $(GLSLANG) >/dev/null 2>&1 || ! command -v $(SPIRV_VAL) >/dev/null 2>&1; then \
+	  echo "test-spv: skipped: $(GLSLANG) or $(SPIRV_VAL) is not installed"; exit 0; fi; \
+	$(MAKE) --no-print-directory spv-check && \
+	if cmp -s $(B)/spv-check/$(SPV_H) $(SPV_H); then echo "test-spv: ok, $(SPV_H) is up to date"; \
+	else echo "test-spv: FAIL: $(SPV_H) differs from what shaders/ compile to: run make spv"; exit 1; fi
+
+spv-check: $(B)/spv2h
+	$(call spv_compile,$(B)/spv-check,$(B)/spv-check/$(SPV_H))
+
+# ---- Vulkan ------------------------------------------------------------------
+# Skips (exit 0) where there is no Vulkan header, loader or device, except
+# under CI=true, where that is a failure.
+$(B)/test_vulkan: tests/test_vulkan.c $(LIB) $(SPV_H) $(REF) $(SCENE) $(RAYS) $(VK_UTIL) | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) $(VK_PROGRAM_FLAGS) $< -o $@ $(LDLIBS) $(VK_LIBS)
+
+ifeq ($(HAVE_VULKAN),1)
+test-vulkan: $(B)/test_vulkan
+	$(B)/test_vulkan
+else
+test-vulkan:
+	@echo "test-vulkan: skipped: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"; \
+	[ "$$CI" != "true" ]
+endif
 
 test-demo: $(B)/demo
 	$(B)/demo --size 128

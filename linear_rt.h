@@ -30,6 +30,83 @@
    lrt_trace_range() traces a slice of a batch: the BVH and depth are only
    read while tracing, so threads may trace disjoint slices at once.
 
+   USE (VULKAN)
+   The same three algorithms as compute kernels (shaders/, embedded as
+   SPIR-V), recorded into your command buffers inside your own VkDevice.
+       #define LINEAR_RT_VULKAN            // before EVERY include that uses lrt_vk_*
+       #define LINEAR_RT_IMPLEMENTATION    // in one file, as for the CPU path
+       #include "linear_rt.h"              // includes <vulkan/vulkan.h>; the
+                                           // implementation includes "shaders_spv.h"
+                                           // (ship it next to linear_rt.h)
+       lrt_vk_context_desc cd = {0};       // instance, physical_device, device,
+       ...                                 // vkGetInstanceProcAddr (+ optional
+       lrt_vk_context *ctx;                // vkGetDeviceProcAddr, allocator, cache)
+       lrt_vk_context_create(&cd, &ctx);   // once: layouts, 4 pipelines, a sampler
+       lrt_vk_bvh_desc bd = {0};           // width, height, format (+ node bits,
+       lrt_vk_bvh bvh;                     // your buffers or the library's)
+       lrt_vk_bvh_create(ctx, &bd, &bvh);
+       lrt_vk_depth depth = {0};           // a VkBuffer (offset, row stride) or
+       ...                                 // a VkImageView (and its layout)
+       lrt_vk_cmd_build(ctx, cmd, &bvh, &depth);                 // once
+       ...each frame, with the barriers of BARRIERS between them:
+       lrt_vk_cmd_update(ctx, cmd, &bvh, &depth, NULL);          // or a dirty rect
+       lrt_vk_cmd_trace(ctx, cmd, &bvh, &depth, rays, 0, hits, 0, n, 0);
+       ...
+       lrt_vk_bvh_destroy(ctx, &bvh);
+       lrt_vk_context_destroy(ctx);
+   The library never calls Vulkan by a link-time symbol: every function
+   comes from the vkGetInstanceProcAddr / vkGetDeviceProcAddr you give it,
+   so VK_NO_PROTOTYPES (volk and the like) is fine. Your device: Vulkan 1.2
+   or newer (instance too), VK_KHR_push_descriptor enabled, and the features
+   lrt_vk_get_requirements lists (read from the kernels' SPIR-V) enabled.
+   The library never owns a queue, submits, waits or allocates per frame;
+   the recording functions only read the context and the BVH, so several
+   threads may record with one context at once. The GPU tree is the CPU's
+   node array byte for byte (lrt_vk_bvh.layout is an lrt_layout), and the
+   kernels answer what the CPU answers (MODEL.md: same kind and texel, t
+   within float rounding).
+   Host-side helper for tools, tests and examples (not for engines, which
+   have a device): #define LINEAR_RT_VULKAN_DEVICE_HELPER as well and
+   lrt_vk_device_create loads the Vulkan loader at run time (dlopen: link
+   with -ldl on old glibc), makes an instance, device and compute queue,
+   optionally with the validation layer, and fills an lrt_vk_context_desc.
+
+   BARRIERS. The library records one barrier, inside build (its fill of the
+   counters -> its dispatch); you record every other one, as with VMA. Below,
+   CS is VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, accesses lose VK_ACCESS_ and
+   _BIT, and "src -> dst" is (stage, access) -> (stage, access). The tree is
+   the node and counter ranges of an lrt_vk_bvh.
+     before build, update, trace:
+       the depth you wrote:   (your stage, your write) -> (CS, SHADER_READ);
+                              an image in the same barrier goes to the layout
+                              named in lrt_vk_depth (e.g. a depth attachment:
+                              (LATE_FRAGMENT_TESTS, DEPTH_STENCIL_ATTACHMENT_WRITE)
+                              -> (CS, SHADER_READ), to SHADER_READ_ONLY_OPTIMAL)
+     before build, when the tree was used by earlier commands:
+                              (CS, SHADER_WRITE) -> (TRANSFER | CS,
+                              TRANSFER_WRITE | SHADER_READ | SHADER_WRITE)
+     before update or trace, after the build or update of the tree:
+                              (CS, SHADER_WRITE) -> (CS, SHADER_READ | SHADER_WRITE)
+     before update, after a trace that read the tree (write after read):
+                              (CS, 0) -> (CS, 0), or the barrier above
+     before trace:
+       the rays you wrote:    (your stage, your write) -> (CS, SHADER_READ)
+       earlier readers of the hits: (their stage, 0) -> (CS, 0)
+     after trace:
+       its hits:              (CS, SHADER_WRITE) -> (the reader's stage and
+                              access: TRANSFER / TRANSFER_READ for a copy,
+                              HOST / HOST_READ for a mapped read after the
+                              fence, FRAGMENT_SHADER / SHADER_READ, ...)
+     after build, update, trace, before you write that depth again:
+                              (CS, 0) -> (your stage, 0) (write after read)
+     reading the tree back (LRT_VK_BVH_HOST_VISIBLE): (CS, SHADER_WRITE) ->
+                              (HOST, HOST_READ), then wait for the fence.
+   Simplest: between consecutive linear_rt commands on one tree, one
+   VkMemoryBarrier (CS, SHADER_WRITE) -> (CS | TRANSFER, SHADER_READ |
+   SHADER_WRITE | TRANSFER_WRITE) covers every row about the tree. Commands
+   in earlier submissions to the queue need these barriers too (a fence
+   orders the host, not the next submission's reads).
+
    OPTIONS (define before the IMPLEMENTATION include)
        LINEAR_RT_STATIC            make every function static to this file
        LINEAR_RT_API               linkage of the API (default: extern)
@@ -40,6 +117,10 @@
                                    both or neither
        LINEAR_RT_NO_SIMD           plain C instead of the SSE2 child test (the
                                    answers are the same bit for bit)
+       LINEAR_RT_VULKAN            the lrt_vk_* API and its implementation
+                                   (define it for the API in every file that
+                                   uses it, as for the implementation)
+       LINEAR_RT_VULKAN_DEVICE_HELPER  lrt_vk_device_create (dlopen of the loader)
    Memory: lrt_bvh_build allocates once (allocator hooks or the macros);
    lrt_bvh_build_in uses caller-owned memory sized by lrt_bvh_memory_size.
    Update and trace never allocate.
@@ -80,7 +161,8 @@
      8-bit nodes).
 
    WHAT IT DOES NOT DO
-   - no GPU code yet in this file; no view-space rays (the caller clips them
+   - no GPU work of its own: it records into your command buffers and never
+     submits, waits or owns a queue; no view-space rays (the caller clips them
      to the near plane and projects them to screen space); no thickness
      model: everything behind the depth is solid (MODEL.md).
 
@@ -124,6 +206,13 @@ typedef enum lrt_result {
     LRT_ERROR_INVALID_RECT = 10,    /* dirty rectangle reaches outside the map      */
     LRT_ERROR_TOO_MANY_RAYS = 11,   /* more than LINEAR_RT_MAX_RAYS_PER_CALL rays, or a bad range */
     LRT_ERROR_INVALID_BVH = 12,     /* the BVH was not built (or was destroyed)     */
+    LRT_ERROR_VULKAN = 13,          /* a Vulkan call failed: its VkResult is kept (lrt_vk_context_vk_result) */
+    LRT_ERROR_NO_VULKAN_LOADER = 14, /* the Vulkan loader library could not be loaded */
+    LRT_ERROR_NO_VULKAN_DEVICE = 15, /* no driver, or no device with what the kernels need */
+    LRT_ERROR_MISSING_VULKAN_FEATURE = 16, /* a Vulkan version, extension, feature, layer or memory type is missing */
+    LRT_ERROR_LIMIT_EXCEEDED = 17,  /* a device limit: storage buffer range, dispatch size */
+    LRT_ERROR_MISALIGNED = 18,      /* an offset or stride is not a multiple of the texel size or of
+                                       the device's storage buffer offset alignment */
     LRT_RESULT_MAX_ENUM = 0x7fffffff
 } lrt_result;
 
@@ -261,6 +350,229 @@ LINEAR_RT_API const char *lrt_result_string(lrt_result result);
 #endif
 #endif /* LINEAR_RT_H */
 
+/* ============================================================================
+   The Vulkan API (define LINEAR_RT_VULKAN before including). It has its own
+   include guard, so a file may include linear_rt.h first without it and
+   again with it.
+   ========================================================================== */
+#if defined(LINEAR_RT_VULKAN) && !defined(LINEAR_RT_VULKAN_H)
+#define LINEAR_RT_VULKAN_H
+#include <vulkan/vulkan.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- what a device needs --------------------------------------------------- */
+/* Everything the embedded kernels need from the device, read from their
+   SPIR-V: enable these when you create your VkDevice. lrt_vk_context_create
+   checks that the physical device supports them (it cannot see what you
+   enabled). */
+typedef struct lrt_vk_requirements {
+    uint32_t api_version;                 /* VK_API_VERSION_1_2: instance and device at least this */
+    uint32_t extension_count;             /* device extensions to enable: */
+    const char *extensions[1];            /*   VK_KHR_push_descriptor */
+    /* VkPhysicalDeviceFeatures */
+    VkBool32 shader_float64, shader_int64, shader_int16;
+    /* VkPhysicalDeviceVulkan11Features */
+    VkBool32 storage_buffer_16bit_access;
+    /* VkPhysicalDeviceVulkan12Features */
+    VkBool32 shader_int8, shader_float16, storage_buffer_8bit_access, shader_buffer_int64_atomics;
+    VkBool32 vulkan_memory_model, vulkan_memory_model_device_scope;
+    /* VkPhysicalDeviceVulkan11Properties::subgroupSupportedOperations, in compute */
+    VkSubgroupFeatureFlags subgroup_operations;
+} lrt_vk_requirements;
+
+LINEAR_RT_API lrt_result lrt_vk_get_requirements(lrt_vk_requirements *out);
+
+/* ---- the context: pipelines of the embedded kernels, in your device -------- */
+typedef struct lrt_vk_context_desc {
+    VkInstance instance;                        /* required */
+    VkPhysicalDevice physical_device;           /* required */
+    VkDevice device;                            /* required: with the requirements above enabled */
+    PFN_vkGetInstanceProcAddr get_instance_proc_addr; /* required: every function pointer comes from it */
+    PFN_vkGetDeviceProcAddr get_device_proc_addr;     /* optional: else from get_instance_proc_addr */
+    const VkAllocationCallbacks *allocation_callbacks; /* optional: for the Vulkan objects and the
+                                                   context's own memory (VK_SYSTEM_ALLOCATION_SCOPE_OBJECT);
+                                                   copied, need not outlive the call */
+    VkPipelineCache pipeline_cache;             /* optional */
+    VkResult *vk_result;                        /* optional: where a failing Vulkan call's VkResult
+                                                   is written when create returns LRT_ERROR_VULKAN */
+} lrt_vk_context_desc;
+
+typedef struct lrt_vk_context lrt_vk_context; /* opaque; immutable after create */
+
+/* Loads the device functions, checks the device (Vulkan 1.2, the push
+   descriptor extension, the features of lrt_vk_get_requirements) and creates
+   one descriptor set layout (push descriptors), one pipeline layout (64 bytes
+   of push constants), 4 compute pipelines and one sampler. On error *out is
+   untouched and nothing is left created. */
+LINEAR_RT_API lrt_result lrt_vk_context_create(const lrt_vk_context_desc *desc, lrt_vk_context **out);
+/* Destroys what create made. The caller makes sure the GPU no longer uses
+   it (no command buffer recorded with it is pending). NULL is fine. */
+LINEAR_RT_API void lrt_vk_context_destroy(lrt_vk_context *ctx);
+/* The VkResult of the last Vulkan call that made a function of this context
+   return LRT_ERROR_VULKAN (VK_SUCCESS if none; written unsynchronised by
+   lrt_vk_bvh_create, the only one that can fail so after create). */
+LINEAR_RT_API VkResult lrt_vk_context_vk_result(const lrt_vk_context *ctx);
+
+/* ---- a BVH in GPU memory ------------------------------------------------------ */
+enum {
+    /* lrt_vk_bvh_desc.flags: library memory must be HOST_VISIBLE | HOST_COHERENT
+       (preferably DEVICE_LOCAL too) and lrt_vk_bvh.mapped points at the nodes:
+       for tests and tools that read the tree back */
+    LRT_VK_BVH_HOST_VISIBLE = 1u
+};
+
+typedef struct lrt_vk_bvh_desc {
+    uint32_t width, height;      /* texels, 1..LINEAR_RT_MAX_DIM */
+    lrt_format format;           /* of the depth it will be built from: picks the node bits */
+    lrt_build_options options;   /* node_bits: LRT_NODE_BITS_AUTO (0), 8 or 16, as lrt_bvh_build */
+    uint32_t flags;              /* LRT_VK_BVH_* */
+    /* Your buffers (both set), or none (both VK_NULL_HANDLE: the library makes
+       one buffer for both). Sizes from lrt_vk_bvh_buffer_sizes; usage
+       STORAGE_BUFFER for both and TRANSFER_DST for the counters (build fills
+       them with 0); offsets multiples of minStorageBufferOffsetAlignment and
+       of 4. */
+    VkBuffer nodes;
+    VkDeviceSize nodes_offset;
+    VkBuffer counters;
+    VkDeviceSize counters_offset;
+} lrt_vk_bvh_desc;
+
+typedef struct lrt_vk_bvh {      /* fields are read-only to callers */
+    lrt_layout layout;           /* the very layout of the CPU's lrt_bvh */
+    VkBuffer nodes;              /* layout.bytes at nodes_offset: the CPU's node array, byte for byte */
+    VkDeviceSize nodes_offset;
+    VkBuffer counters;           /* 4 bytes per node slot: the refit's arrival counters, 0 between
+                                    commands (library-made: the nodes' buffer, after the nodes) */
+    VkDeviceSize counters_offset;
+    VkDeviceSize counters_bytes;
+    VkDeviceMemory memory;       /* library-made memory; VK_NULL_HANDLE with your buffers */
+    void *mapped;                /* the nodes in host memory when the library's memory is
+                                    HOST_VISIBLE | HOST_COHERENT (always with LRT_VK_BVH_HOST_VISIBLE),
+                                    else NULL; read after the HOST barrier of BARRIERS and the fence */
+    uint32_t created;            /* nonzero between create and destroy */
+} lrt_vk_bvh;
+
+/* Bytes of the node and counter ranges of a map of this size and format. */
+LINEAR_RT_API lrt_result lrt_vk_bvh_buffer_sizes(uint32_t width, uint32_t height, lrt_format format,
+                                                 const lrt_build_options *options, VkDeviceSize *out_nodes_bytes,
+                                                 VkDeviceSize *out_counters_bytes);
+/* Lays out the tree and binds (or creates) its buffers; records nothing: the
+   tree is filled by lrt_vk_cmd_build. Library memory: DEVICE_LOCAL preferred,
+   else HOST_VISIBLE. On error *out is untouched and nothing is left created. */
+LINEAR_RT_API lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh_desc *desc, lrt_vk_bvh *out);
+/* Frees what create made (never your buffers); safe on a zeroed or
+   destroyed lrt_vk_bvh. The GPU must be done with it. */
+LINEAR_RT_API void lrt_vk_bvh_destroy(lrt_vk_context *ctx, lrt_vk_bvh *bvh);
+
+/* ---- depth on the GPU ---------------------------------------------------------- */
+typedef struct lrt_vk_depth {
+    lrt_format format;           /* as lrt_depth; images: see view */
+    uint32_t flags;              /* LRT_DEPTH_REVERSED_Z */
+    uint32_t width, height;      /* must equal the BVH's */
+    /* either a storage buffer (usage STORAGE_BUFFER) ... */
+    VkBuffer buffer;
+    VkDeviceSize offset;         /* byte of texel (0,0): a multiple of the texel size */
+    VkDeviceSize row_stride;     /* bytes from row to row, 0 = packed: a multiple of the texel size.
+                                    The buffer must hold the map's bytes rounded up to a multiple
+                                    of 4 past the last texel (the kernels read 32-bit words). */
+    /* ... or a sampled image view (buffer = VK_NULL_HANDLE), level 0 read with
+       texelFetch: format D32_SFLOAT or R32_SFLOAT for LRT_FORMAT_FLOAT32,
+       D16_UNORM or R16_UNORM for UNORM16, R8_UNORM for UNORM8 (the view's
+       format cannot be queried: it is your promise); depth formats with the
+       DEPTH aspect only; usage SAMPLED */
+    VkImageView view;
+    VkImageLayout layout;        /* SHADER_READ_ONLY_OPTIMAL, GENERAL, DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+                                    DEPTH_READ_ONLY_OPTIMAL or READ_ONLY_OPTIMAL */
+} lrt_vk_depth;
+
+/* ---- recording ------------------------------------------------------------------------
+   Each records into your command buffer (in the recording state, on a queue
+   with compute): binds its pipeline, pushes its descriptors and constants,
+   dispatches. It records no barrier except build's one between its fill of
+   the counters and its dispatch: see BARRIERS at the top of the file for
+   those you record. Every argument is checked first: on an error nothing is
+   recorded. The command buffer's compute pipeline, push descriptors and push
+   constants are left changed. */
+
+/* BuildBVH: fills the counters with 0, then refits every node from depth
+   (padding too). Once after create, before any update or trace. */
+LINEAR_RT_API lrt_result lrt_vk_cmd_build(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                          const lrt_vk_depth *depth);
+/* UpdateBVH: refits the nodes above the texels of *dirty (NULL: the whole
+   map), bottom-up to the root, in one dispatch; byte-for-byte a fresh build
+   when depth changed only inside dirty. An empty rect records nothing. */
+LINEAR_RT_API lrt_result lrt_vk_cmd_update(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                           const lrt_vk_depth *depth, const lrt_rect *dirty);
+/* Traces count lrt_ray at rays_offset into count lrt_hit at hits_offset
+   (storage buffers), flags 0 or LRT_TRACE_ANY_HIT, one invocation per ray.
+   Offsets: multiples of minStorageBufferOffsetAlignment; else the library
+   binds lower and starts at a later ray, which works when the two offsets
+   are the same ray index away from aligned offsets (a slice [first, end) of
+   rays and hits arrays that start aligned always is). count 0 records
+   nothing. */
+LINEAR_RT_API lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                          const lrt_vk_depth *depth, VkBuffer rays, VkDeviceSize rays_offset,
+                                          VkBuffer hits, VkDeviceSize hits_offset, uint32_t count, uint32_t flags);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* LINEAR_RT_VULKAN_H */
+
+/* ---- the standalone device (LINEAR_RT_VULKAN_DEVICE_HELPER) -------------------- */
+#if defined(LINEAR_RT_VULKAN) && defined(LINEAR_RT_VULKAN_DEVICE_HELPER) && !defined(LINEAR_RT_VULKAN_DEVICE_HELPER_H)
+#define LINEAR_RT_VULKAN_DEVICE_HELPER_H
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum {
+    /* lrt_vk_device_create flags: the Khronos validation layer and a
+       VK_EXT_debug_utils messenger that prints each warning and error to
+       stderr and counts it in lrt_vk_device.message_count */
+    LRT_VK_DEVICE_VALIDATION = 1u,
+    /* the same with the layer's synchronization validation on (missing or
+       wrong barriers; VK_EXT_validation_features) */
+    LRT_VK_DEVICE_SYNC_VALIDATION = 2u
+};
+
+typedef struct lrt_vk_device {   /* fields are read-only to callers */
+    lrt_vk_context_desc desc;    /* ready for lrt_vk_context_create */
+    VkQueue queue;               /* one queue with compute */
+    uint32_t queue_family;
+    uint32_t timestamp_valid_bits; /* of that family; 0: no timestamps */
+    VkPhysicalDeviceProperties properties;
+    uint32_t message_count;      /* validation warnings and errors seen (LRT_VK_DEVICE_VALIDATION),
+                                    those of destroy included: still readable after it */
+    VkResult vk_result;          /* the failing call's VkResult when create returned LRT_ERROR_VULKAN */
+    /* private */
+    void *loader;
+    VkDebugUtilsMessengerEXT messenger;
+} lrt_vk_device;
+
+/* Loads the Vulkan loader at run time (libvulkan.so.1, vulkan-1.dll,
+   libvulkan.1.dylib: nothing is linked), creates an instance (API 1.2),
+   picks the first physical device with Vulkan 1.2, a compute queue,
+   VK_KHR_push_descriptor and lrt_vk_get_requirements' features, and creates
+   a device with one queue and those enabled. *out must stay where it is
+   until destroy (the message callback counts into it). No loader:
+   LRT_ERROR_NO_VULKAN_LOADER; no such device: LRT_ERROR_NO_VULKAN_DEVICE;
+   validation asked for but absent: LRT_ERROR_MISSING_VULKAN_FEATURE. On
+   those and LRT_ERROR_VULKAN, *out is zeroed (but for vk_result) and
+   nothing is left created; on a bad argument it is untouched. */
+LINEAR_RT_API lrt_result lrt_vk_device_create(lrt_vk_device *out, uint32_t flags);
+/* Waits for the device to idle and destroys device, messenger and instance,
+   and unloads the loader. Safe on a zeroed lrt_vk_device. */
+LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* LINEAR_RT_VULKAN_DEVICE_HELPER_H */
+
 /* ============================================================================ */
 #ifdef LINEAR_RT_IMPLEMENTATION
 #ifndef LINEAR_RT_IMPLEMENTATION_DONE
@@ -320,6 +632,12 @@ LINEAR_RT_DEF const char *lrt_result_string(lrt_result result)
     case LRT_ERROR_INVALID_RECT: return "dirty rectangle reaches outside the map";
     case LRT_ERROR_TOO_MANY_RAYS: return "too many rays in one call, or a bad range";
     case LRT_ERROR_INVALID_BVH: return "the BVH is not built";
+    case LRT_ERROR_VULKAN: return "a Vulkan call failed";
+    case LRT_ERROR_NO_VULKAN_LOADER: return "the Vulkan loader could not be loaded";
+    case LRT_ERROR_NO_VULKAN_DEVICE: return "no Vulkan device with what linear_rt needs";
+    case LRT_ERROR_MISSING_VULKAN_FEATURE: return "a Vulkan version, extension, feature, layer or memory type is missing";
+    case LRT_ERROR_LIMIT_EXCEEDED: return "a device limit is exceeded";
+    case LRT_ERROR_MISALIGNED: return "an offset or stride is misaligned";
     default: return "unknown result code";
     }
 }
@@ -1323,6 +1641,1139 @@ LINEAR_RT_DEF lrt_result lrt_trace(const lrt_bvh *bvh, const lrt_depth *depth, c
 }
 #endif
 #endif /* LINEAR_RT_IMPLEMENTATION_DONE */
+
+/* ============================================================================
+   6. Vulkan: the kernels of shaders/ (BuildBVH and UpdateBVH in one refit
+      kernel, the traversal in another), recorded into the caller's command
+      buffers inside the caller's device. Host and kernels agree on
+      shaders/README.md: bindings, push constants, dispatch shape.
+   ========================================================================== */
+#if defined(LINEAR_RT_VULKAN) && !defined(LINEAR_RT_VULKAN_IMPLEMENTATION_DONE)
+#define LINEAR_RT_VULKAN_IMPLEMENTATION_DONE
+
+#include "shaders_spv.h" /* lrt_spv_{refit,trace}_{buffer,image}: make spv */
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- which device features the SPIR-V asks for --------------------------- */
+
+enum { LRT__SPV_CAPABILITY = 17 }; /* OpCapability */
+
+static void lrt__spv_requirements(const uint32_t *words, size_t count, lrt_vk_requirements *req)
+{
+    size_t i = 5; /* after the header */
+    while (i < count) {
+        uint32_t n = words[i] >> 16, op = words[i] & 0xffffu;
+        if (n == 0) break;
+        if (op == LRT__SPV_CAPABILITY && n >= 2 && i + 1 < count) {
+            switch (words[i + 1]) {
+            case 9: req->shader_float16 = VK_TRUE; break;
+            case 10: req->shader_float64 = VK_TRUE; break;
+            case 11: req->shader_int64 = VK_TRUE; break;
+            case 12: req->shader_buffer_int64_atomics = VK_TRUE; break;
+            case 22: req->shader_int16 = VK_TRUE; break;
+            case 39: req->shader_int8 = VK_TRUE; break;
+            case 61: req->subgroup_operations |= VK_SUBGROUP_FEATURE_BASIC_BIT; break;
+            case 62: req->subgroup_operations |= VK_SUBGROUP_FEATURE_VOTE_BIT; break;
+            case 63: req->subgroup_operations |= VK_SUBGROUP_FEATURE_ARITHMETIC_BIT; break;
+            case 64: req->subgroup_operations |= VK_SUBGROUP_FEATURE_BALLOT_BIT; break;
+            case 65: req->subgroup_operations |= VK_SUBGROUP_FEATURE_SHUFFLE_BIT; break;
+            case 66: req->subgroup_operations |= VK_SUBGROUP_FEATURE_SHUFFLE_RELATIVE_BIT; break;
+            case 67: req->subgroup_operations |= VK_SUBGROUP_FEATURE_CLUSTERED_BIT; break;
+            case 68: req->subgroup_operations |= VK_SUBGROUP_FEATURE_QUAD_BIT; break;
+            case 4433: req->storage_buffer_16bit_access = VK_TRUE; break;
+            case 4448: req->storage_buffer_8bit_access = VK_TRUE; break;
+            case 5345: req->vulkan_memory_model = VK_TRUE; break;
+            case 5346: req->vulkan_memory_model_device_scope = VK_TRUE; break;
+            default: break; /* core in Vulkan 1.2 compute */
+            }
+        }
+        i += n;
+    }
+}
+
+typedef struct lrt__vk_module {
+    const uint32_t *code;
+    size_t bytes;
+} lrt__vk_module;
+
+/* The pipelines, in this order. */
+enum { LRT__VK_REFIT_BUFFER, LRT__VK_REFIT_IMAGE, LRT__VK_TRACE_BUFFER, LRT__VK_TRACE_IMAGE, LRT__VK_PIPELINES };
+
+static lrt__vk_module lrt__vk_module_at(int which)
+{
+    lrt__vk_module m;
+    switch (which) {
+    case LRT__VK_REFIT_BUFFER: m.code = lrt_spv_refit_buffer; m.bytes = lrt_spv_refit_buffer_SIZE; break;
+    case LRT__VK_REFIT_IMAGE: m.code = lrt_spv_refit_image; m.bytes = lrt_spv_refit_image_SIZE; break;
+    case LRT__VK_TRACE_BUFFER: m.code = lrt_spv_trace_buffer; m.bytes = lrt_spv_trace_buffer_SIZE; break;
+    default: m.code = lrt_spv_trace_image; m.bytes = lrt_spv_trace_image_SIZE; break;
+    }
+    return m;
+}
+
+LINEAR_RT_DEF lrt_result lrt_vk_get_requirements(lrt_vk_requirements *out)
+{
+    lrt_vk_requirements req;
+    int k;
+    if (!out) return LRT_ERROR_NULL_POINTER;
+    memset(&req, 0, sizeof req);
+    req.api_version = VK_API_VERSION_1_2;
+    req.extension_count = 1;
+    req.extensions[0] = VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME;
+    for (k = 0; k < LRT__VK_PIPELINES; ++k) {
+        lrt__vk_module m = lrt__vk_module_at(k);
+        lrt__spv_requirements(m.code, m.bytes / 4u, &req);
+    }
+    *out = req;
+    return LRT_SUCCESS;
+}
+
+/* ---- the context ------------------------------------------------------------- */
+
+/* Every Vulkan function the library calls, loaded from the caller's getters. */
+#define LRT__VK_INSTANCE_FUNCS(X)                                                                                 \
+    X(vkGetPhysicalDeviceProperties)                                                                              \
+    X(vkGetPhysicalDeviceProperties2)                                                                             \
+    X(vkGetPhysicalDeviceFeatures2)                                                                               \
+    X(vkGetPhysicalDeviceMemoryProperties)                                                                        \
+    X(vkEnumerateDeviceExtensionProperties)
+#define LRT__VK_DEVICE_FUNCS(X)                                                                                   \
+    X(vkCreateShaderModule) X(vkDestroyShaderModule) X(vkCreateDescriptorSetLayout)                              \
+    X(vkDestroyDescriptorSetLayout) X(vkCreatePipelineLayout) X(vkDestroyPipelineLayout)                         \
+    X(vkCreateComputePipelines) X(vkDestroyPipeline) X(vkCreateSampler) X(vkDestroySampler) X(vkCreateBuffer)   \
+    X(vkDestroyBuffer) X(vkGetBufferMemoryRequirements) X(vkAllocateMemory) X(vkFreeMemory)                      \
+    X(vkBindBufferMemory) X(vkMapMemory) X(vkUnmapMemory) X(vkCmdBindPipeline) X(vkCmdPushDescriptorSetKHR)      \
+    X(vkCmdPushConstants) X(vkCmdDispatch) X(vkCmdFillBuffer) X(vkCmdPipelineBarrier)
+
+struct lrt_vk_context {
+    VkDevice device;
+    VkPhysicalDevice physical_device;
+    VkAllocationCallbacks allocation_callbacks;
+    const VkAllocationCallbacks *callbacks; /* &allocation_callbacks or NULL */
+    VkResult vk_result;
+    VkPhysicalDeviceLimits limits;
+    VkPhysicalDeviceMemoryProperties memory_properties;
+    VkDescriptorSetLayout set_layout;
+    VkPipelineLayout pipeline_layout;
+    VkSampler sampler;
+    VkPipeline pipelines[LRT__VK_PIPELINES];
+#define LRT__VK_MEMBER(name) PFN_##name p_##name;
+    LRT__VK_INSTANCE_FUNCS(LRT__VK_MEMBER)
+    LRT__VK_DEVICE_FUNCS(LRT__VK_MEMBER)
+#undef LRT__VK_MEMBER
+};
+
+/* The 64 bytes of push constants of shaders/README.md, in order. */
+typedef struct lrt__vk_push {
+    uint32_t width, height, format, flags, node_bits, level_count, depth_offset, row_stride;
+    uint32_t rect_x0, rect_y0, rect_x1, rect_y1, build, ray_first, ray_count, trace_flags;
+} lrt__vk_push;
+
+enum {
+    LRT__VK_BIND_DEPTH_BUFFER = 0, LRT__VK_BIND_DEPTH_IMAGE = 1, LRT__VK_BIND_NODES = 2,
+    LRT__VK_BIND_COUNTERS = 3, LRT__VK_BIND_RAYS = 4, LRT__VK_BIND_HITS = 5, LRT__VK_BINDINGS = 6
+};
+#define LRT__VK_GROUP 64u           /* invocations per workgroup, in x */
+#define LRT__VK_GROUPS_PER_ROW 65535u /* above this many groups the dispatch is 2D */
+
+static void *lrt__vk_host_alloc(const VkAllocationCallbacks *cb, size_t size)
+{
+    if (cb) return cb->pfnAllocation(cb->pUserData, size, 16, VK_SYSTEM_ALLOCATION_SCOPE_OBJECT);
+    return LINEAR_RT_MALLOC(size, NULL);
+}
+
+static void lrt__vk_host_free(const VkAllocationCallbacks *cb, void *ptr)
+{
+    if (!ptr) return;
+    if (cb) cb->pfnFree(cb->pUserData, ptr);
+    else LINEAR_RT_FREE(ptr, NULL);
+}
+
+static int lrt__vk_has_extension(lrt_vk_context *c, const char *name, const VkAllocationCallbacks *cb, VkResult *vr)
+{
+    uint32_t n = 0, i;
+    VkExtensionProperties *props;
+    int found = 0;
+    *vr = c->p_vkEnumerateDeviceExtensionProperties(c->physical_device, NULL, &n, NULL);
+    if (*vr != VK_SUCCESS) return 0;
+    props = (VkExtensionProperties *)lrt__vk_host_alloc(cb, sizeof *props * (n ? n : 1));
+    if (!props) return 0;
+    *vr = c->p_vkEnumerateDeviceExtensionProperties(c->physical_device, NULL, &n, props);
+    if (*vr == VK_INCOMPLETE) *vr = VK_SUCCESS; /* a layer added one meanwhile: what we have is enough */
+    for (i = 0; *vr == VK_SUCCESS && i < n; ++i)
+        if (strcmp(props[i].extensionName, name) == 0) found = 1;
+    lrt__vk_host_free(cb, props);
+    return found;
+}
+
+/* Does the physical device support what the kernels need? */
+static int lrt__vk_supports(lrt_vk_context *c, const lrt_vk_requirements *req)
+{
+    VkPhysicalDeviceFeatures2 f;
+    VkPhysicalDeviceVulkan11Features f11;
+    VkPhysicalDeviceVulkan12Features f12;
+    VkPhysicalDeviceProperties2 p;
+    VkPhysicalDeviceVulkan11Properties p11;
+    memset(&f, 0, sizeof f);
+    memset(&f11, 0, sizeof f11);
+    memset(&f12, 0, sizeof f12);
+    memset(&p, 0, sizeof p);
+    memset(&p11, 0, sizeof p11);
+    f.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
+    f11.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES;
+    f12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
+    f.pNext = &f11;
+    f11.pNext = &f12;
+    c->p_vkGetPhysicalDeviceFeatures2(c->physical_device, &f);
+    p.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
+    p11.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES;
+    p.pNext = &p11;
+    c->p_vkGetPhysicalDeviceProperties2(c->physical_device, &p);
+#define LRT__NEED(want, have) if ((want) && !(have)) return 0
+    LRT__NEED(req->shader_float64, f.features.shaderFloat64);
+    LRT__NEED(req->shader_int64, f.features.shaderInt64);
+    LRT__NEED(req->shader_int16, f.features.shaderInt16);
+    LRT__NEED(req->storage_buffer_16bit_access, f11.storageBuffer16BitAccess);
+    LRT__NEED(req->shader_int8, f12.shaderInt8);
+    LRT__NEED(req->shader_float16, f12.shaderFloat16);
+    LRT__NEED(req->storage_buffer_8bit_access, f12.storageBuffer8BitAccess);
+    LRT__NEED(req->shader_buffer_int64_atomics, f12.shaderBufferInt64Atomics);
+    LRT__NEED(req->vulkan_memory_model, f12.vulkanMemoryModel);
+    LRT__NEED(req->vulkan_memory_model_device_scope, f12.vulkanMemoryModelDeviceScope);
+#undef LRT__NEED
+    if (req->subgroup_operations) {
+        if (!(p11.subgroupSupportedStages & VK_SHADER_STAGE_COMPUTE_BIT)) return 0;
+        if ((p11.subgroupSupportedOperations & req->subgroup_operations) != req->subgroup_operations) return 0;
+    }
+    return 1;
+}
+
+static void lrt__vk_destroy_objects(lrt_vk_context *c)
+{
+    int k;
+    for (k = 0; k < LRT__VK_PIPELINES; ++k)
+        if (c->pipelines[k] != VK_NULL_HANDLE) c->p_vkDestroyPipeline(c->device, c->pipelines[k], c->callbacks);
+    if (c->pipeline_layout != VK_NULL_HANDLE) c->p_vkDestroyPipelineLayout(c->device, c->pipeline_layout, c->callbacks);
+    if (c->set_layout != VK_NULL_HANDLE) c->p_vkDestroyDescriptorSetLayout(c->device, c->set_layout, c->callbacks);
+    if (c->sampler != VK_NULL_HANDLE) c->p_vkDestroySampler(c->device, c->sampler, c->callbacks);
+}
+
+/* Creates the Vulkan objects; on failure returns the VkResult (objects made
+   so far are left for lrt__vk_destroy_objects). */
+static VkResult lrt__vk_create_objects(lrt_vk_context *c, VkPipelineCache cache)
+{
+    VkSamplerCreateInfo si;
+    VkDescriptorSetLayoutBinding b[LRT__VK_BINDINGS];
+    VkDescriptorSetLayoutCreateInfo li;
+    VkPushConstantRange pr;
+    VkPipelineLayoutCreateInfo pi;
+    VkResult vr;
+    uint32_t k;
+    int p;
+
+    memset(&si, 0, sizeof si);
+    si.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO;
+    si.magFilter = si.minFilter = VK_FILTER_NEAREST;
+    si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    si.maxLod = 0.0f;
+    si.borderColor = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE;
+    if ((vr = c->p_vkCreateSampler(c->device, &si, c->callbacks, &c->sampler)) != VK_SUCCESS) return vr;
+
+    memset(b, 0, sizeof b);
+    for (k = 0; k < LRT__VK_BINDINGS; ++k) {
+        b[k].binding = k;
+        b[k].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        b[k].descriptorCount = 1;
+        b[k].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    }
+    b[LRT__VK_BIND_DEPTH_IMAGE].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    b[LRT__VK_BIND_DEPTH_IMAGE].pImmutableSamplers = &c->sampler; /* pushes give the view alone */
+    memset(&li, 0, sizeof li);
+    li.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+    li.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+    li.bindingCount = LRT__VK_BINDINGS;
+    li.pBindings = b;
+    if ((vr = c->p_vkCreateDescriptorSetLayout(c->device, &li, c->callbacks, &c->set_layout)) != VK_SUCCESS) return vr;
+
+    memset(&pr, 0, sizeof pr);
+    pr.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    pr.size = (uint32_t)sizeof(lrt__vk_push);
+    memset(&pi, 0, sizeof pi);
+    pi.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+    pi.setLayoutCount = 1;
+    pi.pSetLayouts = &c->set_layout;
+    pi.pushConstantRangeCount = 1;
+    pi.pPushConstantRanges = &pr;
+    if ((vr = c->p_vkCreatePipelineLayout(c->device, &pi, c->callbacks, &c->pipeline_layout)) != VK_SUCCESS) return vr;
+
+    for (p = 0; p < LRT__VK_PIPELINES; ++p) {
+        lrt__vk_module m = lrt__vk_module_at(p);
+        VkShaderModuleCreateInfo mi;
+        VkComputePipelineCreateInfo ci;
+        VkShaderModule module;
+        memset(&mi, 0, sizeof mi);
+        mi.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
+        mi.codeSize = m.bytes;
+        mi.pCode = m.code;
+        if ((vr = c->p_vkCreateShaderModule(c->device, &mi, c->callbacks, &module)) != VK_SUCCESS) return vr;
+        memset(&ci, 0, sizeof ci);
+        ci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+        ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+        ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+        ci.stage.module = module;
+        ci.stage.pName = "main";
+        ci.layout = c->pipeline_layout;
+        ci.basePipelineIndex = -1;
+        vr = c->p_vkCreateComputePipelines(c->device, cache, 1, &ci, c->callbacks, &c->pipelines[p]);
+        c->p_vkDestroyShaderModule(c->device, module, c->callbacks);
+        if (vr != VK_SUCCESS) {
+            c->pipelines[p] = VK_NULL_HANDLE;
+            return vr;
+        }
+    }
+    return VK_SUCCESS;
+}
+
+LINEAR_RT_DEF lrt_result lrt_vk_context_create(const lrt_vk_context_desc *desc, lrt_vk_context **out)
+{
+    const VkAllocationCallbacks *cb;
+    PFN_vkGetDeviceProcAddr gdpa;
+    lrt_vk_requirements req;
+    VkPhysicalDeviceProperties props;
+    lrt_vk_context *c;
+    VkResult vr = VK_SUCCESS;
+    int missing = 0;
+    if (!desc || !out) return LRT_ERROR_NULL_POINTER;
+    if (desc->instance == VK_NULL_HANDLE || desc->physical_device == VK_NULL_HANDLE ||
+        desc->device == VK_NULL_HANDLE || !desc->get_instance_proc_addr)
+        return LRT_ERROR_NULL_POINTER;
+    cb = desc->allocation_callbacks;
+    if (cb && (!cb->pfnAllocation || !cb->pfnFree || !cb->pfnReallocation)) return LRT_ERROR_NULL_POINTER;
+    c = (lrt_vk_context *)lrt__vk_host_alloc(cb, sizeof *c);
+    if (!c) return LRT_ERROR_OUT_OF_MEMORY;
+    memset(c, 0, sizeof *c);
+    c->device = desc->device;
+    c->physical_device = desc->physical_device;
+    if (cb) {
+        c->allocation_callbacks = *cb;
+        c->callbacks = &c->allocation_callbacks;
+    }
+    gdpa = desc->get_device_proc_addr;
+    if (!gdpa)
+        gdpa = (PFN_vkGetDeviceProcAddr)desc->get_instance_proc_addr(desc->instance, "vkGetDeviceProcAddr");
+    if (!gdpa) missing = 1;
+#define LRT__VK_LOAD_I(name)                                                                                     \
+    c->p_##name = (PFN_##name)desc->get_instance_proc_addr(desc->instance, #name);                                \
+    if (!c->p_##name) missing = 1;
+#define LRT__VK_LOAD_D(name)                                                                                     \
+    if (gdpa) c->p_##name = (PFN_##name)gdpa(desc->device, #name);                                                \
+    if (!c->p_##name) missing = 1;
+    LRT__VK_INSTANCE_FUNCS(LRT__VK_LOAD_I)
+    LRT__VK_DEVICE_FUNCS(LRT__VK_LOAD_D)
+#undef LRT__VK_LOAD_I
+#undef LRT__VK_LOAD_D
+    /* vkCmdPushDescriptorSetKHR is NULL when the extension is not enabled */
+    if (missing) {
+        lrt__vk_host_free(cb, c);
+        return LRT_ERROR_MISSING_VULKAN_FEATURE;
+    }
+    c->p_vkGetPhysicalDeviceProperties(c->physical_device, &props);
+    c->limits = props.limits;
+    c->p_vkGetPhysicalDeviceMemoryProperties(c->physical_device, &c->memory_properties);
+    lrt_vk_get_requirements(&req);
+    if (props.apiVersion < req.api_version || !lrt__vk_supports(c, &req) ||
+        !lrt__vk_has_extension(c, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME, cb, &vr)) {
+        lrt__vk_host_free(cb, c);
+        if (vr != VK_SUCCESS) {
+            if (desc->vk_result) *desc->vk_result = vr;
+            return LRT_ERROR_VULKAN;
+        }
+        return LRT_ERROR_MISSING_VULKAN_FEATURE;
+    }
+    if ((vr = lrt__vk_create_objects(c, desc->pipeline_cache)) != VK_SUCCESS) {
+        lrt__vk_destroy_objects(c);
+        lrt__vk_host_free(cb, c);
+        if (desc->vk_result) *desc->vk_result = vr;
+        return LRT_ERROR_VULKAN;
+    }
+    *out = c;
+    return LRT_SUCCESS;
+}
+
+LINEAR_RT_DEF void lrt_vk_context_destroy(lrt_vk_context *ctx)
+{
+    if (!ctx) return;
+    lrt__vk_destroy_objects(ctx);
+    lrt__vk_host_free(ctx->callbacks, ctx); /* callbacks points into ctx: read before the free */
+}
+
+LINEAR_RT_DEF VkResult lrt_vk_context_vk_result(const lrt_vk_context *ctx)
+{
+    return ctx ? ctx->vk_result : VK_SUCCESS;
+}
+
+/* ---- GPU BVHs ------------------------------------------------------------------- */
+
+static VkDeviceSize lrt__vk_align_up(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
+
+/* minStorageBufferOffsetAlignment, made a multiple of 4 (fills and words) */
+static VkDeviceSize lrt__vk_storage_alignment(const lrt_vk_context *c)
+{
+    VkDeviceSize a = c->limits.minStorageBufferOffsetAlignment;
+    return a < 4 ? 4 : a;
+}
+
+static lrt_result lrt__vk_layout(uint32_t width, uint32_t height, lrt_format format, const lrt_build_options *options,
+                                 lrt_layout *layout)
+{
+    uint32_t bits;
+    lrt_result r;
+    if ((r = lrt__check_size(width, height)) != LRT_SUCCESS) return r;
+    if (!lrt__format_bytes(format)) return LRT_ERROR_INVALID_FORMAT;
+    if ((r = lrt__resolve_bits(format, options, &bits)) != LRT_SUCCESS) return r;
+    return lrt_layout_compute(width, height, bits, layout);
+}
+
+LINEAR_RT_DEF lrt_result lrt_vk_bvh_buffer_sizes(uint32_t width, uint32_t height, lrt_format format,
+                                                 const lrt_build_options *options, VkDeviceSize *out_nodes_bytes,
+                                                 VkDeviceSize *out_counters_bytes)
+{
+    lrt_layout L;
+    lrt_result r;
+    if (!out_nodes_bytes || !out_counters_bytes) return LRT_ERROR_NULL_POINTER;
+    if ((r = lrt__vk_layout(width, height, format, options, &L)) != LRT_SUCCESS) return r;
+    *out_nodes_bytes = (VkDeviceSize)L.bytes;
+    *out_counters_bytes = (VkDeviceSize)L.node_count * 4u;
+    return LRT_SUCCESS;
+}
+
+/* The memory type for library buffers: the first of the allowed types with
+   all of `want`, trying the wishes in order; -1 if none. */
+static int lrt__vk_memory_type(const lrt_vk_context *c, uint32_t allowed, const VkMemoryPropertyFlags *wishes, int n)
+{
+    int w;
+    uint32_t i;
+    for (w = 0; w < n; ++w)
+        for (i = 0; i < c->memory_properties.memoryTypeCount; ++i)
+            if (((allowed >> i) & 1u) && (c->memory_properties.memoryTypes[i].propertyFlags & wishes[w]) == wishes[w])
+                return (int)i;
+    return -1;
+}
+
+LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh_desc *desc, lrt_vk_bvh *out)
+{
+    const VkMemoryPropertyFlags DL = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
+                                HV = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    lrt_vk_bvh bvh;
+    lrt_layout L;
+    VkDeviceSize align, nodes_bytes, counters_bytes, max_range;
+    lrt_result r;
+    if (!ctx || !desc || !out) return LRT_ERROR_NULL_POINTER;
+    if ((r = lrt__vk_layout(desc->width, desc->height, desc->format, &desc->options, &L)) != LRT_SUCCESS) return r;
+    if (desc->flags & ~(uint32_t)LRT_VK_BVH_HOST_VISIBLE) return LRT_ERROR_INVALID_OPTION;
+    if ((desc->nodes == VK_NULL_HANDLE) != (desc->counters == VK_NULL_HANDLE)) return LRT_ERROR_NULL_POINTER;
+    align = lrt__vk_storage_alignment(ctx);
+    nodes_bytes = (VkDeviceSize)L.bytes;
+    counters_bytes = (VkDeviceSize)L.node_count * 4u;
+    max_range = ctx->limits.maxStorageBufferRange;
+    if (nodes_bytes > max_range || counters_bytes > max_range) return LRT_ERROR_LIMIT_EXCEEDED;
+    memset(&bvh, 0, sizeof bvh);
+    bvh.layout = L;
+    bvh.counters_bytes = counters_bytes;
+    if (desc->nodes != VK_NULL_HANDLE) { /* the caller's buffers */
+        if (desc->flags & LRT_VK_BVH_HOST_VISIBLE) return LRT_ERROR_INVALID_OPTION;
+        if (desc->nodes_offset % align || desc->counters_offset % align) return LRT_ERROR_MISALIGNED;
+        bvh.nodes = desc->nodes;
+        bvh.nodes_offset = desc->nodes_offset;
+        bvh.counters = desc->counters;
+        bvh.counters_offset = desc->counters_offset;
+    } else { /* one buffer: nodes, then the counters at the next aligned offset */
+        VkBufferCreateInfo bi;
+        VkMemoryRequirements mr;
+        VkMemoryAllocateInfo ai;
+        VkMemoryPropertyFlags wishes[4];
+        VkResult vr;
+        int type, n = 0;
+        memset(&bi, 0, sizeof bi);
+        bi.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
+        bi.size = lrt__vk_align_up(nodes_bytes, align) + counters_bytes;
+        bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                   VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+        bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+        if ((vr = ctx->p_vkCreateBuffer(ctx->device, &bi, ctx->callbacks, &bvh.nodes)) != VK_SUCCESS) {
+            ctx->vk_result = vr;
+            return LRT_ERROR_VULKAN;
+        }
+        ctx->p_vkGetBufferMemoryRequirements(ctx->device, bvh.nodes, &mr);
+        if (desc->flags & LRT_VK_BVH_HOST_VISIBLE) {
+            wishes[n++] = DL | HV;
+            wishes[n++] = HV;
+        } else {
+            wishes[n++] = DL;
+            wishes[n++] = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
+            wishes[n++] = 0;
+        }
+        type = lrt__vk_memory_type(ctx, mr.memoryTypeBits, wishes, n);
+        if (type < 0) {
+            ctx->p_vkDestroyBuffer(ctx->device, bvh.nodes, ctx->callbacks);
+            return LRT_ERROR_MISSING_VULKAN_FEATURE;
+        }
+        memset(&ai, 0, sizeof ai);
+        ai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+        ai.allocationSize = mr.size;
+        ai.memoryTypeIndex = (uint32_t)type;
+        vr = ctx->p_vkAllocateMemory(ctx->device, &ai, ctx->callbacks, &bvh.memory);
+        if (vr == VK_SUCCESS) vr = ctx->p_vkBindBufferMemory(ctx->device, bvh.nodes, bvh.memory, 0);
+        if (vr == VK_SUCCESS && (ctx->memory_properties.memoryTypes[type].propertyFlags & HV) == HV)
+            vr = ctx->p_vkMapMemory(ctx->device, bvh.memory, 0, VK_WHOLE_SIZE, 0, &bvh.mapped);
+        if (vr != VK_SUCCESS) {
+            ctx->p_vkDestroyBuffer(ctx->device, bvh.nodes, ctx->callbacks);
+            if (bvh.memory != VK_NULL_HANDLE) ctx->p_vkFreeMemory(ctx->device, bvh.memory, ctx->callbacks);
+            ctx->vk_result = vr;
+            return LRT_ERROR_VULKAN;
+        }
+        bvh.counters = bvh.nodes;
+        bvh.counters_offset = lrt__vk_align_up(nodes_bytes, align);
+    }
+    bvh.created = 1;
+    *out = bvh;
+    return LRT_SUCCESS;
+}
+
+LINEAR_RT_DEF void lrt_vk_bvh_destroy(lrt_vk_context *ctx, lrt_vk_bvh *bvh)
+{
+    if (!bvh) return;
+    if (ctx && bvh->created && bvh->memory != VK_NULL_HANDLE) {
+        if (bvh->mapped) ctx->p_vkUnmapMemory(ctx->device, bvh->memory);
+        ctx->p_vkDestroyBuffer(ctx->device, bvh->nodes, ctx->callbacks);
+        ctx->p_vkFreeMemory(ctx->device, bvh->memory, ctx->callbacks);
+    }
+    memset(bvh, 0, sizeof *bvh);
+}
+
+/* ---- recording ------------------------------------------------------------------ */
+
+/* A checked depth source, ready to push. */
+typedef struct lrt__vk_source {
+    int image;
+    VkDescriptorBufferInfo buffer; /* the depth binding's range: from an aligned offset */
+    VkDescriptorImageInfo view;
+    uint32_t depth_offset, row_stride;
+} lrt__vk_source;
+
+static int lrt__vk_layout_ok(VkImageLayout layout)
+{
+    switch (layout) {
+    case VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL:
+    case VK_IMAGE_LAYOUT_GENERAL:
+    case VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL:
+#ifdef VK_VERSION_1_2
+    case VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL:
+#endif
+#ifdef VK_VERSION_1_3
+    case VK_IMAGE_LAYOUT_READ_ONLY_OPTIMAL:
+#endif
+        return 1;
+    default: return 0;
+    }
+}
+
+/* Everything about a BVH and its depth that can be wrong, before recording. */
+static lrt_result lrt__vk_check(const lrt_vk_context *c, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                const lrt_vk_depth *depth, lrt__vk_source *src)
+{
+    uint32_t bpp;
+    lrt_result r;
+    if (!c || !cmd || !bvh || !depth) return LRT_ERROR_NULL_POINTER;
+    if (!bvh->created) return LRT_ERROR_INVALID_BVH;
+    if ((r = lrt__check_size(depth->width, depth->height)) != LRT_SUCCESS) return r;
+    bpp = lrt__format_bytes(depth->format);
+    if (!bpp) return LRT_ERROR_INVALID_FORMAT;
+    if (depth->flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) return LRT_ERROR_INVALID_OPTION;
+    if (depth->width != bvh->layout.width || depth->height != bvh->layout.height) return LRT_ERROR_SIZE_MISMATCH;
+    memset(src, 0, sizeof *src);
+    if (depth->buffer == VK_NULL_HANDLE && depth->view == VK_NULL_HANDLE) return LRT_ERROR_NULL_POINTER;
+    if (depth->buffer != VK_NULL_HANDLE && depth->view != VK_NULL_HANDLE) return LRT_ERROR_INVALID_OPTION;
+    if (depth->buffer != VK_NULL_HANDLE) {
+        const VkDeviceSize row_bytes = (VkDeviceSize)depth->width * bpp, max_range = c->limits.maxStorageBufferRange;
+        const VkDeviceSize stride = depth->row_stride ? depth->row_stride : row_bytes;
+        VkDeviceSize base, rem, span;
+        if (stride < row_bytes) return LRT_ERROR_INVALID_STRIDE;
+        if (depth->offset % bpp || stride % bpp) return LRT_ERROR_MISALIGNED;
+        base = depth->offset - depth->offset % lrt__vk_storage_alignment(c);
+        rem = depth->offset - base;
+        /* the bound range, in words: rem + stride * (height - 1) + row_bytes, rounded up */
+        if (stride > max_range) return LRT_ERROR_LIMIT_EXCEEDED;
+        span = rem + stride * (depth->height - 1u) + row_bytes;
+        span = lrt__vk_align_up(span, 4);
+        if (span > max_range) return LRT_ERROR_LIMIT_EXCEEDED;
+        src->buffer.buffer = depth->buffer;
+        src->buffer.offset = base;
+        src->buffer.range = span;
+        src->depth_offset = (uint32_t)rem;
+        src->row_stride = (uint32_t)stride;
+    } else {
+        if (!lrt__vk_layout_ok(depth->layout)) return LRT_ERROR_INVALID_OPTION;
+        src->image = 1;
+        src->view.sampler = c->sampler; /* immutable in the layout anyway */
+        src->view.imageView = depth->view;
+        src->view.imageLayout = depth->layout;
+    }
+    return LRT_SUCCESS;
+}
+
+/* Workgroups for n invocations: 1D up to 65535 groups, then rows of them. */
+static lrt_result lrt__vk_groups(const lrt_vk_context *c, uint64_t n, uint32_t *gx, uint32_t *gy)
+{
+    uint64_t groups = (n + LRT__VK_GROUP - 1) / LRT__VK_GROUP, row = LRT__VK_GROUPS_PER_ROW, rows;
+    if (c->limits.maxComputeWorkGroupCount[0] < row) row = c->limits.maxComputeWorkGroupCount[0];
+    if (row == 0) return LRT_ERROR_LIMIT_EXCEEDED;
+    if (groups <= row) {
+        *gx = (uint32_t)groups;
+        *gy = 1;
+        return LRT_SUCCESS;
+    }
+    rows = (groups + row - 1) / row;
+    if (rows > c->limits.maxComputeWorkGroupCount[1]) return LRT_ERROR_LIMIT_EXCEEDED;
+    *gx = (uint32_t)((groups + rows - 1) / rows); /* as even as possible: at most rows-1 idle groups */
+    *gy = (uint32_t)rows;
+    return LRT_SUCCESS;
+}
+
+static void lrt__vk_push_common(const lrt_vk_bvh *bvh, const lrt_vk_depth *depth, const lrt__vk_source *src,
+                                lrt__vk_push *pc)
+{
+    memset(pc, 0, sizeof *pc);
+    pc->width = depth->width;
+    pc->height = depth->height;
+    pc->format = (uint32_t)depth->format;
+    pc->flags = depth->flags;
+    pc->node_bits = bvh->layout.node_bits;
+    pc->level_count = bvh->layout.level_count;
+    pc->depth_offset = src->depth_offset;
+    pc->row_stride = src->row_stride;
+}
+
+/* Binds, pushes descriptors (depth, nodes, then two more: counters, or rays
+   and hits) and constants, and dispatches gx x gy groups. */
+static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, int pipeline, const lrt_vk_bvh *bvh,
+                           const lrt__vk_source *src, const VkDescriptorBufferInfo *extra, const uint32_t *extra_binding,
+                           uint32_t extra_count, const lrt__vk_push *pc, uint32_t gx, uint32_t gy)
+{
+    VkWriteDescriptorSet w[4];
+    VkDescriptorBufferInfo nodes;
+    uint32_t k;
+    memset(w, 0, sizeof w);
+    for (k = 0; k < 2 + extra_count; ++k) {
+        w[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        w[k].descriptorCount = 1;
+        w[k].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    }
+    if (src->image) {
+        w[0].dstBinding = LRT__VK_BIND_DEPTH_IMAGE;
+        w[0].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        w[0].pImageInfo = &src->view;
+    } else {
+        w[0].dstBinding = LRT__VK_BIND_DEPTH_BUFFER;
+        w[0].pBufferInfo = &src->buffer;
+    }
+    nodes.buffer = bvh->nodes;
+    nodes.offset = bvh->nodes_offset;
+    nodes.range = (VkDeviceSize)bvh->layout.bytes;
+    w[1].dstBinding = LRT__VK_BIND_NODES;
+    w[1].pBufferInfo = &nodes;
+    for (k = 0; k < extra_count; ++k) {
+        w[2 + k].dstBinding = extra_binding[k];
+        w[2 + k].pBufferInfo = &extra[k];
+    }
+    c->p_vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipelines[pipeline]);
+    c->p_vkCmdPushDescriptorSetKHR(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipeline_layout, 0, 2 + extra_count, w);
+    c->p_vkCmdPushConstants(cmd, c->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, (uint32_t)sizeof *pc, pc);
+    c->p_vkCmdDispatch(cmd, gx, gy, 1);
+}
+
+/* One refit dispatch over texels [x0,x1] x [y0,y1]: one invocation per
+   level-1 node of the rectangle above them (shaders/README.md). */
+static lrt_result lrt__vk_refit(lrt_vk_context *c, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                const lrt_vk_depth *depth, const lrt__vk_source *src, uint32_t x0, uint32_t y0,
+                                uint32_t x1, uint32_t y1, int build)
+{
+    const lrt_level *l1 = &bvh->layout.levels[1];
+    const uint32_t cols = (x1 >> l1->span_w_log2) - (x0 >> l1->span_w_log2) + 1u;
+    const uint32_t rows = (y1 >> l1->span_h_log2) - (y0 >> l1->span_h_log2) + 1u;
+    const uint32_t binding = LRT__VK_BIND_COUNTERS;
+    VkDescriptorBufferInfo counters;
+    lrt__vk_push pc;
+    uint32_t gx, gy;
+    lrt_result r;
+    if ((r = lrt__vk_groups(c, (uint64_t)cols * rows, &gx, &gy)) != LRT_SUCCESS) return r;
+    if (build) { /* the counters start at 0; the refit leaves them at 0 */
+        VkBufferMemoryBarrier b;
+        c->p_vkCmdFillBuffer(cmd, bvh->counters, bvh->counters_offset, bvh->counters_bytes, 0u);
+        memset(&b, 0, sizeof b);
+        b.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER;
+        b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+        b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        b.buffer = bvh->counters;
+        b.offset = bvh->counters_offset;
+        b.size = bvh->counters_bytes;
+        c->p_vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
+                                  NULL, 1, &b, 0, NULL);
+    }
+    lrt__vk_push_common(bvh, depth, src, &pc);
+    pc.rect_x0 = x0;
+    pc.rect_y0 = y0;
+    pc.rect_x1 = x1;
+    pc.rect_y1 = y1;
+    pc.build = build ? 1u : 0u;
+    counters.buffer = bvh->counters;
+    counters.offset = bvh->counters_offset;
+    counters.range = bvh->counters_bytes;
+    lrt__vk_record(c, cmd, src->image ? LRT__VK_REFIT_IMAGE : LRT__VK_REFIT_BUFFER, bvh, src, &counters, &binding, 1,
+                   &pc, gx, gy);
+    return LRT_SUCCESS;
+}
+
+LINEAR_RT_DEF lrt_result lrt_vk_cmd_build(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                          const lrt_vk_depth *depth)
+{
+    lrt__vk_source src;
+    lrt_result r;
+    if ((r = lrt__vk_check(ctx, cmd, bvh, depth, &src)) != LRT_SUCCESS) return r;
+    return lrt__vk_refit(ctx, cmd, bvh, depth, &src, 0, 0, depth->width - 1u, depth->height - 1u, 1);
+}
+
+LINEAR_RT_DEF lrt_result lrt_vk_cmd_update(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                           const lrt_vk_depth *depth, const lrt_rect *dirty)
+{
+    lrt__vk_source src;
+    lrt_result r;
+    if ((r = lrt__vk_check(ctx, cmd, bvh, depth, &src)) != LRT_SUCCESS) return r;
+    if (!dirty) return lrt__vk_refit(ctx, cmd, bvh, depth, &src, 0, 0, depth->width - 1u, depth->height - 1u, 0);
+    if (dirty->x > depth->width || dirty->width > depth->width - dirty->x || dirty->y > depth->height ||
+        dirty->height > depth->height - dirty->y)
+        return LRT_ERROR_INVALID_RECT;
+    if (dirty->width == 0 || dirty->height == 0) return LRT_SUCCESS;
+    return lrt__vk_refit(ctx, cmd, bvh, depth, &src, dirty->x, dirty->y, dirty->x + dirty->width - 1u,
+                         dirty->y + dirty->height - 1u, 0);
+}
+
+LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                          const lrt_vk_depth *depth, VkBuffer rays, VkDeviceSize rays_offset,
+                                          VkBuffer hits, VkDeviceSize hits_offset, uint32_t count, uint32_t flags)
+{
+    static const uint32_t bindings[2] = {LRT__VK_BIND_RAYS, LRT__VK_BIND_HITS};
+    const VkDeviceSize ray_bytes = sizeof(lrt_ray), hit_bytes = sizeof(lrt_hit);
+    VkDescriptorBufferInfo io[2];
+    VkDeviceSize align, first;
+    lrt__vk_source src;
+    lrt__vk_push pc;
+    uint32_t gx, gy;
+    lrt_result r;
+    if ((r = lrt__vk_check(ctx, cmd, bvh, depth, &src)) != LRT_SUCCESS) return r;
+    if (flags & ~(uint32_t)LRT_TRACE_ANY_HIT) return LRT_ERROR_INVALID_OPTION;
+    if (count > LINEAR_RT_MAX_RAYS_PER_CALL) return LRT_ERROR_TOO_MANY_RAYS;
+    if (count == 0) return LRT_SUCCESS;
+    if (rays == VK_NULL_HANDLE || hits == VK_NULL_HANDLE) return LRT_ERROR_NULL_POINTER;
+    /* bind both arrays `first` rays before the given offsets, at aligned
+       offsets, and start the kernel at ray `first` */
+    align = lrt__vk_storage_alignment(ctx);
+    for (first = 0; first < align; ++first) {
+        if (first * ray_bytes > rays_offset || first * hit_bytes > hits_offset) {
+            first = align;
+            break;
+        }
+        if ((rays_offset - first * ray_bytes) % align == 0 && (hits_offset - first * hit_bytes) % align == 0) break;
+    }
+    if (first == align) return LRT_ERROR_MISALIGNED;
+    if ((first + count) * ray_bytes > ctx->limits.maxStorageBufferRange) return LRT_ERROR_LIMIT_EXCEEDED;
+    if ((r = lrt__vk_groups(ctx, count, &gx, &gy)) != LRT_SUCCESS) return r;
+    io[0].buffer = rays;
+    io[0].offset = rays_offset - first * ray_bytes;
+    io[0].range = (first + count) * ray_bytes;
+    io[1].buffer = hits;
+    io[1].offset = hits_offset - first * hit_bytes;
+    io[1].range = (first + count) * hit_bytes;
+    lrt__vk_push_common(bvh, depth, &src, &pc);
+    pc.ray_first = (uint32_t)first;
+    pc.ray_count = count;
+    pc.trace_flags = flags;
+    lrt__vk_record(ctx, cmd, src.image ? LRT__VK_TRACE_IMAGE : LRT__VK_TRACE_BUFFER, bvh, &src, io, bindings, 2, &pc,
+                   gx, gy);
+    return LRT_SUCCESS;
+}
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* LINEAR_RT_VULKAN && !LINEAR_RT_VULKAN_IMPLEMENTATION_DONE */
+
+/* ---- the standalone device helper (LINEAR_RT_VULKAN_DEVICE_HELPER) ----------------- */
+#if defined(LINEAR_RT_VULKAN) && defined(LINEAR_RT_VULKAN_DEVICE_HELPER) && \
+    !defined(LINEAR_RT_VULKAN_DEVICE_HELPER_IMPLEMENTATION_DONE)
+#define LINEAR_RT_VULKAN_DEVICE_HELPER_IMPLEMENTATION_DONE
+
+#include <stdio.h>
+#ifdef _WIN32
+#ifndef WIN32_LEAN_AND_MEAN
+#define WIN32_LEAN_AND_MEAN
+#endif
+#include <windows.h>
+#else
+#include <dlfcn.h>
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+static void *lrt__vk_open_loader(PFN_vkGetInstanceProcAddr *gipa)
+{
+    void *lib = NULL, *sym = NULL;
+#if defined(_WIN32)
+    HMODULE m = LoadLibraryA("vulkan-1.dll");
+    FARPROC p = m ? GetProcAddress(m, "vkGetInstanceProcAddr") : NULL;
+    lib = (void *)m;
+    memcpy(&sym, &p, sizeof sym < sizeof p ? sizeof sym : sizeof p);
+#else
+    static const char *const names[] = {
+#if defined(__APPLE__)
+        "libvulkan.1.dylib", "libvulkan.dylib", "libMoltenVK.dylib"
+#else
+        "libvulkan.so.1", "libvulkan.so"
+#endif
+    };
+    size_t i;
+    for (i = 0; i < sizeof names / sizeof names[0] && !lib; ++i) lib = dlopen(names[i], RTLD_NOW | RTLD_LOCAL);
+    if (lib) sym = dlsym(lib, "vkGetInstanceProcAddr");
+#endif
+    if (lib && !sym) {
+#if defined(_WIN32)
+        FreeLibrary((HMODULE)lib);
+#else
+        dlclose(lib);
+#endif
+        lib = NULL;
+    }
+    /* an object pointer to a function pointer without a cast ISO C forbids */
+    if (lib) memcpy(gipa, &sym, sizeof *gipa);
+    return lib;
+}
+
+static void lrt__vk_close_loader(void *lib)
+{
+    if (!lib) return;
+#if defined(_WIN32)
+    FreeLibrary((HMODULE)lib);
+#else
+    dlclose(lib);
+#endif
+}
+
+static VKAPI_ATTR VkBool32 VKAPI_CALL lrt__vk_on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                        VkDebugUtilsMessageTypeFlagsEXT types,
+                                                        const VkDebugUtilsMessengerCallbackDataEXT *data, void *user)
+{
+    lrt_vk_device *d = (lrt_vk_device *)user;
+    (void)types;
+    ++d->message_count;
+    fprintf(stderr, "linear_rt: vulkan %s: %s\n",
+            severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error" : "warning",
+            data && data->pMessage ? data->pMessage : "(no message)");
+    return VK_FALSE;
+}
+
+/* Is every feature the kernels need there? Fills the structs to enable them. */
+static int lrt__vk_device_features(PFN_vkGetPhysicalDeviceFeatures2 get, VkPhysicalDevice pd,
+                                   const lrt_vk_requirements *req, VkPhysicalDeviceFeatures2 *on,
+                                   VkPhysicalDeviceVulkan11Features *on11, VkPhysicalDeviceVulkan12Features *on12)
+{
+    VkPhysicalDeviceFeatures2 f;
+    VkPhysicalDeviceVulkan11Features f11;
+    VkPhysicalDeviceVulkan12Features f12;
+    memset(&f, 0, sizeof f);
+    memset(&f11, 0, sizeof f11);
+    memset(&f12, 0, sizeof f12);
+    f.sType = on->sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
+    f11.sType = on11->sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES;
+    f12.sType = on12->sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
+    f.pNext = &f11;
+    f11.pNext = &f12;
+    get(pd, &f);
+    on->pNext = on11;
+    on11->pNext = on12;
+#define LRT__WANT(want, have, set)                                                                               \
+    if (want) {                                                                                                   \
+        if (!(have)) return 0;                                                                                    \
+        set = VK_TRUE;                                                                                            \
+    }
+    LRT__WANT(req->shader_float64, f.features.shaderFloat64, on->features.shaderFloat64)
+    LRT__WANT(req->shader_int64, f.features.shaderInt64, on->features.shaderInt64)
+    LRT__WANT(req->shader_int16, f.features.shaderInt16, on->features.shaderInt16)
+    LRT__WANT(req->storage_buffer_16bit_access, f11.storageBuffer16BitAccess, on11->storageBuffer16BitAccess)
+    LRT__WANT(req->shader_int8, f12.shaderInt8, on12->shaderInt8)
+    LRT__WANT(req->shader_float16, f12.shaderFloat16, on12->shaderFloat16)
+    LRT__WANT(req->storage_buffer_8bit_access, f12.storageBuffer8BitAccess, on12->storageBuffer8BitAccess)
+    LRT__WANT(req->shader_buffer_int64_atomics, f12.shaderBufferInt64Atomics, on12->shaderBufferInt64Atomics)
+    LRT__WANT(req->vulkan_memory_model, f12.vulkanMemoryModel, on12->vulkanMemoryModel)
+    LRT__WANT(req->vulkan_memory_model_device_scope, f12.vulkanMemoryModelDeviceScope,
+              on12->vulkanMemoryModelDeviceScope)
+#undef LRT__WANT
+    return 1;
+}
+
+/* Destroys whatever of a helper device exists; leaves it zeroed. */
+static void lrt__vk_device_teardown(lrt_vk_device *d, PFN_vkGetInstanceProcAddr gipa)
+{
+    VkInstance inst = d->desc.instance;
+    if (gipa && inst != VK_NULL_HANDLE) {
+        if (d->desc.device != VK_NULL_HANDLE) {
+            PFN_vkGetDeviceProcAddr gdpa = (PFN_vkGetDeviceProcAddr)gipa(inst, "vkGetDeviceProcAddr");
+            PFN_vkDeviceWaitIdle wait = gdpa ? (PFN_vkDeviceWaitIdle)gdpa(d->desc.device, "vkDeviceWaitIdle") : NULL;
+            PFN_vkDestroyDevice destroy = gdpa ? (PFN_vkDestroyDevice)gdpa(d->desc.device, "vkDestroyDevice") : NULL;
+            if (wait) wait(d->desc.device);
+            if (destroy) destroy(d->desc.device, NULL);
+        }
+        if (d->messenger != VK_NULL_HANDLE) {
+            PFN_vkDestroyDebugUtilsMessengerEXT destroy =
+                (PFN_vkDestroyDebugUtilsMessengerEXT)gipa(inst, "vkDestroyDebugUtilsMessengerEXT");
+            if (destroy) destroy(inst, d->messenger, NULL);
+        }
+        {
+            PFN_vkDestroyInstance destroy = (PFN_vkDestroyInstance)gipa(inst, "vkDestroyInstance");
+            if (destroy) destroy(inst, NULL);
+        }
+    }
+    lrt__vk_close_loader(d->loader);
+    {   /* the count survives: messages of the destruction count too */
+        uint32_t messages = d->message_count;
+        memset(d, 0, sizeof *d);
+        d->message_count = messages;
+    }
+}
+
+static int lrt__vk_has_extension_name(const char *name, const VkExtensionProperties *exts, uint32_t n)
+{
+    uint32_t i;
+    for (i = 0; i < n; ++i)
+        if (strcmp(exts[i].extensionName, name) == 0) return 1;
+    return 0;
+}
+
+/* Picks the device and its compute queue family; 0 if none will do. */
+static int lrt__vk_pick(lrt_vk_device *d, PFN_vkGetInstanceProcAddr gipa, const lrt_vk_requirements *req,
+                        VkPhysicalDeviceFeatures2 *on, VkPhysicalDeviceVulkan11Features *on11,
+                        VkPhysicalDeviceVulkan12Features *on12, VkResult *vr)
+{
+    VkInstance inst = d->desc.instance;
+    PFN_vkEnumeratePhysicalDevices enumerate = (PFN_vkEnumeratePhysicalDevices)gipa(inst, "vkEnumeratePhysicalDevices");
+    PFN_vkGetPhysicalDeviceProperties get_props =
+        (PFN_vkGetPhysicalDeviceProperties)gipa(inst, "vkGetPhysicalDeviceProperties");
+    PFN_vkGetPhysicalDeviceFeatures2 get_features =
+        (PFN_vkGetPhysicalDeviceFeatures2)gipa(inst, "vkGetPhysicalDeviceFeatures2");
+    PFN_vkGetPhysicalDeviceQueueFamilyProperties get_families =
+        (PFN_vkGetPhysicalDeviceQueueFamilyProperties)gipa(inst, "vkGetPhysicalDeviceQueueFamilyProperties");
+    PFN_vkEnumerateDeviceExtensionProperties get_exts =
+        (PFN_vkEnumerateDeviceExtensionProperties)gipa(inst, "vkEnumerateDeviceExtensionProperties");
+    VkPhysicalDevice devices[16];
+    uint32_t n = 16, i;
+    *vr = VK_SUCCESS;
+    if (!enumerate || !get_props || !get_features || !get_families || !get_exts) return 0;
+    *vr = enumerate(inst, &n, devices);
+    if (*vr == VK_INCOMPLETE) *vr = VK_SUCCESS; /* the first 16 will do */
+    if (*vr != VK_SUCCESS) return 0;
+    for (i = 0; i < n; ++i) {
+        VkQueueFamilyProperties families[32];
+        VkExtensionProperties *exts;
+        uint32_t nf = 32, ne = 0, f;
+        int ext_ok;
+        get_props(devices[i], &d->properties);
+        if (d->properties.apiVersion < req->api_version) continue;
+        if (get_exts(devices[i], NULL, &ne, NULL) != VK_SUCCESS) continue;
+        exts = (VkExtensionProperties *)LINEAR_RT_MALLOC(sizeof *exts * (ne ? ne : 1), NULL);
+        if (!exts) continue;
+        ext_ok = get_exts(devices[i], NULL, &ne, exts) >= VK_SUCCESS &&
+                 lrt__vk_has_extension_name(req->extensions[0], exts, ne);
+        LINEAR_RT_FREE(exts, NULL);
+        if (!ext_ok) continue;
+        memset(on, 0, sizeof *on);
+        memset(on11, 0, sizeof *on11);
+        memset(on12, 0, sizeof *on12);
+        if (!lrt__vk_device_features(get_features, devices[i], req, on, on11, on12)) continue;
+        get_families(devices[i], &nf, families);
+        for (f = 0; f < nf; ++f) {
+            if (families[f].queueFlags & VK_QUEUE_COMPUTE_BIT) {
+                d->desc.physical_device = devices[i];
+                d->queue_family = f;
+                d->timestamp_valid_bits = families[f].timestampValidBits;
+                return 1;
+            }
+        }
+    }
+    memset(&d->properties, 0, sizeof d->properties);
+    return 0;
+}
+
+LINEAR_RT_DEF lrt_result lrt_vk_device_create(lrt_vk_device *out, uint32_t flags)
+{
+    static const char *const validation_layer = "VK_LAYER_KHRONOS_validation";
+    static const char *const validation_exts[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME,
+                                                  VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME};
+    const VkValidationFeatureEnableEXT sync = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    const int sync_validate = (flags & LRT_VK_DEVICE_SYNC_VALIDATION) != 0;
+    const int validate = sync_validate || (flags & LRT_VK_DEVICE_VALIDATION) != 0;
+    VkValidationFeaturesEXT vf;
+    PFN_vkGetInstanceProcAddr gipa = NULL;
+    PFN_vkCreateInstance create_instance;
+    PFN_vkCreateDevice create_device;
+    PFN_vkGetDeviceQueue get_queue;
+    VkApplicationInfo app;
+    VkInstanceCreateInfo ii;
+    VkDebugUtilsMessengerCreateInfoEXT mi;
+    VkPhysicalDeviceFeatures2 on;
+    VkPhysicalDeviceVulkan11Features on11;
+    VkPhysicalDeviceVulkan12Features on12;
+    VkDeviceQueueCreateInfo qi;
+    VkDeviceCreateInfo di;
+    lrt_vk_requirements req;
+    const float priority = 1.0f;
+    VkResult vr;
+    lrt_result r = LRT_SUCCESS;
+    if (!out) return LRT_ERROR_NULL_POINTER;
+    if (flags & ~(uint32_t)(LRT_VK_DEVICE_VALIDATION | LRT_VK_DEVICE_SYNC_VALIDATION)) return LRT_ERROR_INVALID_OPTION;
+    memset(out, 0, sizeof *out);
+    lrt_vk_get_requirements(&req);
+    out->loader = lrt__vk_open_loader(&gipa);
+    if (!out->loader) return LRT_ERROR_NO_VULKAN_LOADER;
+    create_instance = (PFN_vkCreateInstance)gipa(VK_NULL_HANDLE, "vkCreateInstance");
+    if (!create_instance) {
+        lrt__vk_device_teardown(out, gipa);
+        return LRT_ERROR_NO_VULKAN_LOADER;
+    }
+
+    memset(&mi, 0, sizeof mi);
+    mi.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
+    mi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                     VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+    mi.pfnUserCallback = lrt__vk_on_message;
+    mi.pUserData = out;
+    if (validate) { /* the layer, and debug utils from anyone (the layer provides it) */
+        PFN_vkEnumerateInstanceLayerProperties get_layers =
+            (PFN_vkEnumerateInstanceLayerProperties)gipa(VK_NULL_HANDLE, "vkEnumerateInstanceLayerProperties");
+        PFN_vkEnumerateInstanceExtensionProperties get_exts =
+            (PFN_vkEnumerateInstanceExtensionProperties)gipa(VK_NULL_HANDLE, "vkEnumerateInstanceExtensionProperties");
+        VkLayerProperties layers[64];
+        VkExtensionProperties exts[256];
+        uint32_t nl = 64, ne = 256;
+        uint32_t i;
+        int found = 0;
+        if (get_layers && get_layers(&nl, layers) >= VK_SUCCESS)
+            for (i = 0; i < nl; ++i)
+                if (strcmp(layers[i].layerName, validation_layer) == 0) found = 1;
+        if (found && !(get_exts && get_exts(validation_layer, &ne, exts) >= VK_SUCCESS &&
+                       lrt__vk_has_extension_name(validation_exts[0], exts, ne) &&
+                       (!sync_validate || lrt__vk_has_extension_name(validation_exts[1], exts, ne))))
+            found = 0;
+        if (!found) {
+            lrt__vk_device_teardown(out, gipa);
+            return LRT_ERROR_MISSING_VULKAN_FEATURE;
+        }
+    }
+    memset(&app, 0, sizeof app);
+    app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
+    app.pApplicationName = "linear_rt";
+    app.pEngineName = "linear_rt";
+    app.apiVersion = req.api_version;
+    memset(&ii, 0, sizeof ii);
+    ii.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
+    ii.pApplicationInfo = &app;
+    memset(&vf, 0, sizeof vf);
+    vf.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
+    vf.enabledValidationFeatureCount = 1;
+    vf.pEnabledValidationFeatures = &sync;
+    if (validate) {
+        ii.pNext = &mi; /* messages of instance creation and destruction too */
+        if (sync_validate) {
+            ii.pNext = &vf;
+            vf.pNext = &mi;
+        }
+        ii.enabledLayerCount = 1;
+        ii.ppEnabledLayerNames = &validation_layer;
+        ii.enabledExtensionCount = sync_validate ? 2u : 1u;
+        ii.ppEnabledExtensionNames = validation_exts;
+    }
+    vr = create_instance(&ii, NULL, &out->desc.instance);
+    if (vr != VK_SUCCESS) {
+        out->desc.instance = VK_NULL_HANDLE;
+        lrt__vk_device_teardown(out, gipa);
+        /* no driver at all: the loader finds no ICD */
+        if (vr == VK_ERROR_INCOMPATIBLE_DRIVER) return LRT_ERROR_NO_VULKAN_DEVICE;
+        if (vr == VK_ERROR_LAYER_NOT_PRESENT || vr == VK_ERROR_EXTENSION_NOT_PRESENT)
+            return LRT_ERROR_MISSING_VULKAN_FEATURE;
+        out->vk_result = vr;
+        return LRT_ERROR_VULKAN;
+    }
+    out->desc.get_instance_proc_addr = gipa;
+    out->desc.get_device_proc_addr = (PFN_vkGetDeviceProcAddr)gipa(out->desc.instance, "vkGetDeviceProcAddr");
+    if (validate) {
+        PFN_vkCreateDebugUtilsMessengerEXT create =
+            (PFN_vkCreateDebugUtilsMessengerEXT)gipa(out->desc.instance, "vkCreateDebugUtilsMessengerEXT");
+        vr = create ? create(out->desc.instance, &mi, NULL, &out->messenger) : VK_ERROR_EXTENSION_NOT_PRESENT;
+        if (vr != VK_SUCCESS) {
+            out->messenger = VK_NULL_HANDLE;
+            r = LRT_ERROR_VULKAN;
+        }
+    }
+    if (r == LRT_SUCCESS && !lrt__vk_pick(out, gipa, &req, &on, &on11, &on12, &vr))
+        r = vr != VK_SUCCESS ? LRT_ERROR_VULKAN : LRT_ERROR_NO_VULKAN_DEVICE;
+    create_device = (PFN_vkCreateDevice)gipa(out->desc.instance, "vkCreateDevice");
+    if (r == LRT_SUCCESS && (!create_device || !out->desc.get_device_proc_addr)) r = LRT_ERROR_NO_VULKAN_LOADER;
+    if (r == LRT_SUCCESS) {
+        memset(&qi, 0, sizeof qi);
+        qi.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
+        qi.queueFamilyIndex = out->queue_family;
+        qi.queueCount = 1;
+        qi.pQueuePriorities = &priority;
+        memset(&di, 0, sizeof di);
+        di.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+        di.pNext = &on; /* features 2, 1.1, 1.2: what the kernels need */
+        di.queueCreateInfoCount = 1;
+        di.pQueueCreateInfos = &qi;
+        di.enabledExtensionCount = req.extension_count;
+        di.ppEnabledExtensionNames = req.extensions;
+        vr = create_device(out->desc.physical_device, &di, NULL, &out->desc.device);
+        if (vr != VK_SUCCESS) {
+            out->desc.device = VK_NULL_HANDLE;
+            r = LRT_ERROR_VULKAN;
+        }
+    }
+    if (r != LRT_SUCCESS) {
+        lrt__vk_device_teardown(out, gipa);
+        if (r == LRT_ERROR_VULKAN) out->vk_result = vr;
+        return r;
+    }
+    get_queue = (PFN_vkGetDeviceQueue)out->desc.get_device_proc_addr(out->desc.device, "vkGetDeviceQueue");
+    if (get_queue) get_queue(out->desc.device, out->queue_family, 0, &out->queue);
+    out->vk_result = VK_SUCCESS;
+    return LRT_SUCCESS;
+}
+
+LINEAR_RT_DEF void lrt_vk_device_destroy(lrt_vk_device *device)
+{
+    if (!device) return;
+    lrt__vk_device_teardown(device, device->desc.get_instance_proc_addr);
+}
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* LINEAR_RT_VULKAN_DEVICE_HELPER implementation */
 #endif /* LINEAR_RT_IMPLEMENTATION */
 
 /*

@@ -8,16 +8,26 @@
    - reflection-like random segments (one per texel) on 1 and 2 threads;
    - agreement with tests/reference.h: every primary ray and a fixed sample
      of the segments.
+   - built with LINEAR_RT_VULKAN (make demo does where <vulkan/vulkan.h> is
+     installed): the same map on the first Vulkan device (lavapipe on a
+     machine with no GPU): build once, then update + primary trace, GPU
+     timestamps of the two dispatches side by side with the CPU's, and the
+     GPU hits checked against the CPU hits; also the segments. No device:
+     the demo says why and shows the CPU table alone.
    Exits 0 if every checked ray agrees, 1 otherwise.
 
    make demo              (builds build/demo with -O3 and runs it)
-   build/demo --size 128  (a smaller map) */
+   build/demo --size 128  (a smaller map)
+   build/demo --no-gpu    (the CPU path alone) */
 #define _POSIX_C_SOURCE 200809L
 
 #define LINEAR_RT_IMPLEMENTATION
 #include "../linear_rt.h"
 #include "../tests/reference.h"
 #include "scene.h"
+#ifdef LINEAR_RT_VULKAN
+#include "../tests/vk_util.h"
+#endif
 
 #include <pthread.h>
 #include <stdio.h>
@@ -208,15 +218,194 @@ static size_t count_hits(const lrt_hit *hits, size_t count)
     return n;
 }
 
+/* ---- the same workload on Vulkan ---------------------------------------------- */
+typedef struct gpu_run {
+    int ran;                    /* 0: not run, why says why */
+    char why[200];
+    char device[VK_MAX_PHYSICAL_DEVICE_NAME_SIZE + 64];
+    double update_ms, prim_ms, seg_ms; /* GPU timestamps: medians */
+    int timed;
+    size_t prim_same, seg_same, seg_right; /* equal to the CPU's; of the others, right by the reference */
+    size_t seg_sampled;
+} gpu_run;
+
+#ifdef LINEAR_RT_VULKAN
+#define GPU_RUNS 9
+
+static int same_hit(const lrt_hit *a, const lrt_hit *b)
+{
+    if (a->kind != b->kind) return 0;
+    if (a->kind != LRT_HIT) return 1;
+    return a->x == b->x && a->y == b->y && fabsf(a->t - b->t) <= 1e-5f * (1.0f + fabsf(b->t));
+}
+
+/* One submission: [update] + trace, timestamps around each; returns the
+   dispatches' milliseconds, or -1 without timestamps. */
+static int gpu_frame(vkt *t, lrt_vk_context *ctx, lrt_vk_bvh *bvh, const lrt_vk_depth *depth, VkQueryPool pool,
+                     double period_ns, const vkt_buffer *rays, const vkt_buffer *hits, uint32_t n, int with_update,
+                     double *update_ms, double *trace_ms)
+{
+    uint64_t ts[3];
+    if (vkt_begin(t)) return 1;
+    vkt_compute_barrier(t); /* the previous submission's build, update or trace -> this one */
+    if (pool) {
+        t->vkCmdResetQueryPool(t->cmd, pool, 0, 3);
+        t->vkCmdWriteTimestamp(t->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, pool, 0);
+    }
+    if (with_update) {
+        must(lrt_vk_cmd_update(ctx, t->cmd, bvh, depth, NULL), "lrt_vk_cmd_update");
+        vkt_compute_barrier(t); /* update -> trace on the tree */
+    }
+    if (pool) t->vkCmdWriteTimestamp(t->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, 1);
+    must(lrt_vk_cmd_trace(ctx, t->cmd, bvh, depth, rays->buffer, 0, hits->buffer, 0, n, 0), "lrt_vk_cmd_trace");
+    if (pool) t->vkCmdWriteTimestamp(t->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, 2);
+    vkt_host_barrier(t); /* trace -> the hits read on the host */
+    if (vkt_submit(t)) return 1;
+    if (pool) {
+        VkResult r = t->vkGetQueryPoolResults(t->device, pool, 0, 3, sizeof ts, ts, sizeof ts[0],
+                                              VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+        if (r != VK_SUCCESS) return vkt_fail("vkGetQueryPoolResults", r);
+        *update_ms = (double)(ts[1] - ts[0]) * period_ns * 1e-6;
+        *trace_ms = (double)(ts[2] - ts[1]) * period_ns * 1e-6;
+    }
+    return 0;
+}
+
+static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, const lrt_hit *prim_cpu,
+                       const lrt_ray *seg, const lrt_hit *seg_cpu, size_t n, const ref_map *m, size_t sample)
+{
+    static lrt_vk_device dev; /* stays put while it lives */
+    lrt_vk_context *ctx = NULL;
+    lrt_vk_bvh bvh;
+    lrt_vk_bvh_desc bd;
+    lrt_vk_depth vd;
+    vkt t;
+    vkt_buffer db, rb, hb, sb, shb;
+    VkQueryPool pool = VK_NULL_HANDLE;
+    const size_t depth_bytes = (size_t)depth->width * depth->height * 4u;
+    double upd[GPU_RUNS], tr[GPU_RUNS], sg[GPU_RUNS], period;
+    lrt_result r;
+    size_t i;
+    int k;
+    memset(g, 0, sizeof *g);
+    memset(&t, 0, sizeof t);
+    memset(&bvh, 0, sizeof bvh);
+    r = lrt_vk_device_create(&dev, 0);
+    if (r != LRT_SUCCESS) {
+        snprintf(g->why, sizeof g->why, "lrt_vk_device_create: %s", lrt_result_string(r));
+        return;
+    }
+    snprintf(g->device, sizeof g->device, "%s, Vulkan %u.%u.%u", dev.properties.deviceName,
+             VK_API_VERSION_MAJOR(dev.properties.apiVersion), VK_API_VERSION_MINOR(dev.properties.apiVersion),
+             VK_API_VERSION_PATCH(dev.properties.apiVersion));
+    if ((r = lrt_vk_context_create(&dev.desc, &ctx)) != LRT_SUCCESS || vkt_init(&t, &dev)) {
+        snprintf(g->why, sizeof g->why, "Vulkan set-up failed: %s", lrt_result_string(r));
+        lrt_vk_device_destroy(&dev);
+        return;
+    }
+    if (n > 0xffffffffu || vkt_buffer_create_in(&t, depth_bytes, 1, &db) || vkt_buffer_create_in(&t, n * sizeof *prim, 1, &rb) ||
+        vkt_buffer_create_in(&t, n * sizeof *seg, 1, &sb) || vkt_buffer_create_in(&t, n * sizeof(lrt_hit), 1, &hb) ||
+        vkt_buffer_create_in(&t, n * sizeof(lrt_hit), 1, &shb)) {
+        snprintf(g->why, sizeof g->why, "Vulkan buffers could not be made");
+        goto done;
+    }
+    memcpy(db.map, depth->data, depth_bytes);
+    memcpy(rb.map, prim, n * sizeof *prim);
+    memcpy(sb.map, seg, n * sizeof *seg);
+    memset(&vd, 0, sizeof vd);
+    vd.format = depth->format;
+    vd.width = depth->width;
+    vd.height = depth->height;
+    vd.buffer = db.buffer;
+    memset(&bd, 0, sizeof bd);
+    bd.width = depth->width;
+    bd.height = depth->height;
+    bd.format = depth->format;
+    if ((r = lrt_vk_bvh_create(ctx, &bd, &bvh)) != LRT_SUCCESS) {
+        snprintf(g->why, sizeof g->why, "lrt_vk_bvh_create: %s", lrt_result_string(r));
+        goto done;
+    }
+    if (dev.timestamp_valid_bits) {
+        VkQueryPoolCreateInfo qi;
+        memset(&qi, 0, sizeof qi);
+        qi.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
+        qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+        qi.queryCount = 3;
+        if (t.vkCreateQueryPool(t.device, &qi, NULL, &pool) != VK_SUCCESS) pool = VK_NULL_HANDLE;
+    }
+    g->timed = pool != VK_NULL_HANDLE;
+    period = (double)dev.properties.limits.timestampPeriod;
+    /* build once (the host wrote the depth before the submission) */
+    if (vkt_begin(&t)) goto done;
+    must(lrt_vk_cmd_build(ctx, t.cmd, &bvh, &vd), "lrt_vk_cmd_build");
+    vkt_compute_barrier(&t);
+    if (vkt_submit(&t)) goto done;
+    for (k = -1; k < GPU_RUNS; ++k) { /* k = -1: warm-up */
+        double u = 0, p = 0, s_ = 0, dummy = 0;
+        if (gpu_frame(&t, ctx, &bvh, &vd, pool, period, &rb, &hb, (uint32_t)n, 1, &u, &p) ||
+            gpu_frame(&t, ctx, &bvh, &vd, pool, period, &sb, &shb, (uint32_t)n, 0, &dummy, &s_))
+            goto done;
+        if (k >= 0) {
+            upd[k] = u;
+            tr[k] = p;
+            sg[k] = s_;
+        }
+    }
+    g->update_ms = median(upd, GPU_RUNS);
+    g->prim_ms = median(tr, GPU_RUNS);
+    g->seg_ms = median(sg, GPU_RUNS);
+    for (i = 0; i < n; ++i) g->prim_same += same_hit((const lrt_hit *)hb.map + i, &prim_cpu[i]);
+    for (i = 0; i < n; ++i) {
+        const lrt_hit *h = (const lrt_hit *)shb.map + i;
+        if (same_hit(h, &seg_cpu[i])) {
+            ++g->seg_same;
+        } else if (g->seg_sampled < sample) { /* the reference is slow: judge the first few */
+            ref_ray q;
+            ref_answer a;
+            char why[256];
+            int c;
+            for (c = 0; c < 3; ++c) {
+                q.o[c] = seg[i].origin[c];
+                q.v[c] = seg[i].dir[c];
+            }
+            q.tmin = seg[i].tmin;
+            q.tmax = seg[i].tmax;
+            a.kind = (int)h->kind;
+            a.t = h->t;
+            a.x = h->kind == LRT_HIT ? (int)h->x : -1;
+            a.y = h->kind == LRT_HIT ? (int)h->y : -1;
+            ++g->seg_sampled;
+            g->seg_right += ref_check(m, &q, &a, 0, why, sizeof why) != 0;
+        }
+    }
+    g->ran = 1;
+done:
+    if (pool) t.vkDestroyQueryPool(t.device, pool, NULL);
+    lrt_vk_bvh_destroy(ctx, &bvh);
+    if (t.device) {
+        vkt_buffer_destroy(&t, &db);
+        vkt_buffer_destroy(&t, &rb);
+        vkt_buffer_destroy(&t, &sb);
+        vkt_buffer_destroy(&t, &hb);
+        vkt_buffer_destroy(&t, &shb);
+    }
+    vkt_free(&t);
+    lrt_vk_context_destroy(ctx);
+    lrt_vk_device_destroy(&dev);
+    if (!g->ran && !g->why[0]) snprintf(g->why, sizeof g->why, "a Vulkan call failed (see above)");
+}
+#endif
+
 static void usage(const char *argv0)
 {
-    fprintf(stderr, "usage: %s [--size N]   (N in 1..%u, default 1024)\n", argv0,
+    fprintf(stderr, "usage: %s [--size N] [--no-gpu]   (N in 1..%u, default 1024)\n", argv0,
             (unsigned)LINEAR_RT_MAX_DIM);
 }
 
 int main(int argc, char **argv)
 {
-    int size = 1024, a;
+    int size = 1024, a, use_gpu = 1;
+    gpu_run gpu;
     size_t n, i, j, sample, agree_p, agree_s;
     float *depth_f;
     lrt_depth depth;
@@ -238,6 +427,8 @@ int main(int argc, char **argv)
                 return 2;
             }
             size = (int)v;
+        } else if (strcmp(argv[a], "--no-gpu") == 0) {
+            use_gpu = 0;
         } else {
             usage(argv[0]);
             return 2;
@@ -314,6 +505,20 @@ int main(int argc, char **argv)
     }
     same_prim = memcmp(hits1, hits2, n * sizeof *hits1) == 0;
     same_seg = memcmp(seg_hits1, seg_hits2, n * sizeof *seg_hits1) == 0;
+    if (ref_map_from_raw(&m, depth_f, size, size, 0, REF_FORMAT_FLOAT32, 0) != 0) {
+        fprintf(stderr, "ref_map_from_raw failed\n");
+        return 1;
+    }
+    sample = n < SEGMENT_SAMPLE ? n : SEGMENT_SAMPLE;
+
+    memset(&gpu, 0, sizeof gpu);
+#ifdef LINEAR_RT_VULKAN
+    if (use_gpu) run_vulkan(&gpu, &depth, prim, hits1, seg, seg_hits1, n, &m, sample);
+    else snprintf(gpu.why, sizeof gpu.why, "--no-gpu");
+#else
+    (void)use_gpu;
+    snprintf(gpu.why, sizeof gpu.why, "built without LINEAR_RT_VULKAN (no <vulkan/vulkan.h> at build time)");
+#endif
 
     printf("linear_rt demo: embedded scene %dx%d, float32 depth, CPU path\n", size, size);
 #if defined(__clang__)
@@ -347,13 +552,33 @@ int main(int argc, char **argv)
     printf("  (%lu rays of each kind; %.1f%% of the segments hit; 2-thread hits %s)\n\n",
            (unsigned long)n, 100.0 * (double)count_hits(seg_hits1, n) / (double)n,
            same_prim && same_seg ? "identical to 1-thread hits" : "DIFFER from 1-thread hits");
-    fflush(stdout);
 
-    if (ref_map_from_raw(&m, depth_f, size, size, 0, REF_FORMAT_FLOAT32, 0) != 0) {
-        fprintf(stderr, "ref_map_from_raw failed\n");
-        return 1;
+    if (!gpu.ran) {
+        printf("Vulkan: not run: %s\n\n", gpu.why);
+    } else {
+        printf("Vulkan: %s; build once, then per run update + primary trace, and the segments\n", gpu.device);
+        if (gpu.timed) {
+            printf("timings: GPU timestamps of the dispatches (vkCmdWriteTimestamp), medians of %d runs after a warm-up\n",
+                   GPU_RUNS);
+            printf("%-34s %14s %14s %14s\n", "16-bit nodes, float depth", "CPU 1 thread", "CPU 2 threads", "Vulkan");
+            printf("%-34s %14.3f %14s %14.3f\n", "  update ms (whole map)", s16.update_ms, "-", gpu.update_ms);
+            printf("%-34s %14.3f %14.3f %14.3f\n", "  primary: trace ms", prim_ms[0], prim_ms[1], gpu.prim_ms);
+            printf("%-34s %14.3f %14.3f %14.3f\n", "  update + primary trace ms *", upd_trace_ms[0], upd_trace_ms[1],
+                   gpu.update_ms + gpu.prim_ms);
+            printf("%-34s %14.3f %14.3f %14.3f\n", "  segments: trace ms", seg_ms[0], seg_ms[1], gpu.seg_ms);
+            printf("%-34s %14.2f %14.2f %14.2f\n", "  segments: M rays/s", (double)n / seg_ms[0] / 1e3,
+                   (double)n / seg_ms[1] / 1e3, (double)n / gpu.seg_ms / 1e3);
+        } else {
+            printf("  (this queue has no timestamps: no GPU timings)\n");
+        }
+        printf("  GPU hits == CPU hits (kind, texel, t within 1e-5*(1+|t|)): primary %lu / %lu, segments %lu / %lu\n",
+               (unsigned long)gpu.prim_same, (unsigned long)n, (unsigned long)gpu.seg_same, (unsigned long)n);
+        if (gpu.seg_same != n)
+            printf("  segments that differ, right by the reference: %lu of the %lu judged\n", (unsigned long)gpu.seg_right,
+                   (unsigned long)gpu.seg_sampled);
+        printf("\n");
     }
-    sample = n < SEGMENT_SAMPLE ? n : SEGMENT_SAMPLE;
+    fflush(stdout);
     printf("agreement with the exact reference (tests/reference.h, closest hit)\n");
     agree_p = check_rays(&m, prim, hits1, n, n, "primary");
     printf("  primary rays, all %lu: agree: %lu / %lu\n", (unsigned long)n,
@@ -372,5 +597,8 @@ int main(int argc, char **argv)
     free(hits2);
     free(seg_hits1);
     free(seg_hits2);
-    return agree_p == n && agree_s == sample && same_prim && same_seg ? 0 : 1;
+    return agree_p == n && agree_s == sample && same_prim && same_seg &&
+                   (!gpu.ran || (gpu.prim_same == n && gpu.seg_right == gpu.seg_sampled))
+               ? 0
+               : 1;
 }

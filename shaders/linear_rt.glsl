@@ -256,7 +256,10 @@ uint lrt_clip(inout LrtSetup s, LrtParams p, float tmin, float tmax)
     s.t_lo = max(xy_en, tmin);
     s.t_hi = min(xy_ex, tmax);
     uint kind = (s.t_lo > s.t_hi || xy_ex < tmax) ? LRT_MISS_OFF_SCREEN : LRT_MISS_TMAX;
-    float t1 = lrt_depth_plane(s, 3u, floatBitsToUint(1.0));
+    // the far plane z = 1 bounds the box from the other side than a depth
+    // plane does: for a z that does not change, it keeps the ray iff o.z <= 1
+    float t1 = s.zero.z ? (((s.neg.z != 0u) == (s.o.z <= 1.0)) ? -LRT_INF : LRT_INF)
+                        : lrt_depth_plane(s, 3u, floatBitsToUint(1.0));
     if (s.neg.z != 0u) s.t_lo = max(t1, s.t_lo);
     else s.t_hi = min(t1, s.t_hi);
     return kind;

@@ -1,28 +1,71 @@
 #!/usr/bin/env bash
 # tools/install-deps.sh - make sure the tools that `make test` uses are here:
-# make, gcc, g++, clang (and the C library headers). Does nothing, and needs
-# no network, when they all are; otherwise installs the missing ones with
-# apt-get (Debian/Ubuntu), as root or through sudo.
+# make, gcc, g++, clang (and the C library headers), and for the Vulkan path
+# the Vulkan headers and loader, the Khronos validation layer, glslang and
+# spirv-tools, and Mesa's lavapipe (a Vulkan device on the CPU) new enough to
+# have ray query: Mesa 25 from bookworm-backports on Debian 12. Does nothing,
+# and needs no network, when they all are; otherwise installs the missing
+# ones with apt-get (Debian/Ubuntu), as root or through sudo.
+#
+# bookworm-backports: when no apt source has that suite yet, the script adds
+# it in /etc/apt/sources.list.d/linear-rt-backports.sources, reusing the URI
+# (and key) of the Debian source already configured, so the machine's own
+# mirror is used; running again finds it and changes nothing.
 set -euo pipefail
 
-missing=()
+BACKPORTS_FILE=/etc/apt/sources.list.d/linear-rt-backports.sources
+MESA_MIN=25 # lavapipe with VK_KHR_ray_query
+
+main_pkgs=() # from the release's own suites
+bpo_pkgs=()  # from <codename>-backports
+
+installed() { # a Debian package, installed (not just known)
+    [ "$(dpkg-query -W -f='${Status}' "$1" 2>/dev/null)" = "install ok installed" ]
+}
+
 for tool in make gcc g++ clang; do
-    command -v "$tool" >/dev/null 2>&1 || missing+=("$tool")
+    command -v "$tool" >/dev/null 2>&1 || main_pkgs+=("$tool")
 done
 # libc6-dev: a compiler without the C library headers cannot build anything
 if command -v gcc >/dev/null 2>&1 &&
     ! printf '#include <stdio.h>\n#include <math.h>\n#include <pthread.h>\nint main(void){return 0;}\n' |
         gcc -x c - -o /dev/null -lm -lpthread >/dev/null 2>&1; then
-    missing+=("libc6-dev")
+    main_pkgs+=("libc6-dev")
 fi
 
-if [ ${#missing[@]} -eq 0 ]; then
+codename=""
+if [ -r /etc/os-release ]; then
+    # shellcheck source=/dev/null
+    codename=$(. /etc/os-release && echo "${VERSION_CODENAME:-}")
+fi
+
+if command -v dpkg-query >/dev/null 2>&1; then
+    installed libvulkan-dev || main_pkgs+=("libvulkan-dev")
+    installed vulkan-validationlayers || main_pkgs+=("vulkan-validationlayers")
+    command -v glslangValidator >/dev/null 2>&1 || main_pkgs+=("glslang-tools")
+    command -v spirv-val >/dev/null 2>&1 || main_pkgs+=("spirv-tools")
+    mesa=$(dpkg-query -W -f='${Version}' mesa-vulkan-drivers 2>/dev/null || true)
+    if ! installed mesa-vulkan-drivers || ! dpkg --compare-versions "$mesa" ge "$MESA_MIN"; then
+        if [ "$codename" = bookworm ]; then
+            bpo_pkgs+=("mesa-vulkan-drivers") # Debian 12's own Mesa 22 has no ray query
+        else
+            main_pkgs+=("mesa-vulkan-drivers")
+        fi
+    fi
+else
+    for tool in glslangValidator spirv-val; do
+        command -v "$tool" >/dev/null 2>&1 ||
+            echo "install-deps: note: $tool is missing (not Debian: install glslang and spirv-tools by hand)" >&2
+    done
+fi
+
+if [ ${#main_pkgs[@]} -eq 0 ] && [ ${#bpo_pkgs[@]} -eq 0 ]; then
     exit 0
 fi
 
-echo "install-deps: missing: ${missing[*]}; installing with apt-get" >&2
+echo "install-deps: missing:$(printf ' %s' "${main_pkgs[@]}" "${bpo_pkgs[@]}"); installing with apt-get" >&2
 if ! command -v apt-get >/dev/null 2>&1; then
-    echo "install-deps: no apt-get here; install make, gcc, g++ and clang by hand" >&2
+    echo "install-deps: no apt-get here; install them by hand" >&2
     exit 1
 fi
 if [ "$(id -u)" -eq 0 ]; then
@@ -30,9 +73,95 @@ if [ "$(id -u)" -eq 0 ]; then
 elif command -v sudo >/dev/null 2>&1; then
     as_root=(sudo)
 else
-    echo "install-deps: not root and no sudo; install make, gcc, g++ and clang by hand" >&2
+    echo "install-deps: not root and no sudo; install them by hand" >&2
     exit 1
 fi
+run_root() { ${as_root[@]+"${as_root[@]}"} "$@"; }
+
+# Is <suite> already an apt source? (one-line .list and deb822 .sources)
+has_suite() {
+    local suite=$1 f
+    for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
+        [ -r "$f" ] || continue
+        # deb [options] URI SUITE COMPONENTS...
+        if sed -e 's/\[[^]]*\]//' "$f" | awk -v s="$suite" '$1 == "deb" && $3 == s { found = 1 } END { exit !found }'; then
+            return 0
+        fi
+    done
+    for f in /etc/apt/sources.list.d/*.sources; do
+        [ -r "$f" ] || continue
+        if awk -v s="$suite" 'tolower($1) == "suites:" { for (i = 2; i <= NF; ++i) if ($i == s) found = 1 }
+                END { exit !found }' "$f"; then
+            return 0
+        fi
+    done
+    return 1
+}
+
+# The URI and Signed-By of the configured Debian source that carries
+# <codename> itself; prints "URI<TAB>SIGNED_BY" (SIGNED_BY may be empty).
+debian_source() {
+    local suite=$1 f
+    for f in /etc/apt/sources.list.d/*.sources; do
+        [ -r "$f" ] || continue
+        # deb822: paragraphs separated by blank lines
+        awk -v s="$suite" '
+            function flush() {
+                if (types ~ /(^| )deb( |$)/ && has && uri != "" && !done) { print uri "\t" key; done = 1 }
+                types = ""; has = 0; uri = ""; key = ""
+            }
+            /^[ \t]*$/ { flush(); next }
+            /^[ \t]*#/ { next }
+            tolower($1) == "types:" { types = " " $0 " " }
+            tolower($1) == "uris:" { uri = $2 }
+            tolower($1) == "suites:" { for (i = 2; i <= NF; ++i) if ($i == s) has = 1 }
+            tolower($1) == "signed-by:" && NF == 2 { key = $2 }
+            END { flush() }' "$f" | head -n 1 | grep . && return 0
+    done
+    for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
+        [ -r "$f" ] || continue
+        awk -v s="$suite" '
+            $1 != "deb" { next }
+            {
+                key = ""; opts = ""
+                if ($2 ~ /^\[/) { # [opt=value ...]
+                    line = $0; sub(/^deb[ \t]+\[/, "", line); opts = substr(line, 1, index(line, "]") - 1)
+                    sub(/^[^]]*\][ \t]*/, "", line); split(line, rest, /[ \t]+/); uri = rest[1]; suite = rest[2]
+                    n = split(opts, o, /[ \t]+/)
+                    for (i = 1; i <= n; ++i) if (o[i] ~ /^signed-by=/) { key = o[i]; sub(/^signed-by=/, "", key) }
+                } else { uri = $2; suite = $3 }
+                if (suite == s) { print uri "\t" key; exit }
+            }' "$f" | head -n 1 | grep . && return 0
+    done
+    return 1
+}
+
 export DEBIAN_FRONTEND=noninteractive
-${as_root[@]+"${as_root[@]}"} apt-get update
-${as_root[@]+"${as_root[@]}"} apt-get install -y --no-install-recommends make gcc g++ clang libc6-dev
+if [ ${#bpo_pkgs[@]} -gt 0 ] && ! has_suite "$codename-backports"; then
+    src=$(debian_source "$codename" || true)
+    if [ -z "$src" ]; then
+        echo "install-deps: no apt source for $codename found: cannot add $codename-backports" >&2
+        exit 1
+    fi
+    uri=${src%%$'\t'*}
+    key=${src#*$'\t'}
+    if [ -z "$key" ] && [ -r /usr/share/keyrings/debian-archive-keyring.gpg ]; then
+        key=/usr/share/keyrings/debian-archive-keyring.gpg
+    fi
+    echo "install-deps: adding $codename-backports from $uri in $BACKPORTS_FILE" >&2
+    {
+        echo "# added by linear_rt's tools/install-deps.sh: Mesa $MESA_MIN (lavapipe with ray query)"
+        echo "Types: deb"
+        echo "URIs: $uri"
+        echo "Suites: $codename-backports"
+        echo "Components: main"
+        if [ -n "$key" ]; then echo "Signed-By: $key"; fi
+    } | run_root tee "$BACKPORTS_FILE" >/dev/null
+fi
+run_root apt-get update
+if [ ${#bpo_pkgs[@]} -gt 0 ]; then
+    run_root apt-get install -y --no-install-recommends -t "$codename-backports" "${bpo_pkgs[@]}"
+fi
+if [ ${#main_pkgs[@]} -gt 0 ]; then
+    run_root apt-get install -y --no-install-recommends "${main_pkgs[@]}"
+fi

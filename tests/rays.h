@@ -1,0 +1,246 @@
+/* tests/rays.h - what the tests trace: depth maps of many shapes in every
+   format, each with its exact reference twin (tests/reference.h), and rays
+   of every kind MODEL.md names, from one deterministic random sequence.
+   Shared by tests/test_core.c (the CPU path) and tests/test_vulkan.c (the
+   kernels). Include after linear_rt.h, reference.h and examples/scene.h;
+   everything is static, for one test file. */
+#ifndef LINEAR_RT_TESTS_RAYS_H
+#define LINEAR_RT_TESTS_RAYS_H
+
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- deterministic random numbers ---------------------------------------- */
+static uint64_t g_rng = 0x9e3779b97f4a7c15ull;
+static uint32_t rnd(void)
+{
+    g_rng ^= g_rng << 13;
+    g_rng ^= g_rng >> 7;
+    g_rng ^= g_rng << 17;
+    return (uint32_t)(g_rng >> 16);
+}
+static float rndf(void) { return (float)(rnd() & 0xffffff) / 16777216.0f; } /* [0,1) */
+static int rndi(int n) { return (int)(rnd() % (uint32_t)n); }
+
+/* ---- a depth map in any format, with its reference twin ------------------ */
+typedef struct test_map {
+    lrt_depth depth;
+    void *storage;
+    ref_map ref;
+    const char *name;
+} test_map;
+
+enum { SHAPE_NOISE, SHAPE_TERRACES, SHAPE_SCENE, SHAPE_POLES, SHAPE_FAR, SHAPE_WILD, SHAPE_COUNT };
+static const char *shape_names[SHAPE_COUNT] = {"noise", "terraces", "scene", "poles", "far", "wild"};
+
+/* depth value in [0,1] of texel (i,j) for a shape (float model units) */
+static float shape_depth(int shape, int i, int j, int w, int h, const float *scene)
+{
+    switch (shape) {
+    case SHAPE_NOISE: return rndf();
+    case SHAPE_TERRACES: { /* flat camera-facing steps of 8-bit depth */
+        float d = 0.3f + 0.5f * (float)(i / 5 + j / 7) / (float)(w / 5 + h / 7 + 1);
+        return floorf(d * 255.0f) / 255.0f;
+    }
+    case SHAPE_SCENE: return scene[(size_t)j * (size_t)w + (size_t)i];
+    case SHAPE_POLES: return ((i % 13) == 5 || (j % 11 == 3 && i % 3 == 0)) ? 0.2f + 0.01f * (float)(i % 7) : 0.95f;
+    case SHAPE_FAR: return 1.0f;
+    default: return rndf();
+    }
+}
+
+static void make_map(test_map *m, int w, int h, int shape, lrt_format format, int reversed, int padded)
+{
+    uint32_t bpp = format == LRT_FORMAT_UNORM8 ? 1 : format == LRT_FORMAT_UNORM16 ? 2 : 4;
+    size_t stride = (size_t)w * bpp + (padded ? 3 : 0); /* odd stride: unaligned rows */
+    unsigned char *bytes;
+    float *scene = NULL;
+    int i, j;
+    memset(m, 0, sizeof *m);
+    if (shape == SHAPE_SCENE) {
+        scene_camera cam = scene_default_camera();
+        scene = (float *)malloc(sizeof(float) * (size_t)w * (size_t)h);
+        scene_render(w, h, &cam, scene, NULL);
+    }
+    bytes = (unsigned char *)malloc(stride * (size_t)h + 1);
+    for (j = 0; j < h; ++j) {
+        for (i = 0; i < w; ++i) {
+            float d = shape_depth(shape, i, j, w, h, scene);
+            unsigned char *p = bytes + 1 + stride * (size_t)j + (size_t)i * bpp; /* +1: unaligned data */
+            if (reversed) d = 1.0f - d;
+            if (format == LRT_FORMAT_UNORM8) {
+                p[0] = (unsigned char)(d * 255.0f + 0.5f);
+            } else if (format == LRT_FORMAT_UNORM16) {
+                uint16_t v = (uint16_t)(d * 65535.0f + 0.5f);
+                memcpy(p, &v, 2);
+            } else {
+                float f = d;
+                if (shape == SHAPE_WILD) { /* values the model clamps */
+                    int r = rndi(10);
+                    if (r == 0) f = NAN;
+                    else if (r == 1) f = 1.5f;
+                    else if (r == 2) f = -0.25f;
+                    else if (r == 3) f = INFINITY;
+                }
+                memcpy(p, &f, 4);
+            }
+        }
+    }
+    free(scene);
+    m->storage = bytes;
+    m->depth.data = bytes + 1;
+    m->depth.width = (uint32_t)w;
+    m->depth.height = (uint32_t)h;
+    m->depth.row_stride = padded ? stride : 0;
+    m->depth.format = format;
+    m->depth.flags = reversed ? LRT_DEPTH_REVERSED_Z : 0u;
+    m->name = shape_names[shape];
+    if (ref_map_from_raw(&m->ref, m->depth.data, w, h, stride, (int)format, reversed) != 0) {
+        printf("reference could not convert the map\n");
+        exit(2);
+    }
+}
+
+static void free_map(test_map *m)
+{
+    free(m->storage);
+    ref_map_free(&m->ref);
+}
+
+/* ---- ray kinds -------------------------------------------------------------- */
+enum {
+    RAY_PRIMARY, RAY_SEGMENT, RAY_REFLECT, RAY_GRAZING, RAY_EDGE, RAY_CORNER, RAY_INSIDE, RAY_LEAVING,
+    RAY_POINT, RAY_ZERO_DIR, RAY_HUGE, RAY_INVALID, RAY_SHORT, RAY_KIND_COUNT
+};
+static const char *ray_names[RAY_KIND_COUNT] = {"primary", "segment", "reflect", "grazing", "edge", "corner",
+                                                "inside", "leaving", "tmin==tmax", "v=0", "huge", "invalid", "short"};
+
+static float depth_at(const test_map *m, int i, int j) { return (float)m->ref.d[(size_t)j * (size_t)m->ref.w + (size_t)i]; }
+
+static lrt_ray make_ray(const test_map *m, int kind)
+{
+    const int w = m->ref.w, h = m->ref.h;
+    lrt_ray r;
+    int i = rndi(w), j = rndi(h);
+    float d = depth_at(m, i, j);
+    memset(&r, 0, sizeof r);
+    r.tmin = 0.0f;
+    r.tmax = 1.0f;
+    switch (kind) {
+    case RAY_PRIMARY:
+        r.origin[0] = (float)i + 0.5f; r.origin[1] = (float)j + 0.5f; r.origin[2] = 0.0f;
+        r.dir[2] = 1.0f;
+        break;
+    case RAY_SEGMENT: { /* random segment across the screen ending a little behind the surface */
+        int i1 = rndi(w), j1 = rndi(h);
+        float z0 = d * rndf(), z1 = depth_at(m, i1, j1) + 0.05f * rndf();
+        r.origin[0] = (float)i + rndf(); r.origin[1] = (float)j + rndf(); r.origin[2] = z0;
+        r.dir[0] = (float)i1 + rndf() - r.origin[0]; r.dir[1] = (float)j1 + rndf() - r.origin[1]; r.dir[2] = z1 - z0;
+        break;
+    }
+    case RAY_REFLECT: { /* from the surface, towards the camera a little, across the screen */
+        float a = 6.2831853f * rndf(), len = 4.0f + rndf() * (float)(w > h ? w : h);
+        r.origin[0] = (float)i + 0.5f; r.origin[1] = (float)j + 0.5f; r.origin[2] = d;
+        r.dir[0] = cosf(a) * len; r.dir[1] = sinf(a) * len; r.dir[2] = -0.3f * d * rndf();
+        r.tmin = 0.75f / len; /* leave the own texel first: the examples' policy */
+        break;
+    }
+    case RAY_GRAZING: /* almost level with a texel top */
+        r.origin[0] = (float)i + rndf(); r.origin[1] = (float)j + rndf(); r.origin[2] = d - 1e-6f * rndf();
+        r.dir[0] = (rndf() - 0.5f) * (float)w; r.dir[1] = (rndf() - 0.5f) * (float)h;
+        r.dir[2] = (rnd() & 1) ? 0.0f : 1e-5f * (rndf() - 0.5f);
+        break;
+    case RAY_EDGE: /* along a cell edge */
+        if (rnd() & 1) {
+            r.origin[0] = (float)rndi(w + 1); r.origin[1] = rndf() * (float)h; r.dir[1] = (rndf() - 0.5f) * (float)h;
+        } else {
+            r.origin[1] = (float)rndi(h + 1); r.origin[0] = rndf() * (float)w; r.dir[0] = (rndf() - 0.5f) * (float)w;
+        }
+        r.origin[2] = rndf(); r.dir[2] = (rndf() - 0.3f) * 0.5f;
+        break;
+    case RAY_CORNER: { /* through texel corners: integer origin, diagonal-ish direction */
+        int sx = (rnd() & 1) ? 1 : -1, sy = (rnd() & 1) ? 1 : -1, k = 1 + rndi(3);
+        r.origin[0] = (float)rndi(w + 1); r.origin[1] = (float)rndi(h + 1); r.origin[2] = rndf() * 0.9f;
+        r.dir[0] = (float)(sx * k * 4); r.dir[1] = (float)(sy * 4 * (1 + rndi(2))); r.dir[2] = (rndf() - 0.2f) * 0.2f;
+        r.tmax = (float)(1 + rndi(8));
+        break;
+    }
+    case RAY_INSIDE:
+        r.origin[0] = (float)i + rndf(); r.origin[1] = (float)j + rndf(); r.origin[2] = d + (1.0f - d) * rndf();
+        r.dir[0] = rndf() - 0.5f; r.dir[1] = rndf() - 0.5f; r.dir[2] = rndf() - 0.5f;
+        r.tmin = rndf();
+        r.tmax = r.tmin + rndf();
+        break;
+    case RAY_LEAVING: /* over everything, out through an edge of the screen */
+        r.origin[0] = (float)i + rndf(); r.origin[1] = (float)j + rndf(); r.origin[2] = 0.0f;
+        r.dir[0] = (rndf() - 0.5f) * 4.0f * (float)w; r.dir[1] = (rndf() - 0.5f) * 4.0f * (float)h; r.dir[2] = 1e-4f * rndf();
+        r.tmax = 2.0f;
+        break;
+    case RAY_POINT: /* tmin == tmax */
+        r.origin[0] = (float)i + rndf(); r.origin[1] = (float)j + rndf(); r.origin[2] = rndf();
+        r.dir[0] = rndf() - 0.5f; r.dir[1] = rndf() - 0.5f; r.dir[2] = rndf() - 0.5f;
+        r.tmin = r.tmax = rndf();
+        break;
+    case RAY_ZERO_DIR:
+        r.origin[0] = (rnd() & 3) ? (float)i + rndf() : (float)(rndi(w + 1)); r.origin[1] = (float)j + rndf();
+        r.origin[2] = (rnd() & 1) ? d : rndf();
+        if ((rnd() & 7) == 0) r.origin[0] = -1.0f - rndf();
+        break;
+    case RAY_HUGE: {
+        float big = ldexpf(1.0f, 20 + rndi(100));
+        float a = 6.2831853f * rndf();
+        r.origin[0] = (float)i + 0.5f - cosf(a) * big; r.origin[1] = (float)j + 0.5f - sinf(a) * big;
+        r.origin[2] = (rnd() & 1) ? -big : 0.0f;
+        r.dir[0] = cosf(a) * big; r.dir[1] = sinf(a) * big; r.dir[2] = (r.origin[2] != 0.0f) ? big + rndf() : rndf();
+        r.tmin = 0.0f; r.tmax = (rnd() & 1) ? 2.0f : FLT_MAX;
+        if (rnd() & 1) { /* huge time instead of huge direction */
+            r.origin[0] = (float)i + rndf(); r.origin[1] = (float)j + rndf(); r.origin[2] = 0.0f;
+            r.dir[0] = (rndf() - 0.5f) * 1e-30f; r.dir[1] = (rndf() - 0.5f) * 1e-30f; r.dir[2] = 1e-31f;
+            r.tmax = 3e38f;
+        }
+        break;
+    }
+    case RAY_INVALID: {
+        int which = rndi(7);
+        r.origin[0] = (float)i; r.origin[1] = (float)j; r.dir[2] = 1.0f;
+        if (which == 0) r.origin[rndi(3)] = NAN;
+        else if (which == 1) r.dir[rndi(3)] = INFINITY;
+        else if (which == 2) r.tmin = -1e-3f;
+        else if (which == 3) { r.tmin = 2.0f; r.tmax = 1.0f; }
+        else if (which == 4) r.tmax = NAN;
+        else if (which == 5) r.tmax = INFINITY;
+        else r.dir[rndi(3)] = -NAN;
+        break;
+    }
+    default: /* short AO-like ray */
+        r.origin[0] = (float)i + 0.5f; r.origin[1] = (float)j + 0.5f; r.origin[2] = d - 1e-3f;
+        r.dir[0] = (rndf() - 0.5f) * 16.0f; r.dir[1] = (rndf() - 0.5f) * 16.0f; r.dir[2] = -rndf() * 0.05f;
+        break;
+    }
+    return r;
+}
+
+static ref_ray to_ref(const lrt_ray *r)
+{
+    ref_ray q;
+    memcpy(q.o, r->origin, sizeof q.o);
+    memcpy(q.v, r->dir, sizeof q.v);
+    q.tmin = r->tmin;
+    q.tmax = r->tmax;
+    return q;
+}
+
+static ref_answer to_answer(const lrt_hit *h)
+{
+    ref_answer a;
+    a.kind = (int)h->kind;
+    a.t = h->t;
+    a.x = (int)h->x;
+    a.y = (int)h->y;
+    return a;
+}
+
+#endif /* LINEAR_RT_TESTS_RAYS_H */
