@@ -367,12 +367,12 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
 
 // lowest level whose one node holds every texel the clipped segment can
 // touch (0: a single texel), as lrt__start_node
-uint lrt_start_node(LrtLayout L, LrtSetup s, out uint sx, out uint sy)
+uint lrt_start_node(LrtParams p, LrtSetup s, out uint sx, out uint sy)
 {
     uint i0[2], i1[2];
     for (int k = 0; k < 2; ++k) {
         float o = s.o[k], v = s.v[k];
-        float lim = float((k == 1 ? L.h[0] : L.w[0]) - 1u);
+        float lim = float((k == 1 ? p.height : p.width) - 1u);
         precise float a = o + s.t_lo * v, b = o + s.t_hi * v;
         precise float mg = 1e-3 + 1e-5 * (abs(o) + abs(a - o) + abs(b - o));
         precise float lo = min(a, b) - mg, hi = max(a, b) + mg;
@@ -384,13 +384,13 @@ uint lrt_start_node(LrtLayout L, LrtSetup s, out uint sx, out uint sy)
         i1[k] = uint(int(hi));
     }
     uint lv = 0u;
-    for (; lv < L.count; ++lv) {
+    for (; lv < p.level_count; ++lv) {
         if ((i0[0] >> lrt_span_w_log2(lv)) == (i1[0] >> lrt_span_w_log2(lv)) &&
             (i0[1] >> lrt_span_h_log2(lv)) == (i1[1] >> lrt_span_h_log2(lv)))
             break;
     }
-    sx = lv == L.count ? 0u : i0[0] >> lrt_span_w_log2(lv);
-    sy = lv == L.count ? 0u : i0[1] >> lrt_span_h_log2(lv);
+    sx = lv == p.level_count ? 0u : i0[0] >> lrt_span_w_log2(lv);
+    sy = lv == p.level_count ? 0u : i0[1] >> lrt_span_h_log2(lv);
     return lv;
 }
 
@@ -432,33 +432,39 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
         hit.kind = kind;
         return hit;
     }
+    uint nx, ny;
+    uint lv = lrt_start_node(p, s, nx, ny);
+    if (lv == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
+        float en = s.t_lo, ex = s.t_hi, t;
+        lrt_slab(float(nx), float(nx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
+        lrt_slab(float(ny), float(ny + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
+        if (lrt_test_texel(p, s, nx, ny, en, ex, t)) return lrt_report(s, t_scale, t, tmin, tmax, nx, ny);
+        hit.kind = kind;
+        return hit;
+    }
     LrtLayout L = lrt_layout(p.width, p.height);
     // just below 1/qmax, the same float as linear_rt.h's decode_scale
     float decode_scale = p.node_bits == 16u ? uintBitsToFloat(0x37800078u) : uintBitsToFloat(0x3b808079u);
     float qmaxf = p.node_bits == 16u ? 65535.0 : 255.0;
-    uint nx, ny;
-    uint lv = lrt_start_node(L, s, nx, ny);
     uint stack[LRT_STACK];
     uint sp = 0u;
     for (;;) {
         // the node's children: x/y planes (5+3 or 3+5 shared), then z per child
-        uint cl = lv == 0u ? 0u : lv - 1u;       // level of the children
-        bool tall = lv != 0u && lrt_bw_log2(cl) == 1u;
-        uint bw = lv == 0u ? 1u : (tall ? 2u : 4u), bh = lv == 0u ? 1u : (tall ? 4u : 2u);
+        uint cl = lv - 1u;                       // level of the children
+        bool tall = lrt_bw_log2(cl) == 1u;
+        uint bw = tall ? 2u : 4u, bh = tall ? 4u : 2u;
         float sw = float(1u << lrt_span_w_log2(cl)), sh = float(1u << lrt_span_h_log2(cl));
         float x0 = float((nx * bw) << lrt_span_w_log2(cl)), y0 = float((ny * bh) << lrt_span_h_log2(cl));
         float px[5], py[5];
         for (uint k = 0u; k <= bw; ++k) { precise float P = x0 + float(k) * sw; precise float t = (P - s.o.x) * s.iv.x; px[k] = t; }
         for (uint k = 0u; k <= bh; ++k) { precise float P = y0 + float(k) * sh; precise float t = (P - s.o.y) * s.iv.y; py[k] = t; }
-        uint slot0 = lv == 0u ? lrt_node_slot(L, 1u, nx >> 2, ny >> 1) : lrt_node_slot(L, lv, nx, ny);
+        uint slot0 = lrt_node_slot(L, lv, nx, ny);
         uint flip = (s.neg.x != 0u ? (tall ? 1u : 3u) : 0u) | (s.neg.y != 0u ? (tall ? 6u : 4u) : 0u);
-        uint nkids = lv == 0u ? 1u : 8u;
         float en8[8], ex8[8];
         uint mask = 0u;
-        for (uint k = 0u; k < nkids; ++k) {
-            uint slot = k ^ (lv == 0u ? 0u : flip);      // front to back
+        for (uint k = 0u; k < 8u; ++k) {
+            uint slot = k ^ flip;                         // front to back
             uint c = tall ? (slot & 1u) : (slot & 3u), r = tall ? (slot >> 1) : (slot >> 2);
-            if (lv == 0u) { c = 0u; r = 0u; }
             float en = s.t_lo, ex = s.t_hi;
             float xa = px[c], xb = px[c + 1u], ya = py[r], yb = py[r + 1u];
             if (s.zero.x) {
@@ -476,7 +482,7 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
             ex = min(nx_ ? xa : xb, ex);
             en = max(ny_ ? yb : ya, en);
             ex = min(ny_ ? ya : yb, ex);
-            if (lv != 0u) { // the child's compressed bound, in float as the CPU's node test
+            { // the child's compressed bound, in float as the CPU's node test
                 uint code = lrt_code(p.node_bits, slot0 + slot);
                 float tz;
                 if (s.zero.z) {
@@ -495,15 +501,14 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
             ex8[k] = ex;
             if (en <= ex) mask |= 1u << k;
         }
-        if (lv <= 1u) { // texels: the exact test, front to back
-            for (uint k = 0u; k < nkids; ++k) {
+        if (lv == 1u) { // texels: the exact test, front to back
+            for (uint k = 0u; k < 8u; ++k) {
                 if ((mask & (1u << k)) == 0u) continue;
-                uint slot = k ^ (lv == 0u ? 0u : flip);
-                uint tx = lv == 0u ? nx : nx * 4u + (slot & 3u), ty = lv == 0u ? ny : ny * 2u + (slot >> 2);
+                uint slot = k ^ flip;
+                uint tx = nx * 4u + (slot & 3u), ty = ny * 2u + (slot >> 2);
                 float t;
                 if (lrt_test_texel(p, s, tx, ty, en8[k], ex8[k], t)) return lrt_report(s, t_scale, t, tmin, tmax, tx, ty);
             }
-            if (lv == 0u) break;
         } else if (mask != 0u) {
             // descend into the first child; push the rest, last first
             uint bwl = tall ? 1u : 2u, cm = tall ? 1u : 3u;

@@ -36,7 +36,6 @@ uint lrt_node_max(uint slot0)
 void main()
 {
     LrtParams p = lrt_params();
-    LrtLayout L = lrt_layout(p.width, p.height);
     // the level-1 rectangle above the texel rectangle (real nodes only)
     uint x0 = pc.rect_x0 >> 2, x1 = pc.rect_x1 >> 2, y0 = pc.rect_y0 >> 1, y1 = pc.rect_y1 >> 1;
     uint cols = x1 - x0 + 1u, idx = lrt_invocation();
@@ -47,20 +46,28 @@ void main()
         uint tx = nx * 4u + (s & 3u), ty = ny * 2u + (s >> 2);
         codes[s] = (tx < p.width && ty < p.height) ? lrt_texel_code(p, tx, ty) : 0u;
     }
-    lrt_store_node(lrt_node_slot(L, 1u, nx, ny), codes);
+    // level 1 starts the node array; its parents' grid is w2 wide (2x4 blocks)
+    uint w2 = (((p.width + 3u) >> 2) + 1u) >> 1;
+    uint first = pc.level_count == 1u ? 0u : (((ny >> 2) * w2 + (nx >> 1)) * 8u + (((ny & 3u) << 1) | (nx & 1u))) * 8u;
+    lrt_store_node(first, codes);
+    if (pc.level_count == 1u) return;
 
-    for (uint lv = 1u; lv < L.count; ++lv) {
+    // climb: count in at the parent; its counter is indexed by the parent's
+    // block of children, (py * w[lv+1] + px) * 8 nodes into level lv
+    uint counter = (ny >> 2) * w2 + (nx >> 1);           // level 1: offset 0
+    LrtLayout L;
+    for (uint lv = 1u; lv < p.level_count; ++lv) {
         uint bwl = lrt_bw_log2(lv), bhl = lrt_bh_log2(lv);
         uint px = nx >> bwl, py = ny >> bhl;
         // the parent's children inside this level's rectangle: how many arrive
         uint cx0 = max(px << bwl, x0), cx1 = min(((px + 1u) << bwl) - 1u, x1);
         uint cy0 = max(py << bhl, y0), cy1 = min(((py + 1u) << bhl) - 1u, y1);
         uint expected = (cx1 - cx0 + 1u) * (cy1 - cy0 + 1u);
-        uint parent = lrt_node_slot(L, lv + 1u, px, py);
         memoryBarrierBuffer(); // our node before our arrival
-        if (atomicAdd(lrt_counters.c[parent >> 3], 1u) + 1u != expected) return;
-        atomicExchange(lrt_counters.c[parent >> 3], 0u); // ready for the next dispatch
+        if (atomicAdd(lrt_counters.c[counter], 1u) + 1u != expected) return;
+        atomicExchange(lrt_counters.c[counter], 0u); // ready for the next dispatch
         memoryBarrierBuffer(); // the siblings' nodes after their arrivals
+        if (lv == 1u) L = lrt_layout(p.width, p.height); // only climbers need the whole layout
         // children of (px, py) are contiguous: level lv's block of the parent
         uint first_child = (L.offset[lv] + (py * L.w[lv + 1u] + px) * 8u) * 8u;
         for (uint s = 0u; s < 8u; ++s) {
@@ -76,12 +83,14 @@ void main()
                 }
             }
         }
-        lrt_store_node(parent, codes);
+        lrt_store_node(lrt_node_slot(L, lv + 1u, px, py), codes);
         nx = px;
         ny = py;
         x0 >>= bwl;
         x1 >>= bwl;
         y0 >>= bhl;
         y1 >>= bhl;
+        if (lv + 1u < p.level_count) // the next parent's counter
+            counter = L.offset[lv + 1u] + ((ny >> lrt_bh_log2(lv + 1u)) * L.w[lv + 2u] + (nx >> lrt_bw_log2(lv + 1u))) * 8u;
     }
 }
