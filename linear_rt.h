@@ -680,33 +680,30 @@ static lrt_result lrt__check_depth(const lrt_depth *depth, size_t *out_stride)
     return LRT_SUCCESS;
 }
 
-/* v / vmax in double, as a product with the rounded reciprocal: the GPU
-   kernels compute the very same double (their division is not exact). */
-static double lrt__unorm_depth(uint32_t v, uint32_t vmax)
-{
-    return (double)v * (vmax == 255u ? 1.0 / 255.0 : 1.0 / 65535.0);
-}
-
-/* Depth of texel (x, y) as the model states it (0 near, 1 far, clamped),
-   exactly: integer depths in double. */
-LRT__INLINE double lrt__load_depth_exact(const lrt_depth *depth, size_t stride, uint32_t x, uint32_t y)
+/* Texel (x, y)'s depth as the model states it, as a raw value: the unorm
+   integer v (reversed Z flipped in integers), or the bits of the float after
+   the flip (in float) and the clamp. The exact texel test takes its depth
+   plane from this without rounding v/max (see lrt__depth_plane). */
+LRT__INLINE uint32_t lrt__depth_raw(const lrt_depth *depth, size_t stride, uint32_t x, uint32_t y)
 {
     const unsigned char *row = (const unsigned char *)depth->data + stride * y;
     int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
     if (depth->format == LRT_FORMAT_UNORM8) {
         uint32_t v = row[x];
-        return lrt__unorm_depth(reversed ? 255u - v : v, 255u);
+        return reversed ? 255u - v : v;
     } else if (depth->format == LRT_FORMAT_UNORM16) {
         uint16_t v;
         memcpy(&v, row + 2 * (size_t)x, 2);
-        return lrt__unorm_depth(reversed ? 65535u - v : v, 65535u);
+        return reversed ? 65535u - v : (uint32_t)v;
     } else {
         float f;
+        uint32_t bits;
         memcpy(&f, row + 4 * (size_t)x, 4);
         if (reversed) f = 1.0f - f; /* in float: the model's conversion */
         if (!(f <= 1.0f)) f = 1.0f; /* NaN too */
-        if (f < 0.0f) f = 0.0f;
-        return (double)f;
+        if (!(f > 0.0f)) f = 0.0f;  /* below 0, and -0 */
+        memcpy(&bits, &f, 4);
+        return bits;
     }
 }
 
@@ -1105,6 +1102,45 @@ LRT__INLINE void lrt__slab(float lo, float hi, float o, float iv, uint32_t neg, 
     *exit = LRT__MIN_KEEP(neg ? a : b, *exit);
 }
 
+static float lrt__maxf(float a, float b) { return a > b ? a : b; }
+
+/* Error-free sum (Knuth) and product of floats: a + b = *s + *e and
+   a * b = *p + *e exactly. The product's error is exact in double (a float
+   product has 48 bits), so no fma is needed and contraction changes nothing;
+   the kernels get the same floats from Dekker's split. */
+static void lrt__two_sum(float a, float b, float *s, float *e)
+{
+    float ss = a + b, bb = ss - a;
+    *s = ss;
+    *e = (a - (ss - bb)) + (b - bb);
+}
+
+static void lrt__two_prod(float a, float b, float *p, float *e)
+{
+    *p = a * b;
+    *e = (float)((double)a * (double)b - (double)*p);
+}
+
+/* The t where the ray's z meets the depth plane of a raw depth. A unorm v
+   is no float: v/max - o.z is taken as (v - o.z max)/max with o.z max split
+   exactly, else its rounding, divided by a grazing ray's tiny v.z, would move
+   the hit along the texel top by far more than float rounding of t. v = max
+   is depth 1, the far plane, computed as the clip computes it. The kernels
+   compute the same floats (lrt_depth_plane). */
+LRT__INLINE float lrt__depth_plane(const lrt__ray_setup *s, lrt_format format, uint32_t raw)
+{
+    const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
+    float p, e, n;
+    if (format == LRT_FORMAT_FLOAT32 || raw == vmax) {
+        float d = 1.0f;
+        if (format == LRT_FORMAT_FLOAT32) memcpy(&d, &raw, 4);
+        return (d - s->o[2]) * s->iv[2];
+    }
+    lrt__two_prod(s->o[2], (float)vmax, &p, &e);
+    n = ((float)raw - p) - e;
+    return (n * (vmax == 255u ? 1.0f / 255.0f : 1.0f / 65535.0f)) * s->iv[2];
+}
+
 /* Clips the ray to the screen rectangle and to z <= 1 (nothing lies beyond
    the far plane). Returns the kind a miss would have: off the screen when
    the rectangle's part of [tmin, tmax] is empty or ends before tmax. */
@@ -1112,7 +1148,7 @@ LRT__INLINE uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t heigh
 {
     /* the far plane's t the way the texel test computes depth planes, so a
        far-plane texel (depth 1) is met exactly at the clip */
-    float xy_enter = -INFINITY, xy_exit = INFINITY, t1 = (float)((1.0 - (double)s->o[2]) * (double)s->iv[2]);
+    float xy_enter = -INFINITY, xy_exit = INFINITY, t1 = lrt__depth_plane(s, LRT_FORMAT_FLOAT32, 0x3f800000u);
     uint32_t kind;
     lrt__slab(0.0f, (float)width, s->o[0], s->iv[0], s->neg_x, &xy_enter, &xy_exit);
     lrt__slab(0.0f, (float)height, s->o[1], s->iv[1], s->neg_y, &xy_enter, &xy_exit);
@@ -1124,40 +1160,50 @@ LRT__INLINE uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t heigh
     return kind;
 }
 
-/* Error-free sum and product of doubles (Knuth, Dekker via fma). */
-static void lrt__two_sum(double a, double b, double *sum, double *err)
-{
-    double s = a + b, bb = s - a;
-    *sum = s;
-    *err = (a - (s - bb)) + (b - bb);
-}
 
-/* o_b + (plane - o_a) * v_b / v_a for a far-away origin, from an exact
-   expansion of the numerator o_b v_a + (plane - o_a) v_b, so that a crossing
-   that is a float (a texel corner, say) comes out exactly. */
-static float lrt__crossing(float o_b, float o_a, float v_b, float v_a, double plane)
+
+/* A coordinate of the restart point of a far-away ray, from an exact float
+   expansion rounded once: o_b + (plane - o_a) v_b / v_a where the ray enters
+   through plane on axis a, or o_b + t v_b (by_t). Everything is first scaled
+   by powers of two so that no product overflows. The kernels compute the
+   very same floats (shaders/linear_rt.glsl, lrt_crossing). */
+static float lrt__crossing(float o_b, float o_a, float v_b, float v_a, float plane, int by_t, float t)
 {
-    double terms[5], s, e, x, acc[5];
-    int n = 0, i, j;
-    lrt__two_sum(plane, -(double)o_a, &s, &e);         /* plane - o_a = s + e */
-    terms[0] = (double)o_b * (double)v_a;              /* float x float: exact */
-    terms[1] = s * (double)v_b;
-    terms[2] = fma(s, (double)v_b, -terms[1]);
-    terms[3] = e * (double)v_b;
-    terms[4] = fma(e, (double)v_b, -terms[3]);
-    for (i = 0; i < 5; ++i) { /* grow an exact expansion, smallest first */
+    float terms[6], acc[6], ob, oa, pl, vb, va, x, sum = 0.0f;
+    int eo, ev, n, m = 0, i, j;
+    if (by_t && v_b == 0.0f) return o_b;
+    (void)frexpf(lrt__maxf(lrt__maxf(fabsf(o_a), fabsf(o_b)), lrt__maxf(fabsf(plane), 1.0f)), &eo);
+    (void)frexpf(by_t ? fabsf(v_b) : lrt__maxf(fabsf(v_a), fabsf(v_b)), &ev);
+    ob = ldexpf(o_b, -eo);
+    oa = ldexpf(o_a, -eo);
+    pl = ldexpf(plane, -eo);
+    vb = ldexpf(v_b, -ev);
+    va = ldexpf(v_a, -ev);
+    if (by_t) { /* t v_b 2^-eo = (t 2^(ev - eo)) vb */
+        lrt__two_prod(ldexpf(t, ev - eo), vb, &terms[0], &terms[1]);
+        terms[2] = ob;
+        n = 3;
+    } else {
+        float s, e;
+        lrt__two_sum(pl, -oa, &s, &e); /* plane - o_a = s + e */
+        lrt__two_prod(ob, va, &terms[0], &terms[1]);
+        lrt__two_prod(s, vb, &terms[2], &terms[3]);
+        lrt__two_prod(e, vb, &terms[4], &terms[5]);
+        n = 6;
+    }
+    for (i = 0; i < n; ++i) { /* grow an exact expansion */
         x = terms[i];
-        for (j = 0; j < n; ++j) {
-            double hi, lo;
+        for (j = 0; j < m; ++j) {
+            float hi, lo;
             lrt__two_sum(acc[j], x, &hi, &lo);
             acc[j] = lo;
             x = hi;
         }
-        acc[n++] = x;
+        acc[m++] = x;
     }
-    x = 0.0;
-    for (i = 0; i < n; ++i) x += acc[i]; /* the largest part last: faithful */
-    return (float)(x / (double)v_a);
+    for (i = 0; i < m; ++i) sum += acc[i]; /* the largest part last: faithful */
+    if (!by_t) sum = sum / va;
+    return ldexpf(sum, eo);
 }
 
 /* Validates and clips one ray; returns 0 with *kind set when nothing is left
@@ -1237,35 +1283,34 @@ LRT__INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t heig
     *kind = lrt__clip(s, width, height, tmin, tmax);
     if (s->t_lo > s->t_hi) return 0;
     /* A far-away origin loses the screen's planes in (plane - o): restart the
-       ray where it enters the screen box, found in double. The new origin
-       is off the exact entry point by far less than one float ulp of the old
-       one, which MODEL.md allows. */
+       ray where it enters the screen box. The entering axis lands on its
+       plane exactly, the others at the exact crossing rounded once, so the
+       new origin is off the exact entry point by a rounding of a coordinate
+       inside the screen, far below one float ulp of the old one (MODEL.md). */
     if (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
         fabsf(s->o[2]) > 4.0f) {
-        const double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {(double)width, (double)height, 1.0};
-        double te = (double)tmin, plane = 0.0;
+        const float hi[3] = {(float)width, (float)height, 1.0f};
+        float te = tmin, plane = 0.0f, n[3];
         int axis = -1;
         for (k = 0; k < 3; ++k) {
-            double ivd = 1.0 / (double)v[k], p = lrt__sign_bit(v[k]) ? hi[k] : lo[k];
-            double en = (p - (double)s->o[k]) * ivd;
-            if (en > te) { /* NaN (v = 0 on a plane) drops out */
+            float p, en;
+            if (v[k] == 0.0f) continue; /* an axis the ray does not move along */
+            p = lrt__sign_bit(v[k]) ? hi[k] : 0.0f;
+            en = (p - s->o[k]) * (1.0f / v[k]);
+            if (en > te) {
                 te = en;
                 axis = k;
                 plane = p;
             }
         }
-        /* the entering axis lands on its plane exactly; the others at the
-           exact crossing o_b + (plane - o_a) v_b / v_a, rounded once */
-        {
-            const float o_a = axis < 0 ? 0.0f : s->o[axis];
-            for (k = 0; k < 3; ++k) {
-                if (axis < 0) s->o[k] = (float)((double)s->o[k] + te * (double)v[k]);
-                else if (k == axis) s->o[k] = (float)plane;
-                else s->o[k] = lrt__crossing(s->o[k], o_a, v[k], v[axis], plane);
-            }
+        for (k = 0; k < 3; ++k) {
+            if (axis < 0) n[k] = lrt__crossing(s->o[k], 0.0f, v[k], 1.0f, 0.0f, 1, te);
+            else if (k == axis) n[k] = plane;
+            else n[k] = lrt__crossing(s->o[k], s->o[axis], v[k], v[axis], plane, 0, 0.0f);
         }
-        s->t_base = (float)te;
-        (void)lrt__clip(s, width, height, 0.0f, (float)((double)tmax - te));
+        for (k = 0; k < 3; ++k) s->o[k] = n[k];
+        s->t_base = te;
+        (void)lrt__clip(s, width, height, 0.0f, tmax - te);
     }
     return s->t_lo <= s->t_hi;
 }
@@ -1464,23 +1509,20 @@ LRT__INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup
     return mask;
 }
 
-/* The exact test of one candidate texel against its true depth. The depth
-   plane's distance d - o.z is taken in double: a unorm depth such as v/65535
-   is no float, and its rounding, divided by a grazing ray's tiny v.z, would
-   move the hit along the texel top by far more than float rounding of t. */
+/* The exact test of one candidate texel against its true depth. */
 LRT__INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float enter,
                            float exit, uint32_t code, float *t)
 {
-    double d;
+    uint32_t raw;
     float tz;
     if (tx >= w->L->width || ty >= w->L->height) return 0; /* padding */
     if (w->exact_codes) { /* the code is the input's own integer, scaled by qmax/vmax (1 or 257) */
         const uint32_t vmax = w->depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
-        d = lrt__unorm_depth((w->qmax - code) / (w->qmax / vmax), vmax);
+        raw = (w->qmax - code) / (w->qmax / vmax);
     } else {
-        d = lrt__load_depth_exact(w->depth, w->stride, tx, ty);
+        raw = lrt__depth_raw(w->depth, w->stride, tx, ty);
     }
-    tz = (float)((d - (double)s->o[2]) * (double)s->iv[2]);
+    tz = lrt__depth_plane(s, w->depth->format, raw);
     if (s->neg_z) exit = LRT__MIN_KEEP(tz, exit);
     else enter = LRT__MAX_KEEP(tz, enter);
     *t = enter;

@@ -243,7 +243,9 @@ float lrt_depth_plane(LrtSetup s, uint format, uint raw)
     float qm = format == 1u ? 255.0 : 65535.0, p, e;
     lrt_two_prod(s.o.z, qm, p, e);
     precise float n = (float(raw) - p) - e;
-    precise float t = (n * (format == 1u ? 1.0 / 255.0 : 1.0 / 65535.0)) * s.iv.z;
+    // 1.0f/255.0f and 1.0f/65535.0f as linear_rt.h rounds them
+    float inv_qm = format == 1u ? uintBitsToFloat(0x3b808081u) : uintBitsToFloat(0x37800080u);
+    precise float t = (n * inv_qm) * s.iv.z;
     return t;
 }
 
@@ -272,14 +274,15 @@ bool lrt_finite(float f) { return (floatBitsToUint(f) & 0x7f800000u) != 0x7f8000
 // product overflows), rounded once: as linear_rt.h's lrt__crossing
 float lrt_crossing(float o_b, float o_a, float v_b, float v_a, float plane, bool by_t, float t)
 {
+    if (by_t && v_b == 0.0) return o_b;
     int eo, ev;
     frexp(max(max(abs(o_a), abs(o_b)), max(abs(plane), 1.0)), eo);
-    frexp(max(max(abs(v_a), abs(v_b)), by_t ? abs(t) : 0.0), ev);
+    frexp(by_t ? abs(v_b) : max(abs(v_a), abs(v_b)), ev);
     float ob = ldexp(o_b, -eo), oa = ldexp(o_a, -eo), pl = ldexp(plane, -eo);
     float vb = ldexp(v_b, -ev), va = ldexp(v_a, -ev);
     float terms[6], acc[6];
     int n = 0;
-    if (by_t) { // o_b + t v_b, all scaled by 2^-eo: t v_b 2^-eo = (t 2^-ev) ... keep t whole
+    if (by_t) { // t v_b 2^-eo = (t 2^(ev - eo)) vb
         float tt = ldexp(t, ev - eo);
         lrt_two_prod(tt, vb, terms[0], terms[1]);
         terms[2] = ob;
