@@ -18,7 +18,7 @@ B := build
 LIB := linear_rt.h
 REF := tests/reference.h
 SCENE := examples/scene.h
-RAYS := tests/rays.h
+RAYS := tests/rays.h tests/check.h
 SPV_H := shaders_spv.h
 VK_UTIL := tests/vk_util.h
 

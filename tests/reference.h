@@ -1,5 +1,5 @@
 /* tests/reference.h - the exact reference tracer of the tests, and the
-   comparator that judges a tracer's answers by /work/shared/MODEL.md
+   comparator that judges a tracer's answers by MODEL.md (the project's shared/MODEL.md)
    ("Right, and how right").
 
    Header-only, every function `static`; C99 and C++11. It shares no code with

@@ -12,6 +12,7 @@
 #include "reference.h"
 #include "../examples/scene.h"
 #include "rays.h"
+#include "check.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,18 +20,6 @@
 #include <math.h>
 #include <float.h>
 
-static int g_pass, g_fail;
-
-#define CHECK(cond, ...)                                                  \
-    do {                                                                  \
-        if (cond) ++g_pass;                                               \
-        else {                                                            \
-            ++g_fail;                                                     \
-            printf("FAIL %s:%d: ", __FILE__, __LINE__);                 \
-            printf(__VA_ARGS__);                                          \
-            printf("\n");                                                 \
-        }                                                                 \
-    } while (0)
 
 /* Traces rays with the BVH and judges every answer by the reference. */
 static void trace_and_judge(const char *what, const lrt_bvh *bvh, const test_map *m, const lrt_ray *rays,
@@ -510,6 +499,5 @@ int main(void)
     test_bad_arguments();
     test_ranges();
     test_differential();
-    printf("%d passed, %d failed\n", g_pass, g_fail);
-    return g_fail ? 1 : 0;
+    return check_summary();
 }

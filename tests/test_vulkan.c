@@ -30,6 +30,7 @@
 #include "reference.h"
 #include "../examples/scene.h"
 #include "rays.h"
+#include "check.h"
 #include "vk_util.h"
 
 #include <stdio.h>
@@ -37,18 +38,6 @@
 #include <string.h>
 #include <math.h>
 
-static int g_pass, g_fail;
-
-#define CHECK(cond, ...)                                                  \
-    do {                                                                  \
-        if (cond) ++g_pass;                                               \
-        else {                                                            \
-            ++g_fail;                                                     \
-            printf("FAIL %s:%d: ", __FILE__, __LINE__);                 \
-            printf(__VA_ARGS__);                                          \
-            printf("\n");                                                 \
-        }                                                                 \
-    } while (0)
 
 static lrt_vk_device g_dev;  /* stays put: the validation callback counts into it */
 static vkt g_t;
@@ -997,6 +986,5 @@ int main(void)
     lrt_vk_context_destroy(g_ctx);
     lrt_vk_device_destroy(&g_dev);
     CHECK(g_dev.message_count == 0, "%u validation messages (printed above)", g_dev.message_count);
-    printf("%d passed, %d failed\n", g_pass, g_fail);
-    return g_fail ? 1 : 0;
+    return check_summary();
 }
