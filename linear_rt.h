@@ -1077,6 +1077,10 @@ typedef struct lrt__ray_setup {
     uint32_t neg_x, neg_y, neg_z; /* sign bits of the direction (-0 counts) */
     float t_lo, t_hi;             /* the ray clipped to the screen and to z <= 1 */
     float t_base;                 /* t of the origin used here on the caller's ray */
+    uint32_t flip[2];             /* front-to-back slot order of wide (4x2) and tall (2x4) nodes */
+#if LRT__SSE
+    __m128 vo[3], viv[3], vt_lo, vt_hi, vzmask; /* the same, broadcast once for every node test */
+#endif
 } lrt__ray_setup;
 
 /* max/min that drop a NaN candidate (acc is never NaN) */
@@ -1425,9 +1429,25 @@ LRT__INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup
     const lrt__walk_level *v = &w->lv[lv];
     const uint32_t tall = v->tall, bw = tall ? 2u : 4u, bh = tall ? 4u : 2u;
     const float x0 = (float)((nx * bw) << v->child_span_w_log2), y0 = (float)((ny * bh) << v->child_span_h_log2);
-    const float neg_inf = -INFINITY, pos_inf = INFINITY;
-    float dz[8];
     uint32_t k, mask = 0;
+#if LRT__SSE
+    __m128 dz[2];
+    { /* the 8 codes to (qmax - code) in float, exact, without a trip through memory */
+        const __m128i zero = _mm_setzero_si128();
+        __m128i c16;
+        __m128 qmax;
+        if (w->wide_codes) {
+            c16 = _mm_loadu_si128((const __m128i *)(const void *)((const uint16_t *)w->nodes + slot0));
+            qmax = _mm_set1_ps(65535.0f);
+        } else {
+            c16 = _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)((const uint8_t *)w->nodes + slot0)), zero);
+            qmax = _mm_set1_ps(255.0f);
+        }
+        dz[0] = _mm_sub_ps(qmax, _mm_cvtepi32_ps(_mm_unpacklo_epi16(c16, zero)));
+        dz[1] = _mm_sub_ps(qmax, _mm_cvtepi32_ps(_mm_unpackhi_epi16(c16, zero)));
+    }
+#else
+    float dz[8];
     if (w->wide_codes) {
         const uint16_t *codes = (const uint16_t *)w->nodes + slot0;
         for (k = 0; k < 8; ++k) dz[k] = (float)(65535 - (int)codes[k]);
@@ -1435,45 +1455,48 @@ LRT__INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup
         const uint8_t *codes = (const uint8_t *)w->nodes + slot0;
         for (k = 0; k < 8; ++k) dz[k] = (float)(255 - (int)codes[k]);
     }
+#endif
 #if LRT__SSE
     {
-        const __m128 ox = _mm_set1_ps(s->o[0]), oy = _mm_set1_ps(s->o[1]), oz = _mm_set1_ps(s->o[2]);
-        const __m128 ivx = _mm_set1_ps(s->iv[0]), ivy = _mm_set1_ps(s->iv[1]), ivz = _mm_set1_ps(s->iv[2]);
-        const __m128 scale = _mm_set1_ps(w->decode_scale), tlo = _mm_set1_ps(s->t_lo), thi = _mm_set1_ps(s->t_hi);
-        /* the z plane enters (v.z >= 0) or leaves (v.z < 0); the unused side is
-           masked with an infinity placed so that a NaN tz still drops out */
-        const __m128 zmask = _mm_set1_ps(s->neg_z ? neg_inf : pos_inf);
+        /* the planes: 0..3 in one vector ("a"), 1..4 in another ("b"), along
+           x for a wide node (4 columns) and along y for a tall one (4 rows);
+           the other axis' 3 planes from the same 4 lanes */
+        const __m128 k0123 = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
+        const __m128 sw = _mm_set1_ps(v->child_span_w), sh = _mm_set1_ps(v->child_span_h);
+        const __m128 X = _mm_add_ps(_mm_set1_ps(x0), _mm_mul_ps(k0123, sw));
+        const __m128 Y = _mm_add_ps(_mm_set1_ps(y0), _mm_mul_ps(k0123, sh));
+        const __m128 xa = _mm_mul_ps(_mm_sub_ps(X, s->vo[0]), s->viv[0]);
+        const __m128 ya = _mm_mul_ps(_mm_sub_ps(Y, s->vo[1]), s->viv[1]);
         __m128 xe[2], xx[2], ye[2], yx[2];
-        if (!tall) { /* 4 columns of planes in one vector, 2 rows */
-            __m128 X = _mm_add_ps(_mm_set1_ps(x0), _mm_mul_ps(_mm_set_ps(3, 2, 1, 0), _mm_set1_ps(v->child_span_w)));
-            __m128 a = _mm_mul_ps(_mm_sub_ps(X, ox), ivx);
-            __m128 b = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X, _mm_set1_ps(v->child_span_w)), ox), ivx);
-            float p0 = (y0 - s->o[1]) * s->iv[1], p1 = ((y0 + v->child_span_h) - s->o[1]) * s->iv[1];
-            float p2 = ((y0 + 2.0f * v->child_span_h) - s->o[1]) * s->iv[1];
-            xe[0] = xe[1] = s->neg_x ? b : a;
-            xx[0] = xx[1] = s->neg_x ? a : b;
-            ye[0] = _mm_set1_ps(s->neg_y ? p1 : p0);
-            yx[0] = _mm_set1_ps(s->neg_y ? p0 : p1);
-            ye[1] = _mm_set1_ps(s->neg_y ? p2 : p1);
-            yx[1] = _mm_set1_ps(s->neg_y ? p1 : p2);
-        } else {     /* 2 columns, 4 rows of planes in one vector */
-            __m128 Y = _mm_add_ps(_mm_set1_ps(y0), _mm_mul_ps(_mm_set_ps(3, 2, 1, 0), _mm_set1_ps(v->child_span_h)));
-            __m128 a = _mm_mul_ps(_mm_sub_ps(Y, oy), ivy);
-            __m128 b = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y, _mm_set1_ps(v->child_span_h)), oy), ivy);
-            __m128 re = s->neg_y ? b : a, rx = s->neg_y ? a : b;
-            float p0 = (x0 - s->o[0]) * s->iv[0], p1 = ((x0 + v->child_span_w) - s->o[0]) * s->iv[0];
-            float p2 = ((x0 + 2.0f * v->child_span_w) - s->o[0]) * s->iv[0];
-            float e0 = s->neg_x ? p1 : p0, e1 = s->neg_x ? p2 : p1, x0e = s->neg_x ? p0 : p1, x1e = s->neg_x ? p1 : p2;
-            xe[0] = xe[1] = _mm_set_ps(e1, e0, e1, e0);
-            xx[0] = xx[1] = _mm_set_ps(x1e, x0e, x1e, x0e);
+        if (!tall) { /* 4 columns, 2 rows */
+            const __m128 xb = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X, sw), s->vo[0]), s->viv[0]);
+            /* rows: y planes 0, 1, 2 are lanes 0, 1, 2 of ya */
+            const __m128 y0p = _mm_shuffle_ps(ya, ya, _MM_SHUFFLE(0, 0, 0, 0));
+            const __m128 y1p = _mm_shuffle_ps(ya, ya, _MM_SHUFFLE(1, 1, 1, 1));
+            const __m128 y2p = _mm_shuffle_ps(ya, ya, _MM_SHUFFLE(2, 2, 2, 2));
+            xe[0] = xe[1] = s->neg_x ? xb : xa;
+            xx[0] = xx[1] = s->neg_x ? xa : xb;
+            ye[0] = s->neg_y ? y1p : y0p;
+            yx[0] = s->neg_y ? y0p : y1p;
+            ye[1] = s->neg_y ? y2p : y1p;
+            yx[1] = s->neg_y ? y1p : y2p;
+        } else {     /* 2 columns, 4 rows */
+            const __m128 yb = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y, sh), s->vo[1]), s->viv[1]);
+            const __m128 re = s->neg_y ? yb : ya, rx = s->neg_y ? ya : yb;
+            /* columns: x planes 0, 1, 2 are lanes 0, 1, 2 of xa; lanes alternate columns 0, 1 */
+            const __m128 c01 = _mm_shuffle_ps(xa, xa, _MM_SHUFFLE(1, 0, 1, 0)); /* planes 0 1 0 1 */
+            const __m128 c12 = _mm_shuffle_ps(xa, xa, _MM_SHUFFLE(2, 1, 2, 1)); /* planes 1 2 1 2 */
+            xe[0] = xe[1] = s->neg_x ? c12 : c01;
+            xx[0] = xx[1] = s->neg_x ? c01 : c12;
             ye[0] = _mm_unpacklo_ps(re, re);
             ye[1] = _mm_unpackhi_ps(re, re);
             yx[0] = _mm_unpacklo_ps(rx, rx);
             yx[1] = _mm_unpackhi_ps(rx, rx);
         }
         for (k = 0; k < 2; ++k) {
-            __m128 tz = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(_mm_loadu_ps(dz + 4 * k), scale), oz), ivz);
-            __m128 en = _mm_max_ps(xe[k], tlo), ex = _mm_min_ps(xx[k], thi); /* maxps/minps keep the 2nd operand on NaN */
+            const __m128 tz = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(dz[k], _mm_set1_ps(w->decode_scale)), s->vo[2]), s->viv[2]);
+            const __m128 zmask = s->vzmask;
+            __m128 en = _mm_max_ps(xe[k], s->vt_lo), ex = _mm_min_ps(xx[k], s->vt_hi); /* maxps/minps keep the 2nd operand on NaN */
             en = _mm_max_ps(ye[k], en);
             en = _mm_max_ps(_mm_min_ps(zmask, tz), en);
             ex = _mm_min_ps(yx[k], ex);
@@ -1502,8 +1525,6 @@ LRT__INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup
             exit[k] = ex;
             mask |= (uint32_t)(en <= ex) << k;
         }
-        (void)neg_inf;
-        (void)pos_inf;
     }
 #endif
     return mask;
@@ -1588,6 +1609,9 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
     float t_scale;
     uint32_t kind, lv, nx, ny, sp = 0;
     uint32_t stack[LRT__STACK]; /* level << 28 | x << 14 | y */
+#if LRT__SSE
+    int axis;
+#endif
     hit->t = 0.0f;
     hit->x = hit->y = 0;
     if (!lrt__setup_ray(ray, L->width, L->height, &s, &t_scale, &kind)) {
@@ -1613,10 +1637,24 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
         hit->kind = kind;
         return;
     }
+    /* past here the tree is walked: per-ray constants of every node test */
+    s.flip[0] = (s.neg_x ? 3u : 0u) | (s.neg_y ? 4u : 0u);
+    s.flip[1] = (s.neg_x ? 1u : 0u) | (s.neg_y ? 6u : 0u);
+#if LRT__SSE
+    for (axis = 0; axis < 3; ++axis) {
+        s.vo[axis] = _mm_set1_ps(s.o[axis]);
+        s.viv[axis] = _mm_set1_ps(s.iv[axis]);
+    }
+    s.vt_lo = _mm_set1_ps(s.t_lo);
+    s.vt_hi = _mm_set1_ps(s.t_hi);
+    /* the z plane enters (v.z >= 0) or leaves (v.z < 0); the unused side is
+       masked with an infinity placed so that a NaN tz still drops out */
+    s.vzmask = _mm_set1_ps(s.neg_z ? -INFINITY : INFINITY);
+#endif
     for (;;) {
         const uint32_t tall = w->lv[lv].tall;
         /* front-to-back order: flip the bits of each axis that runs backwards */
-        const uint32_t flip = (s.neg_x ? (tall ? 1u : 3u) : 0u) | (s.neg_y ? (tall ? 6u : 4u) : 0u);
+        const uint32_t flip = s.flip[tall];
         const size_t slot0 = lrt__node_slot(w, lv, nx, ny);
         float enter[8], exit[8];
         uint32_t mask = lrt__order_mask(lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit), flip);
