@@ -43,9 +43,9 @@ SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl)
 SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 
 # what `make test` runs, one count each in its summary line
-TESTS := test-reference test-core test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-demo
+TESTS := test-reference test-core test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-demo test-bench
 
-.PHONY: all demo test deps clean spv spv-check $(TESTS) test-sanitize
+.PHONY: all demo test deps clean spv spv-check bench bench-deps $(TESTS) test-sanitize
 
 all: $(B)/demo $(B)/test_reference $(B)/test_core
 
@@ -187,6 +187,60 @@ endif
 test-demo: $(B)/demo
 	$(B)/demo --size 128
 	@echo "test-demo: ok, every checked ray agrees with the reference"
+
+# ---- benchmark ------------------------------------------------------------------
+# make bench: every method on the same rays (bench/main.c), results in bench/.
+# Optional parts are built when their package is there (tools/install-deps.sh
+# --bench installs them): Embree 3, stb_image (PNG input), and for the Vulkan
+# peers glslang (their kernels are compiled here into build/, never committed).
+HAVE_EMBREE := $(shell test -f /usr/include/embree3/rtcore.h && echo 1)
+HAVE_STB := $(shell test -f /usr/include/stb/stb_image.h && echo 1)
+HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
+BENCH_SRC := bench/main.c bench/m_linear_rt.c bench/m_embree.c bench/m_march_cpu.c bench/m_vk_peers.c
+BENCH_HDR := bench/bench.h bench/march_common.h $(LIB) $(REF) $(SCENE)
+BENCH_FLAGS := $(STD) $(WARN) $(CFLAGS) -O3
+BENCH_LIBS := $(LDLIBS)
+BENCH_DEPS :=
+ifeq ($(HAVE_EMBREE),1)
+BENCH_FLAGS += -DBENCH_HAVE_EMBREE
+BENCH_LIBS += -lembree3
+endif
+ifeq ($(HAVE_STB),1)
+BENCH_FLAGS += -DBENCH_HAVE_STB
+endif
+ifeq ($(HAVE_VULKAN),1)
+BENCH_FLAGS += -DBENCH_HAVE_VULKAN -DVK_NO_PROTOTYPES
+BENCH_LIBS += $(VK_LIBS)
+BENCH_DEPS += $(SPV_H) $(VK_UTIL)
+ifeq ($(HAVE_GLSLANG),1)
+BENCH_FLAGS += -DBENCH_HAVE_VK_PEERS_SPV -I$(B)
+BENCH_DEPS += $(B)/bench_vk_spv.h
+endif
+endif
+VKP_KERNELS := rq_aabb rq_tri aabb_gen march64 dda hiz hiz_mip
+
+$(B)/bench_vk_spv.h: $(wildcard bench/shaders/*.comp bench/shaders/*.glsl) $(B)/spv2h | $(B)
+	@mkdir -p $(B)/bench_spv
+	@set -e; for k in $(VKP_KERNELS); do \
+	  $(GLSLANG) -V $(SPV_ENV) -o $(B)/bench_spv/vkp_$$k.spv bench/shaders/vkp_$$k.comp >$(B)/bench_spv/vkp_$$k.log 2>&1 || { cat $(B)/bench_spv/vkp_$$k.log; exit 1; }; \
+	  if command -v $(SPIRV_VAL) >/dev/null 2>&1; then $(SPIRV_VAL) $(SPV_ENV) $(B)/bench_spv/vkp_$$k.spv; fi; \
+	done
+	$(B)/spv2h $@ $(foreach k,$(VKP_KERNELS),vkp_spv_$(k)=$(B)/bench_spv/vkp_$(k).spv)
+
+$(B)/bench: $(BENCH_SRC) $(BENCH_HDR) $(BENCH_DEPS) | deps $(B)
+	$(CC) $(BENCH_FLAGS) $(BENCH_SRC) -o $@ $(BENCH_LIBS)
+
+bench-deps:
+	@tools/install-deps.sh --bench
+
+bench: bench-deps
+	@$(MAKE) --no-print-directory $(B)/bench
+	$(B)/bench
+
+# the benchmark at a small size, so that it keeps building and its exact
+# methods keep agreeing with the reference (it exits non-zero otherwise)
+test-bench: $(B)/bench
+	$(B)/bench --quick --out $(B)
 
 # Every test, each run even when an earlier one failed; then one summary line.
 test: deps

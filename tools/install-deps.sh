@@ -6,6 +6,8 @@
 # have ray query: Mesa 25 from bookworm-backports on Debian 12. Does nothing,
 # and needs no network, when they all are; otherwise installs the missing
 # ones with apt-get (Debian/Ubuntu), as root or through sudo.
+# `install-deps.sh --bench` adds what `make bench` needs on top: gnuplot
+# (gnuplot-nox), Embree 3 (libembree-dev) and stb_image (libstb-dev).
 #
 # bookworm-backports: when no apt source has that suite yet, the script adds
 # it in /etc/apt/sources.list.d/linear-rt-backports.sources, reusing the URI
@@ -44,6 +46,11 @@ if command -v dpkg-query >/dev/null 2>&1; then
     installed vulkan-validationlayers || main_pkgs+=("vulkan-validationlayers")
     command -v glslangValidator >/dev/null 2>&1 || main_pkgs+=("glslang-tools")
     command -v spirv-val >/dev/null 2>&1 || main_pkgs+=("spirv-tools")
+    if [ "${1:-}" = --bench ]; then
+        command -v gnuplot >/dev/null 2>&1 || main_pkgs+=("gnuplot-nox")
+        installed libembree-dev || main_pkgs+=("libembree-dev")
+        installed libstb-dev || main_pkgs+=("libstb-dev")
+    fi
     mesa=$(dpkg-query -W -f='${Version}' mesa-vulkan-drivers 2>/dev/null || true)
     if ! installed mesa-vulkan-drivers || ! dpkg --compare-versions "$mesa" ge "$MESA_MIN"; then
         if [ "$codename" = bookworm ]; then

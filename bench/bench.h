@@ -1,0 +1,75 @@
+/* bench/bench.h - the one interface every method of the benchmark answers to.
+
+   A method (linear_rt on the CPU or on Vulkan, Embree, a ray-query BVH, a
+   screen-space march) is a bench_method: it is given a scene (a depth map),
+   builds whatever it needs, refits it per frame, and traces batches of
+   screen-space rays (MODEL.md's rays: lrt_ray, answers as lrt_hit), timing
+   each step itself (CPU: CLOCK_MONOTONIC; Vulkan: GPU timestamps). The
+   harness (bench/main.c) owns the scenes, the ray sets, the reference, the
+   scoring, the tables and the chart; methods own nothing but themselves.
+
+   A method that cannot run here (a package, a device or an extension is
+   missing) says why in `why` and is listed as skipped, never silently left
+   out. */
+#ifndef LINEAR_RT_BENCH_H
+#define LINEAR_RT_BENCH_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "../linear_rt.h"
+
+typedef struct bench_scene {
+    const char *name;
+    uint32_t width, height;
+    const float *depth;      /* width*height floats, row 0 first: 0 near, 1 far (already standard Z) */
+    lrt_depth lrt;           /* the same map as linear_rt takes it (LRT_FORMAT_FLOAT32, packed) */
+} bench_scene;
+
+enum { BENCH_ANY_HIT = 1u }; /* bench_rays.flags: occlusion; any hit will do */
+
+typedef struct bench_rays {
+    const char *name;        /* "primary", "reflection", "ao", "shadow", "segments", ... */
+    const lrt_ray *rays;
+    size_t count;
+    uint32_t flags;          /* BENCH_ANY_HIT */
+} bench_rays;
+
+typedef struct bench_method bench_method;
+struct bench_method {
+    const char *name;        /* short, unique, for tables and the chart: "linear_rt cpu 16", "embree", "march64 cpu" */
+    const char *device;      /* "cpu" or "vulkan" */
+    int exact;               /* 1: must agree with the reference on every ray (MODEL.md); 0: scored */
+    void *impl;              /* the method's own state */
+
+    /* Makes the method ready (pipelines, devices), once; width and height
+       are the benchmark's size, a hint: build() may later get scenes of any
+       size (the stability suite has 3x2 and 2048x2048 maps) and must redo
+       whatever depends on the size. 0 on success, else a one-line reason in
+       why (the method is then skipped). */
+    int (*open)(bench_method *m, uint32_t width, uint32_t height, int threads, char *why, size_t why_size);
+    /* Builds its structure for a scene: ms of the build (0 if it has none). */
+    int (*build)(bench_method *m, const bench_scene *scene, double *ms, char *why, size_t why_size);
+    /* The per-frame step after the depth changed (refit, rebuild, mip chain):
+       ms; the scene has the same size as at build. */
+    int (*update)(bench_method *m, const bench_scene *scene, double *ms, char *why, size_t why_size);
+    /* Traces rays into hits (one lrt_hit per ray: kind, texel, t), on
+       `threads` CPU threads where that applies: ms of the trace alone. */
+    int (*trace)(bench_method *m, const bench_scene *scene, const bench_rays *rays, lrt_hit *hits, double *ms,
+                 char *why, size_t why_size);
+    /* Bytes of its acceleration structure for the built scene (0: none). */
+    size_t (*memory_bytes)(bench_method *m);
+    void (*close)(bench_method *m);
+};
+
+/* The methods, each in its own file; a file whose package is missing still
+   defines its adder, and its open() says why it cannot run. Each adds zero
+   or more methods to the list and returns how many. */
+int bench_add_linear_rt_cpu(bench_method *out, int max);
+int bench_add_linear_rt_vulkan(bench_method *out, int max);
+int bench_add_embree(bench_method *out, int max);
+int bench_add_march_cpu(bench_method *out, int max);
+int bench_add_vulkan_peers(bench_method *out, int max); /* ray-query AABB / triangle BVHs, marches on Vulkan */
+
+double bench_now_ms(void);   /* CLOCK_MONOTONIC in ms */
+
+#endif

@@ -1,0 +1,360 @@
+/* bench/m_linear_rt.c - linear_rt itself as benchmark methods: the CPU path
+   with 8- and 16-bit nodes (threads by lrt_trace_range), and the Vulkan
+   kernels with 8- and 16-bit nodes (GPU timestamps). This file holds the
+   library's one implementation for the whole benchmark. */
+#ifdef BENCH_HAVE_VULKAN
+#define LINEAR_RT_VULKAN
+#define LINEAR_RT_VULKAN_DEVICE_HELPER
+#endif
+#define LINEAR_RT_IMPLEMENTATION
+#include "bench.h"
+
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef BENCH_HAVE_VULKAN
+#include "../tests/vk_util.h"
+#endif
+
+/* ---- CPU --------------------------------------------------------------------- */
+typedef struct lrt_cpu {
+    uint32_t node_bits;
+    int threads;
+    lrt_bvh bvh;
+    int built;
+} lrt_cpu;
+
+typedef struct lrt_cpu_slice {
+    const lrt_bvh *bvh;
+    const lrt_depth *depth;
+    const lrt_ray *rays;
+    lrt_hit *hits;
+    size_t first, end;
+    uint32_t flags;
+} lrt_cpu_slice;
+
+static void *lrt_cpu_worker(void *p)
+{
+    lrt_cpu_slice *s = (lrt_cpu_slice *)p;
+    (void)lrt_trace_range(s->bvh, s->depth, s->rays, s->hits, s->first, s->end, s->flags);
+    return NULL;
+}
+
+static int cpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *why, size_t n)
+{
+    lrt_cpu *c = (lrt_cpu *)m->impl;
+    (void)w;
+    (void)h;
+    (void)why;
+    (void)n;
+    c->threads = threads < 1 ? 1 : threads > 64 ? 64 : threads;
+    return 0;
+}
+
+static int cpu_build(bench_method *m, const bench_scene *sc, double *ms, char *why, size_t n)
+{
+    lrt_cpu *c = (lrt_cpu *)m->impl;
+    lrt_build_options o;
+    lrt_result r;
+    double t0;
+    if (c->built) lrt_bvh_destroy(&c->bvh);
+    c->built = 0;
+    memset(&o, 0, sizeof o);
+    o.node_bits = c->node_bits;
+    t0 = bench_now_ms();
+    r = lrt_bvh_build(&c->bvh, &sc->lrt, &o, NULL);
+    *ms = bench_now_ms() - t0;
+    if (r != LRT_SUCCESS) {
+        snprintf(why, n, "lrt_bvh_build: %s", lrt_result_string(r));
+        return 1;
+    }
+    c->built = 1;
+    return 0;
+}
+
+static int cpu_update(bench_method *m, const bench_scene *sc, double *ms, char *why, size_t n)
+{
+    lrt_cpu *c = (lrt_cpu *)m->impl;
+    double t0 = bench_now_ms();
+    lrt_result r = lrt_bvh_update(&c->bvh, &sc->lrt, NULL);
+    *ms = bench_now_ms() - t0;
+    if (r != LRT_SUCCESS) {
+        snprintf(why, n, "lrt_bvh_update: %s", lrt_result_string(r));
+        return 1;
+    }
+    return 0;
+}
+
+static int cpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *rs, lrt_hit *hits, double *ms,
+                     char *why, size_t n)
+{
+    lrt_cpu *c = (lrt_cpu *)m->impl;
+    lrt_cpu_slice sl[64];
+    pthread_t th[64];
+    uint32_t flags = (rs->flags & BENCH_ANY_HIT) ? LRT_TRACE_ANY_HIT : 0u;
+    int k, t = c->threads;
+    double t0 = bench_now_ms();
+    for (k = 0; k < t; ++k) {
+        sl[k].bvh = &c->bvh;
+        sl[k].depth = &sc->lrt;
+        sl[k].rays = rs->rays;
+        sl[k].hits = hits;
+        sl[k].first = rs->count * (size_t)k / (size_t)t;
+        sl[k].end = rs->count * (size_t)(k + 1) / (size_t)t;
+        sl[k].flags = flags;
+        if (k > 0 && pthread_create(&th[k], NULL, lrt_cpu_worker, &sl[k]) != 0) {
+            snprintf(why, n, "pthread_create failed");
+            return 1;
+        }
+    }
+    lrt_cpu_worker(&sl[0]);
+    for (k = 1; k < t; ++k) pthread_join(th[k], NULL);
+    *ms = bench_now_ms() - t0;
+    return 0;
+}
+
+static size_t cpu_memory(bench_method *m) { return ((lrt_cpu *)m->impl)->bvh.layout.bytes; }
+
+static void cpu_close(bench_method *m)
+{
+    lrt_cpu *c = (lrt_cpu *)m->impl;
+    if (c->built) lrt_bvh_destroy(&c->bvh);
+    free(c);
+    m->impl = NULL;
+}
+
+int bench_add_linear_rt_cpu(bench_method *out, int max)
+{
+    static const char *names[2] = {"linear_rt cpu 16", "linear_rt cpu 8"};
+    int i;
+    for (i = 0; i < 2 && i < max; ++i) {
+        lrt_cpu *c = (lrt_cpu *)calloc(1, sizeof *c);
+        memset(&out[i], 0, sizeof out[i]);
+        if (!c) return i;
+        c->node_bits = i == 0 ? 16u : 8u;
+        out[i].name = names[i];
+        out[i].device = "cpu";
+        out[i].exact = 1;
+        out[i].impl = c;
+        out[i].open = cpu_open;
+        out[i].build = cpu_build;
+        out[i].update = cpu_update;
+        out[i].trace = cpu_trace;
+        out[i].memory_bytes = cpu_memory;
+        out[i].close = cpu_close;
+    }
+    return i;
+}
+
+/* ---- Vulkan ------------------------------------------------------------------ */
+#ifdef BENCH_HAVE_VULKAN
+typedef struct lrt_gpu {
+    uint32_t node_bits;
+    lrt_vk_device dev;
+    vkt t;
+    lrt_vk_context *ctx;
+    lrt_vk_bvh bvh;
+    vkt_buffer depth, rays, hits;
+    VkQueryPool pool;
+    double period_ns;
+    int has_dev, has_t, has_bvh, has_depth;
+    size_t ray_cap;
+} lrt_gpu;
+
+static void gpu_release(lrt_gpu *g)
+{
+    if (g->has_t) {
+        g->t.vkDeviceWaitIdle(g->t.device);
+        if (g->rays.buffer) vkt_buffer_destroy(&g->t, &g->rays);
+        if (g->hits.buffer) vkt_buffer_destroy(&g->t, &g->hits);
+        if (g->has_depth) vkt_buffer_destroy(&g->t, &g->depth);
+        if (g->pool) g->t.vkDestroyQueryPool(g->t.device, g->pool, NULL);
+    }
+    if (g->has_bvh) lrt_vk_bvh_destroy(g->ctx, &g->bvh);
+    if (g->ctx) lrt_vk_context_destroy(g->ctx);
+    if (g->has_t) vkt_free(&g->t);
+    if (g->has_dev) lrt_vk_device_destroy(&g->dev);
+    memset(g, 0, sizeof *g);
+}
+
+static int gpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *why, size_t n)
+{
+    lrt_gpu *g = (lrt_gpu *)m->impl;
+    uint32_t bits = g->node_bits;
+    VkQueryPoolCreateInfo qi;
+    lrt_result r;
+    (void)w;
+    (void)h;
+    (void)threads;
+    if (g->has_dev) return 0;
+    gpu_release(g);
+    g->node_bits = bits;
+    if ((r = lrt_vk_device_create(&g->dev, 0)) != LRT_SUCCESS) {
+        snprintf(why, n, "no Vulkan device: %s", lrt_result_string(r));
+        return 1;
+    }
+    g->has_dev = 1;
+    if ((r = lrt_vk_context_create(&g->dev.desc, &g->ctx)) != LRT_SUCCESS || vkt_init(&g->t, &g->dev)) {
+        snprintf(why, n, "linear_rt Vulkan context: %s", lrt_result_string(r));
+        return 1;
+    }
+    g->has_t = 1;
+    if (!g->dev.timestamp_valid_bits) {
+        snprintf(why, n, "the queue has no timestamps");
+        return 1;
+    }
+    memset(&qi, 0, sizeof qi);
+    qi.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
+    qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    qi.queryCount = 2;
+    if (g->t.vkCreateQueryPool(g->t.device, &qi, NULL, &g->pool) != VK_SUCCESS) {
+        snprintf(why, n, "vkCreateQueryPool failed");
+        return 1;
+    }
+    g->period_ns = (double)g->dev.properties.limits.timestampPeriod;
+    return 0;
+}
+
+static lrt_vk_depth gpu_depth(const lrt_gpu *g, const bench_scene *sc)
+{
+    lrt_vk_depth d;
+    memset(&d, 0, sizeof d);
+    d.format = LRT_FORMAT_FLOAT32;
+    d.width = sc->width;
+    d.height = sc->height;
+    d.buffer = g->depth.buffer;
+    return d;
+}
+
+/* One submission around one recorded command, timed by two timestamps. */
+typedef enum { GPU_BUILD, GPU_UPDATE, GPU_TRACE } gpu_op;
+
+static int gpu_run(lrt_gpu *g, const bench_scene *sc, gpu_op op, uint32_t count, uint32_t flags, double *ms,
+                   char *why, size_t n)
+{
+    lrt_vk_depth d = gpu_depth(g, sc);
+    uint64_t ts[2];
+    lrt_result r;
+    if (vkt_begin(&g->t)) {
+        snprintf(why, n, "vkBeginCommandBuffer failed");
+        return 1;
+    }
+    vkt_compute_barrier(&g->t); /* the last submission's commands -> this one */
+    g->t.vkCmdResetQueryPool(g->t.cmd, g->pool, 0, 2);
+    g->t.vkCmdWriteTimestamp(g->t.cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, g->pool, 0);
+    if (op == GPU_BUILD) r = lrt_vk_cmd_build(g->ctx, g->t.cmd, &g->bvh, &d);
+    else if (op == GPU_UPDATE) r = lrt_vk_cmd_update(g->ctx, g->t.cmd, &g->bvh, &d, NULL);
+    else r = lrt_vk_cmd_trace(g->ctx, g->t.cmd, &g->bvh, &d, g->rays.buffer, 0, g->hits.buffer, 0, count, flags);
+    g->t.vkCmdWriteTimestamp(g->t.cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->pool, 1);
+    vkt_host_barrier(&g->t);
+    if (r != LRT_SUCCESS || vkt_submit(&g->t) ||
+        g->t.vkGetQueryPoolResults(g->t.device, g->pool, 0, 2, sizeof ts, ts, sizeof ts[0],
+                                   VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) != VK_SUCCESS) {
+        snprintf(why, n, "recording or submitting failed: %s", lrt_result_string(r));
+        return 1;
+    }
+    *ms = (double)(ts[1] - ts[0]) * g->period_ns * 1e-6;
+    return 0;
+}
+
+static int gpu_build(bench_method *m, const bench_scene *sc, double *ms, char *why, size_t n)
+{
+    lrt_gpu *g = (lrt_gpu *)m->impl;
+    lrt_vk_bvh_desc bd;
+    lrt_result r;
+    size_t bytes = (size_t)sc->width * sc->height * 4u + 4u;
+    if (g->has_bvh) lrt_vk_bvh_destroy(g->ctx, &g->bvh);
+    if (g->has_depth) vkt_buffer_destroy(&g->t, &g->depth);
+    g->has_bvh = g->has_depth = 0;
+    memset(&bd, 0, sizeof bd);
+    bd.width = sc->width;
+    bd.height = sc->height;
+    bd.format = LRT_FORMAT_FLOAT32;
+    bd.options.node_bits = g->node_bits;
+    if ((r = lrt_vk_bvh_create(g->ctx, &bd, &g->bvh)) != LRT_SUCCESS) {
+        snprintf(why, n, "lrt_vk_bvh_create: %s", lrt_result_string(r));
+        return 1;
+    }
+    g->has_bvh = 1;
+    if (vkt_buffer_create(&g->t, bytes, &g->depth)) {
+        snprintf(why, n, "depth buffer");
+        return 1;
+    }
+    g->has_depth = 1;
+    memcpy(g->depth.map, sc->depth, (size_t)sc->width * sc->height * 4u);
+    return gpu_run(g, sc, GPU_BUILD, 0, 0, ms, why, n);
+}
+
+static int gpu_update(bench_method *m, const bench_scene *sc, double *ms, char *why, size_t n)
+{
+    lrt_gpu *g = (lrt_gpu *)m->impl;
+    memcpy(g->depth.map, sc->depth, (size_t)sc->width * sc->height * 4u);
+    return gpu_run(g, sc, GPU_UPDATE, 0, 0, ms, why, n);
+}
+
+static int gpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *rs, lrt_hit *hits, double *ms,
+                     char *why, size_t n)
+{
+    lrt_gpu *g = (lrt_gpu *)m->impl;
+    if (rs->count > 0xffffffffu) {
+        snprintf(why, n, "too many rays for one dispatch");
+        return 1;
+    }
+    if (rs->count > g->ray_cap) {
+        if (g->rays.buffer) vkt_buffer_destroy(&g->t, &g->rays);
+        if (g->hits.buffer) vkt_buffer_destroy(&g->t, &g->hits);
+        memset(&g->rays, 0, sizeof g->rays);
+        memset(&g->hits, 0, sizeof g->hits);
+        g->ray_cap = 0;
+        if (vkt_buffer_create(&g->t, rs->count * sizeof(lrt_ray), &g->rays) ||
+            vkt_buffer_create(&g->t, rs->count * sizeof(lrt_hit), &g->hits)) {
+            snprintf(why, n, "ray buffers");
+            return 1;
+        }
+        g->ray_cap = rs->count;
+    }
+    memcpy(g->rays.map, rs->rays, rs->count * sizeof(lrt_ray));
+    if (gpu_run(g, sc, GPU_TRACE, (uint32_t)rs->count, (rs->flags & BENCH_ANY_HIT) ? LRT_TRACE_ANY_HIT : 0u, ms, why, n))
+        return 1;
+    memcpy(hits, g->hits.map, rs->count * sizeof(lrt_hit));
+    return 0;
+}
+
+static size_t gpu_memory(bench_method *m) { return ((lrt_gpu *)m->impl)->bvh.layout.bytes; }
+
+static void gpu_close(bench_method *m)
+{
+    gpu_release((lrt_gpu *)m->impl);
+    free(m->impl);
+    m->impl = NULL;
+}
+#endif
+
+int bench_add_linear_rt_vulkan(bench_method *out, int max)
+{
+    static const char *names[2] = {"linear_rt vulkan 16", "linear_rt vulkan 8"};
+    int i;
+    for (i = 0; i < 2 && i < max; ++i) {
+        memset(&out[i], 0, sizeof out[i]);
+        out[i].name = names[i];
+        out[i].device = "vulkan";
+        out[i].exact = 1;
+#ifdef BENCH_HAVE_VULKAN
+        {
+            lrt_gpu *g = (lrt_gpu *)calloc(1, sizeof *g);
+            if (!g) return i;
+            g->node_bits = i == 0 ? 16u : 8u;
+            out[i].impl = g;
+            out[i].open = gpu_open;
+            out[i].build = gpu_build;
+            out[i].update = gpu_update;
+            out[i].trace = gpu_trace;
+            out[i].memory_bytes = gpu_memory;
+            out[i].close = gpu_close;
+        }
+#endif
+    }
+    return i;
+}

@@ -1,0 +1,876 @@
+/* bench/main.c - `make bench`: linear_rt against the methods an engine
+   programmer would use instead, speed against accuracy, on the same rays.
+
+   For every scene (several embedded ones, or --depth FILE) and every ray set
+   (the design's headline one ray per texel from the camera, reflection
+   rays, short ambient-occlusion rays, shadow rays, random segments) each
+   method builds, updates and traces, timed by itself (medians after a
+   warm-up; GPU timestamps on Vulkan), and is scored against the exact
+   reference of the tests (tests/reference.h) on a fixed sample of the rays:
+   exact methods by MODEL.md's rule, approximate ones by the share of rays
+   with the right hit/miss and texel, false hits, false misses and the mean
+   distance from the right hit. Then the stability suite: small named cases
+   built to break someone. Writes bench/results.csv, bench/results.md and
+   bench/speed_vs_accuracy.png (gnuplot), and prints the tables. */
+#define _POSIX_C_SOURCE 200809L
+#include "bench.h"
+#include "../tests/reference.h"
+#include "../examples/scene.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+double bench_now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+/* ---- options ----------------------------------------------------------------- */
+typedef struct options {
+    uint32_t size;       /* embedded scenes: size x size */
+    int threads;         /* CPU threads for every CPU method */
+    int runs;            /* timed runs after one warm-up: the median is kept */
+    size_t sample;       /* rays per set scored against the reference */
+    int quick;           /* small and fast: for make test */
+    const char *depth_file, *format;
+    uint32_t file_w, file_h;
+    int reversed;
+    const char *out_dir;
+    const char *only;    /* run only methods whose name contains this */
+} options;
+
+/* ---- deterministic random numbers -------------------------------------------- */
+static uint64_t g_rng = 0x2545f4914f6cdd1dull;
+static float rnd01(void)
+{
+    g_rng ^= g_rng << 13;
+    g_rng ^= g_rng >> 7;
+    g_rng ^= g_rng << 17;
+    return (float)(g_rng >> 40) / 16777216.0f;
+}
+
+/* ---- scenes ---------------------------------------------------------------- */
+typedef struct scene {
+    bench_scene s;
+    float *depth;
+    ref_map ref;
+} scene;
+
+static void scene_finish(scene *sc, const char *name, uint32_t w, uint32_t h)
+{
+    sc->s.name = name;
+    sc->s.width = w;
+    sc->s.height = h;
+    sc->s.depth = sc->depth;
+    memset(&sc->s.lrt, 0, sizeof sc->s.lrt);
+    sc->s.lrt.data = sc->depth;
+    sc->s.lrt.width = w;
+    sc->s.lrt.height = h;
+    sc->s.lrt.format = LRT_FORMAT_FLOAT32;
+    if (ref_map_from_raw(&sc->ref, sc->depth, (int)w, (int)h, 0, REF_FORMAT_FLOAT32, 0) != 0) {
+        fprintf(stderr, "bench: out of memory\n");
+        exit(2);
+    }
+}
+
+/* kind: 0 yard (the demo's scene), 1 poles (thin features), 2 terraces
+   (8-bit steps facing the camera), 3 noise (the worst case for culling) */
+static void scene_make(scene *sc, int kind, uint32_t w, uint32_t h)
+{
+    static const char *names[4] = {"yard", "poles", "terraces", "noise"};
+    uint32_t i, j;
+    sc->depth = (float *)malloc(sizeof(float) * w * h);
+    if (!sc->depth) exit(2);
+    if (kind == 0) {
+        scene_camera cam = scene_default_camera();
+        scene_render((int)w, (int)h, &cam, sc->depth, NULL);
+    } else {
+        for (j = 0; j < h; ++j)
+            for (i = 0; i < w; ++i) {
+                float floor_d = 0.55f + 0.44f * (float)j / (float)h, d = floor_d;
+                if (kind == 1) { /* 1-texel poles on a floor, and a few 2-texel ones */
+                    if (i % 37u == 11u && j < h * 3u / 4u) d = 0.35f + 0.1f * (float)(i % 5u) / 5.0f;
+                    if (i % 53u >= 20u && i % 53u <= 21u && j < h / 2u) d = 0.25f;
+                } else if (kind == 2) { /* camera-facing terraces of 8-bit depth */
+                    d = floorf((0.4f + 0.5f * (float)((i / 24u + j / 16u) % 9u) / 9.0f) * 255.0f) / 255.0f;
+                } else {
+                    d = 0.3f + 0.7f * rnd01();
+                }
+                sc->depth[j * w + i] = d;
+            }
+    }
+    scene_finish(sc, names[kind], w, h);
+}
+
+static void scene_free(scene *sc)
+{
+    free(sc->depth);
+    ref_map_free(&sc->ref);
+}
+
+/* ---- the user's own depth: PNG 8/16-bit, PFM, raw float ----------------------- */
+#ifdef BENCH_HAVE_STB
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#include <stb/stb_image.h>
+#endif
+
+static int fail_file(const char *file, const char *what)
+{
+    fprintf(stderr, "bench: %s: %s\n", file, what);
+    return 1;
+}
+
+static int scene_load(scene *sc, const options *o)
+{
+    const char *f = o->depth_file, *fmt = o->format;
+    size_t n, k;
+    uint32_t w = 0, h = 0;
+    memset(sc, 0, sizeof *sc);
+    if (!fmt) {
+        size_t len = strlen(f);
+        fmt = len > 4 && strcmp(f + len - 4, ".png") == 0 ? "png" : len > 4 && strcmp(f + len - 4, ".pfm") == 0 ? "pfm" : "raw";
+    }
+    if (strcmp(fmt, "png") == 0) {
+#ifdef BENCH_HAVE_STB
+        int x, y, c;
+        unsigned short *p16;
+        if (!stbi_info(f, &x, &y, &c)) return fail_file(f, stbi_failure_reason());
+        p16 = stbi_load_16(f, &x, &y, &c, 1); /* 8-bit files widen exactly: v * 257 */
+        if (!p16) return fail_file(f, stbi_failure_reason());
+        w = (uint32_t)x;
+        h = (uint32_t)y;
+        sc->depth = (float *)malloc(sizeof(float) * w * h);
+        for (k = 0; k < (size_t)w * h; ++k) sc->depth[k] = (float)p16[k] / 65535.0f;
+        stbi_image_free(p16);
+#else
+        return fail_file(f, "PNG support needs stb_image (Debian: libstb-dev)");
+#endif
+    } else {
+        FILE *fp = fopen(f, "rb");
+        float scale = 1.0f;
+        if (!fp) return fail_file(f, "cannot open");
+        if (strcmp(fmt, "pfm") == 0) {
+            char tag[3] = {0};
+            if (fscanf(fp, "%2s %u %u %f", tag, &w, &h, &scale) != 4 || strcmp(tag, "Pf") != 0 || fgetc(fp) == EOF) {
+                fclose(fp);
+                return fail_file(f, "not a single-channel PFM (Pf)");
+            }
+        } else {
+            w = o->file_w;
+            h = o->file_h;
+            if (!w || !h) {
+                fclose(fp);
+                return fail_file(f, "raw float needs --width and --height");
+            }
+        }
+        if (w == 0 || h == 0 || w > LINEAR_RT_MAX_DIM || h > LINEAR_RT_MAX_DIM) {
+            fclose(fp);
+            return fail_file(f, "size out of range");
+        }
+        n = (size_t)w * h;
+        sc->depth = (float *)malloc(sizeof(float) * n);
+        if (!sc->depth || fread(sc->depth, sizeof(float), n, fp) != n) {
+            fclose(fp);
+            return fail_file(f, "truncated: fewer texels than its size");
+        }
+        fclose(fp);
+        if (strcmp(fmt, "pfm") == 0) { /* bottom row first; scale < 0: little-endian (assumed host) */
+            for (k = 0; k < h / 2; ++k) {
+                size_t a = k * w, b = (h - 1 - k) * (size_t)w, i;
+                for (i = 0; i < w; ++i) {
+                    float t = sc->depth[a + i];
+                    sc->depth[a + i] = sc->depth[b + i];
+                    sc->depth[b + i] = t;
+                }
+            }
+        }
+    }
+    for (k = 0; k < (size_t)w * h; ++k) { /* standard Z, the model's clamp */
+        float d = o->reversed ? 1.0f - sc->depth[k] : sc->depth[k];
+        sc->depth[k] = !(d <= 1.0f) ? 1.0f : d < 0.0f ? 0.0f : d;
+    }
+    scene_finish(sc, "file", w, h);
+    return 0;
+}
+
+/* ---- ray sets ----------------------------------------------------------------- */
+typedef struct ray_set {
+    bench_rays r;
+    lrt_ray *rays;
+    size_t sample_stride; /* rays i * stride are scored */
+    ref_result *ref;      /* reference answers of the sample */
+    size_t sample_count;
+} ray_set;
+
+enum { SET_PRIMARY, SET_REFLECT, SET_AO, SET_SHADOW, SET_SEGMENTS, SET_COUNT };
+static const char *set_names[SET_COUNT] = {"primary", "reflection", "ao", "shadow", "segments"};
+
+static float depth_at(const scene *sc, int i, int j)
+{
+    int w = (int)sc->s.width, h = (int)sc->s.height;
+    i = i < 0 ? 0 : i >= w ? w - 1 : i;
+    j = j < 0 ? 0 : j >= h ? h - 1 : j;
+    return sc->depth[(size_t)j * (size_t)w + (size_t)i];
+}
+
+/* A screen-space normal from the depth gradient, z scaled by the map's size
+   so that the solid's slopes read as they look. */
+static void normal_at(const scene *sc, int i, int j, float n[3])
+{
+    float k = (float)(sc->s.width > sc->s.height ? sc->s.width : sc->s.height);
+    float dx = (depth_at(sc, i + 1, j) - depth_at(sc, i - 1, j)) * 0.5f * k;
+    float dy = (depth_at(sc, i, j + 1) - depth_at(sc, i, j - 1)) * 0.5f * k;
+    float l = sqrtf(dx * dx + dy * dy + 1.0f);
+    n[0] = dx / l;
+    n[1] = dy / l;
+    n[2] = -1.0f / l; /* towards the camera */
+}
+
+static void make_set(ray_set *rs, const scene *sc, int kind, size_t sample)
+{
+    const uint32_t w = sc->s.width, h = sc->s.height;
+    const size_t n = (size_t)w * h;
+    const float k = (float)(w > h ? w : h);
+    size_t q;
+    memset(rs, 0, sizeof *rs);
+    rs->rays = (lrt_ray *)malloc(sizeof(lrt_ray) * n);
+    if (!rs->rays) exit(2);
+    for (q = 0; q < n; ++q) {
+        int i = (int)(q % w), j = (int)(q / w);
+        float d = sc->depth[q], nrm[3];
+        lrt_ray *r = &rs->rays[q];
+        memset(r, 0, sizeof *r);
+        r->origin[0] = (float)i + 0.5f;
+        r->origin[1] = (float)j + 0.5f;
+        r->tmax = 1.0f;
+        if (kind == SET_PRIMARY) {
+            r->dir[2] = 1.0f;
+            continue;
+        }
+        r->origin[2] = d;
+        normal_at(sc, i, j, nrm);
+        if (kind == SET_REFLECT || kind == SET_SEGMENTS) {
+            if (kind == SET_REFLECT) { /* the view ray (0,0,1), z scaled by k, reflected about the normal */
+                float dot = nrm[2], rx = -2.0f * dot * nrm[0], ry = -2.0f * dot * nrm[1], rz = 1.0f - 2.0f * dot * nrm[2];
+                float len = sqrtf(rx * rx + ry * ry) + 1e-6f, s = k / len; /* across the screen */
+                r->dir[0] = rx * s;
+                r->dir[1] = ry * s;
+                r->dir[2] = rz / k * s;
+            } else { /* a random segment ending a little behind the surface there */
+                int i1 = (int)(rnd01() * (float)w), j1 = (int)(rnd01() * (float)h);
+                r->origin[0] = (float)i + rnd01();
+                r->origin[1] = (float)j + rnd01();
+                r->origin[2] = d * rnd01();
+                r->dir[0] = (float)i1 + rnd01() - r->origin[0];
+                r->dir[1] = (float)j1 + rnd01() - r->origin[1];
+                r->dir[2] = depth_at(sc, i1, j1) + 0.05f * rnd01() - r->origin[2];
+            }
+        } else if (kind == SET_AO) { /* short rays around the normal, 8 texels */
+            float a = 6.2831853f * rnd01(), c = rnd01(), s = sqrtf(1.0f - c * c);
+            float v[3] = {cosf(a) * s + nrm[0], sinf(a) * s + nrm[1], -c + nrm[2]};
+            float len = sqrtf(v[0] * v[0] + v[1] * v[1]) + 1e-6f;
+            r->dir[0] = v[0] / len * 8.0f;
+            r->dir[1] = v[1] / len * 8.0f;
+            r->dir[2] = v[2] / len * 8.0f / k;
+            if (r->dir[2] > 0.0f) r->dir[2] = -r->dir[2];
+        } else { /* shadow: towards a light up, left and nearer the camera */
+            r->dir[0] = -0.6f * k;
+            r->dir[1] = -0.8f * k;
+            r->dir[2] = -0.25f;
+        }
+        /* leave the own texel before testing (the examples' policy, MODEL.md) */
+        {
+            float m = fabsf(r->dir[0]) > fabsf(r->dir[1]) ? fabsf(r->dir[0]) : fabsf(r->dir[1]);
+            r->tmin = m > 0.0f ? 0.75f / m : 0.0f;
+            if (r->tmin > r->tmax) r->tmin = r->tmax;
+        }
+    }
+    rs->r.name = set_names[kind];
+    rs->r.rays = rs->rays;
+    rs->r.count = n;
+    rs->r.flags = (kind == SET_AO || kind == SET_SHADOW) ? BENCH_ANY_HIT : 0u;
+    rs->sample_stride = n / sample > 1 ? n / sample : 1;
+    rs->sample_count = (n + rs->sample_stride - 1) / rs->sample_stride;
+    rs->ref = (ref_result *)malloc(sizeof(ref_result) * rs->sample_count);
+    for (q = 0; q < rs->sample_count; ++q) {
+        ref_ray rr;
+        const lrt_ray *r = &rs->rays[q * rs->sample_stride];
+        memcpy(rr.o, r->origin, sizeof rr.o);
+        memcpy(rr.v, r->dir, sizeof rr.v);
+        rr.tmin = r->tmin;
+        rr.tmax = r->tmax;
+        rs->ref[q] = ref_trace_ray(&sc->ref, &rr);
+    }
+}
+
+static void set_free(ray_set *rs)
+{
+    free(rs->rays);
+    free(rs->ref);
+}
+
+/* ---- scoring ------------------------------------------------------------------------ */
+typedef struct score {
+    size_t n, right, false_hits, false_misses, both_hit;
+    double dist_sum; /* texels, between the method's hit point and the reference's */
+} score;
+
+static void score_set(const scene *sc, const ray_set *rs, const lrt_hit *hits, int exact, score *s)
+{
+    size_t q;
+    memset(s, 0, sizeof *s);
+    for (q = 0; q < rs->sample_count; ++q) {
+        const size_t i = q * rs->sample_stride;
+        const lrt_ray *r = &rs->rays[i];
+        const lrt_hit *a = &hits[i];
+        const ref_result *e = &rs->ref[q];
+        const int any = (rs->r.flags & BENCH_ANY_HIT) != 0;
+        int ok;
+        ++s->n;
+        if (exact) { /* MODEL.md's rule, perturbations and all */
+            ref_ray rr;
+            ref_answer an;
+            memcpy(rr.o, r->origin, sizeof rr.o);
+            memcpy(rr.v, r->dir, sizeof rr.v);
+            rr.tmin = r->tmin;
+            rr.tmax = r->tmax;
+            an.kind = (int)a->kind;
+            an.t = a->t;
+            an.x = (int)a->x;
+            an.y = (int)a->y;
+            ok = ref_check(&sc->ref, &rr, &an, any, NULL, 0);
+        } else { /* the plain answer: kind, and for a closest hit the texel */
+            ok = (int)a->kind == e->kind && (any || e->kind != REF_HIT || ((int)a->x == e->x && (int)a->y == e->y));
+        }
+        s->right += ok != 0;
+        s->false_hits += a->kind == LRT_HIT && e->kind != REF_HIT;
+        s->false_misses += a->kind != LRT_HIT && e->kind == REF_HIT;
+        if (a->kind == LRT_HIT && e->kind == REF_HIT && !any) {
+            double dx = (double)r->origin[0] + (double)a->t * r->dir[0] - ((double)r->origin[0] + e->t * r->dir[0]);
+            double dy = (double)r->origin[1] + (double)a->t * r->dir[1] - ((double)r->origin[1] + e->t * r->dir[1]);
+            s->dist_sum += sqrt(dx * dx + dy * dy);
+            ++s->both_hit;
+        }
+    }
+}
+
+/* ---- results -------------------------------------------------------------------------- */
+typedef struct result {
+    const char *method, *device, *scene, *set;
+    int exact, threads, ok;
+    double build_ms, update_ms, trace_ms, bytes_per_texel;
+    size_t rays;
+    score sc;
+    char why[160];
+} result;
+
+#define MAX_RESULTS 4096
+static result g_res[MAX_RESULTS];
+static int g_nres;
+static double g_lowest_point = 100.0; /* the least accurate point of the chart */
+
+static double median(double *v, int n)
+{
+    int i, j;
+    for (i = 1; i < n; ++i)
+        for (j = i; j > 0 && v[j] < v[j - 1]; --j) {
+            double t = v[j];
+            v[j] = v[j - 1];
+            v[j - 1] = t;
+        }
+    return n ? v[n / 2] : 0.0;
+}
+
+static double pct(size_t a, size_t n) { return n ? 100.0 * (double)a / (double)n : 0.0; }
+
+/* one method on one scene: build, update, every ray set */
+static void run_method(bench_method *m, const scene *sc, ray_set *sets, int nsets, const options *o, lrt_hit *hits,
+                       int opened)
+{
+    double build_ms = 0, upd[16], t[16], ms;
+    int k, s, ok = opened;
+    char why[160] = "";
+    if (!opened) snprintf(why, sizeof why, "%s", "could not open");
+    if (ok && m->build(m, &sc->s, &build_ms, why, sizeof why)) ok = 0;
+    for (k = 0; ok && k <= o->runs; ++k) { /* one warm-up */
+        if (m->update(m, &sc->s, &ms, why, sizeof why)) ok = 0;
+        if (k) upd[k - 1] = ms;
+    }
+    for (s = 0; s < nsets; ++s) {
+        result *r = &g_res[g_nres < MAX_RESULTS ? g_nres++ : MAX_RESULTS - 1];
+        memset(r, 0, sizeof *r);
+        r->method = m->name;
+        r->device = m->device;
+        r->scene = sc->s.name;
+        r->set = sets[s].r.name;
+        r->exact = m->exact;
+        r->threads = strcmp(m->device, "cpu") == 0 ? o->threads : 0;
+        r->rays = sets[s].r.count;
+        r->ok = ok;
+        snprintf(r->why, sizeof r->why, "%s", why);
+        if (!ok) continue;
+        for (k = 0; k <= o->runs; ++k) {
+            if (m->trace(m, &sc->s, &sets[s].r, hits, &ms, r->why, sizeof r->why)) {
+                r->ok = 0;
+                break;
+            }
+            if (k) t[k - 1] = ms;
+        }
+        if (!r->ok) continue;
+        r->build_ms = build_ms;
+        r->update_ms = median(upd, o->runs);
+        r->trace_ms = median(t, o->runs);
+        r->bytes_per_texel = (double)m->memory_bytes(m) / ((double)sc->s.width * sc->s.height);
+        score_set(sc, &sets[s], hits, m->exact, &r->sc);
+    }
+}
+
+/* ---- the stability suite: small named cases built to break someone -------------- */
+typedef struct stab_case {
+    const char *name;
+    scene sc;
+    ray_set set;
+} stab_case;
+
+static void stab_rays(stab_case *c, size_t n, void (*gen)(const scene *, lrt_ray *, size_t))
+{
+    size_t q;
+    ray_set *rs = &c->set;
+    memset(rs, 0, sizeof *rs);
+    rs->rays = (lrt_ray *)calloc(n, sizeof(lrt_ray));
+    for (q = 0; q < n; ++q) gen(&c->sc, &rs->rays[q], q);
+    rs->r.name = c->name;
+    rs->r.rays = rs->rays;
+    rs->r.count = n;
+    rs->sample_stride = 1;
+    rs->sample_count = n;
+    rs->ref = (ref_result *)malloc(sizeof(ref_result) * n);
+    for (q = 0; q < n; ++q) {
+        ref_ray rr;
+        memcpy(rr.o, rs->rays[q].origin, sizeof rr.o);
+        memcpy(rr.v, rs->rays[q].dir, sizeof rr.v);
+        rr.tmin = rs->rays[q].tmin;
+        rr.tmax = rs->rays[q].tmax;
+        rs->ref[q] = ref_trace_ray(&c->sc.ref, &rr);
+    }
+}
+
+static void set_ray(lrt_ray *r, float ox, float oy, float oz, float vx, float vy, float vz, float tmin, float tmax)
+{
+    r->origin[0] = ox;
+    r->origin[1] = oy;
+    r->origin[2] = oz;
+    r->dir[0] = vx;
+    r->dir[1] = vy;
+    r->dir[2] = vz;
+    r->tmin = tmin;
+    r->tmax = tmax;
+}
+
+/* horizontal rays through a field of 1-texel poles, at the poles' depth band */
+static void gen_poles(const scene *sc, lrt_ray *r, size_t q)
+{
+    float y = 1.0f + rnd01() * (float)(sc->s.height / 2u);
+    set_ray(r, 0.5f, y, 0.36f + 0.2f * rnd01(), (float)sc->s.width, 7.0f * (rnd01() - 0.5f), 0.0f, 0.0f, 1.0f);
+    (void)q;
+}
+/* rays skimming a sloped floor from above, within a hair of its depth */
+static void gen_grazing(const scene *sc, lrt_ray *r, size_t q)
+{
+    float x = rnd01() * (float)sc->s.width, y = (float)sc->s.height * (0.6f + 0.3f * rnd01());
+    float d = depth_at(sc, (int)x, (int)y);
+    set_ray(r, x, y, d - 2e-4f * rnd01(), (rnd01() - 0.5f) * 40.0f, -30.0f * rnd01(), 1e-4f * (rnd01() - 0.7f), 0.0f,
+            1.0f);
+    (void)q;
+}
+/* over low ground and out across a screen edge */
+static void gen_edges(const scene *sc, lrt_ray *r, size_t q)
+{
+    float a = 6.2831853f * rnd01(), k = 2.0f * (float)(sc->s.width + sc->s.height);
+    set_ray(r, 0.5f * (float)sc->s.width, 0.5f * (float)sc->s.height, 0.1f, cosf(a) * k, sinf(a) * k, 1e-3f, 0.0f, 1.0f);
+    (void)q;
+}
+/* from deep points back towards the camera */
+static void gen_towards(const scene *sc, lrt_ray *r, size_t q)
+{
+    float x = rnd01() * (float)sc->s.width, y = rnd01() * (float)sc->s.height, d = depth_at(sc, (int)x, (int)y);
+    set_ray(r, x, y, d - 1e-3f, (rnd01() - 0.5f) * 64.0f, (rnd01() - 0.5f) * 64.0f, -d * rnd01(), 0.0f, 1.0f);
+    (void)q;
+}
+/* just behind the top edge of a near block over a far floor */
+static void gen_discontinuity(const scene *sc, lrt_ray *r, size_t q)
+{
+    float y = (float)sc->s.height * (0.3f + 0.4f * rnd01());
+    set_ray(r, 1.0f, y, 0.2501f + 1e-3f * rnd01(), (float)sc->s.width - 2.0f, 0.0f, 0.5f * rnd01(), 0.0f, 1.0f);
+    (void)q;
+}
+/* a reflection starting on its own surface: tmin 0 (hits at tmin by the model) */
+static void gen_own(const scene *sc, lrt_ray *r, size_t q)
+{
+    int i = (int)(rnd01() * (float)sc->s.width), j = (int)(rnd01() * (float)sc->s.height);
+    set_ray(r, (float)i + 0.5f, (float)j + 0.5f, depth_at(sc, i, j), 30.0f * (rnd01() - 0.5f), 30.0f * (rnd01() - 0.5f),
+            0.01f * rnd01(), 0.0f, 1.0f);
+    (void)q;
+}
+/* flat reflective rays over camera-facing 8-bit steps */
+static void gen_quant(const scene *sc, lrt_ray *r, size_t q)
+{
+    int i = (int)(rnd01() * (float)sc->s.width), j = (int)(rnd01() * (float)sc->s.height);
+    float d = depth_at(sc, i, j), a = 6.2831853f * rnd01();
+    set_ray(r, (float)i + 0.5f, (float)j + 0.5f, d, cosf(a) * 200.0f, sinf(a) * 200.0f, 0.0f, 0.75f / 200.0f, 1.0f);
+    (void)q;
+}
+/* any rays at all on a tiny or a large map */
+static void gen_random(const scene *sc, lrt_ray *r, size_t q)
+{
+    float x = rnd01() * (float)sc->s.width, y = rnd01() * (float)sc->s.height;
+    set_ray(r, x, y, rnd01() * 0.5f, (rnd01() - 0.5f) * 2.0f * (float)sc->s.width,
+            (rnd01() - 0.5f) * 2.0f * (float)sc->s.height, rnd01(), 0.0f, 1.0f);
+    (void)q;
+}
+
+static void stab_scene(scene *sc, const char *name, uint32_t w, uint32_t h, int kind)
+{
+    uint32_t i, j;
+    sc->depth = (float *)malloc(sizeof(float) * w * h);
+    for (j = 0; j < h; ++j)
+        for (i = 0; i < w; ++i) {
+            float d = 0.5f + 0.45f * (float)j / (float)h; /* a floor rising away from the camera */
+            if (kind == 1 && i % 9u == 4u && j < h * 3u / 4u) d = 0.4f;                        /* poles */
+            if (kind == 2 && j > h / 4u && j < h * 3u / 4u && i > w / 3u && i < w / 2u) d = 0.25f; /* a block */
+            if (kind == 3) d = floorf((0.4f + 0.5f * (float)((i / 7u + j / 5u) % 6u) / 6.0f) * 255.0f) / 255.0f;
+            sc->depth[j * w + i] = d;
+        }
+    scene_finish(sc, name, w, h);
+}
+
+#define STAB_CASES 9
+static int make_stability(stab_case *c, const options *o)
+{
+    const uint32_t s = o->quick ? 64u : 256u, big = o->quick ? 512u : 2048u;
+    const size_t n = o->quick ? 300u : 3000u;
+    int k = 0;
+    c[k].name = "thin poles"; stab_scene(&c[k].sc, "poles", s, s, 1); stab_rays(&c[k++], n, gen_poles);
+    c[k].name = "grazing floor"; stab_scene(&c[k].sc, "floor", s, s, 0); stab_rays(&c[k++], n, gen_grazing);
+    c[k].name = "leaving the screen"; stab_scene(&c[k].sc, "floor", s, s, 0); stab_rays(&c[k++], n, gen_edges);
+    c[k].name = "towards the camera"; stab_scene(&c[k].sc, "block", s, s, 2); stab_rays(&c[k++], n, gen_towards);
+    c[k].name = "depth discontinuity"; stab_scene(&c[k].sc, "block", s, s, 2); stab_rays(&c[k++], n, gen_discontinuity);
+    c[k].name = "own surface"; stab_scene(&c[k].sc, "block", s, s, 2); stab_rays(&c[k++], n, gen_own);
+    c[k].name = "8-bit quantisation"; stab_scene(&c[k].sc, "steps", s, s, 3); stab_rays(&c[k++], n, gen_quant);
+    c[k].name = "tiny map 3x2"; stab_scene(&c[k].sc, "tiny", 3, 2, 2); stab_rays(&c[k++], n, gen_random);
+    c[k].name = "large map"; stab_scene(&c[k].sc, "large", big, big, 1); stab_rays(&c[k++], n, gen_random);
+    return k;
+}
+
+/* ---- output ---------------------------------------------------------------------- */
+static const result *find(const char *method, const char *scene_name, const char *set)
+{
+    int i;
+    for (i = 0; i < g_nres; ++i)
+        if (strcmp(g_res[i].method, method) == 0 && strcmp(g_res[i].scene, scene_name) == 0 &&
+            strcmp(g_res[i].set, set) == 0 && g_res[i].ok)
+            return &g_res[i];
+    return NULL;
+}
+
+static double mrays(const result *r) { return r && r->trace_ms > 0 ? (double)r->rays / r->trace_ms / 1e3 : 0.0; }
+
+static void write_outputs(const options *o, bench_method *m, int nm, const char *const *why_skipped,
+                          const char *machine, int nstab)
+{
+    char path[512];
+    FILE *csv, *md, *dat;
+    int i, k;
+    (void)mkdir(o->out_dir, 0777); /* may exist */
+    snprintf(path, sizeof path, "%s/results.csv", o->out_dir);
+    csv = fopen(path, "w");
+    snprintf(path, sizeof path, "%s/results.md", o->out_dir);
+    md = fopen(path, "w");
+    snprintf(path, sizeof path, "%s/points.dat", o->out_dir);
+    dat = fopen(path, "w");
+    if (!csv || !md || !dat) {
+        fprintf(stderr, "bench: cannot write into %s\n", o->out_dir);
+        exit(1);
+    }
+    fprintf(csv, "method,device,exact,threads,scene,rays,count,build_ms,update_ms,trace_ms,mrays_per_s,bytes_per_texel,"
+                 "scored,right_pct,false_hits_pct,false_misses_pct,mean_dist_texels,ok,why\n");
+    for (i = 0; i < g_nres; ++i) {
+        const result *r = &g_res[i];
+        fprintf(csv, "%s,%s,%d,%d,%s,%s,%zu,%.3f,%.3f,%.3f,%.3f,%.3f,%zu,%.3f,%.3f,%.3f,%.4f,%d,\"%s\"\n", r->method,
+                r->device, r->exact, r->threads, r->scene, r->set, r->rays, r->build_ms, r->update_ms, r->trace_ms,
+                mrays(r), r->bytes_per_texel, r->sc.n, pct(r->sc.right, r->sc.n), pct(r->sc.false_hits, r->sc.n),
+                pct(r->sc.false_misses, r->sc.n), r->sc.both_hit ? r->sc.dist_sum / (double)r->sc.both_hit : 0.0,
+                r->ok, r->why);
+    }
+    fprintf(md, "# linear_rt benchmark\n\n%s\n\n", machine);
+    fprintf(md, "Methods skipped here, and why:\n\n");
+    for (k = 0; k < nm; ++k)
+        if (why_skipped[k]) fprintf(md, "- %s (%s): %s\n", m[k].name, m[k].device, why_skipped[k]);
+    fprintf(md, "\n## Speed and accuracy, scene \"yard\" (%u x %u), per ray set\n\n", o->size, o->size);
+    fprintf(md, "| method | device | rays | build ms | update ms | trace ms | M rays/s | bytes/texel | right %% | false hits %% | false misses %% | mean dist (texels) |\n");
+    fprintf(md, "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for (i = 0; i < g_nres; ++i) {
+        const result *r = &g_res[i];
+        if (strcmp(r->scene, "yard") != 0 && strcmp(r->scene, "file") != 0) continue;
+        if (!r->ok) continue;
+        fprintf(md, "| %s | %s%s | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.3f |\n", r->method,
+                r->device, r->threads ? (r->threads == 1 ? " 1t" : " mt") : "", r->set, r->build_ms, r->update_ms,
+                r->trace_ms, mrays(r), r->bytes_per_texel, pct(r->sc.right, r->sc.n), pct(r->sc.false_hits, r->sc.n),
+                pct(r->sc.false_misses, r->sc.n), r->sc.both_hit ? r->sc.dist_sum / (double)r->sc.both_hit : 0.0);
+    }
+    /* one point per method: secondary rays (reflection + segments) of every scene */
+    fprintf(dat, "# method device mrays_per_s right_pct exact\n");
+    for (k = 0; k < nm; ++k) {
+        double ms = 0, right = 0, n = 0, rays = 0;
+        for (i = 0; i < g_nres; ++i) {
+            const result *r = &g_res[i];
+            if (!r->ok || strcmp(r->method, m[k].name) != 0 || (strcmp(r->set, "reflection") && strcmp(r->set, "segments")))
+                continue;
+            ms += r->trace_ms;
+            rays += (double)r->rays;
+            right += (double)r->sc.right;
+            n += (double)r->sc.n;
+        }
+        if (ms > 0 && 100.0 * right / n < g_lowest_point) g_lowest_point = 100.0 * right / n;
+        if (ms > 0)
+            fprintf(dat, "\"%s\" %s %.4f %.4f %d\n", m[k].name, m[k].device, rays / ms / 1e3, 100.0 * right / n,
+                    m[k].exact);
+    }
+    fprintf(md, "\n## Stability: every method against every case (%% of rays right; exact methods must be 100)\n\n");
+    fprintf(md, "| case |");
+    for (k = 0; k < nm; ++k)
+        if (!why_skipped[k]) fprintf(md, " %s |", m[k].name);
+    fprintf(md, "\n|---|");
+    for (k = 0; k < nm; ++k)
+        if (!why_skipped[k]) fprintf(md, "---|");
+    fprintf(md, "\n");
+    {
+        const char *prev = NULL;
+        for (i = 0; i < g_nres; ++i) {
+            const result *r = &g_res[i];
+            if (strncmp(r->scene, "stab:", 5) != 0 || (prev && strcmp(prev, r->set) == 0)) continue;
+            prev = r->set;
+            fprintf(md, "| %s |", r->set);
+            for (k = 0; k < nm; ++k) {
+                const result *c = NULL;
+                int j;
+                if (why_skipped[k]) continue;
+                for (j = 0; j < g_nres; ++j)
+                    if (strcmp(g_res[j].method, m[k].name) == 0 && strcmp(g_res[j].set, r->set) == 0 &&
+                        strncmp(g_res[j].scene, "stab:", 5) == 0)
+                        c = &g_res[j];
+                if (!c || !c->ok) fprintf(md, " - |");
+                else if (m[k].exact) fprintf(md, " %s %.1f |", c->sc.right == c->sc.n ? "pass" : "FAIL", pct(c->sc.right, c->sc.n));
+                else fprintf(md, " %.1f |", pct(c->sc.right, c->sc.n));
+            }
+            fprintf(md, "\n");
+        }
+    }
+    (void)nstab;
+    fclose(csv);
+    fclose(md);
+    fclose(dat);
+}
+
+static void chart(const options *o, const char *machine)
+{
+    char cmd[2048];
+    FILE *gp;
+    const double lowest = g_lowest_point;
+    int i;
+    if (system("command -v gnuplot >/dev/null 2>&1") != 0) {
+        printf("chart: skipped: gnuplot is not installed (Debian: gnuplot-nox)\n");
+        return;
+    }
+    snprintf(cmd, sizeof cmd, "gnuplot > %s/gnuplot.log 2>&1", o->out_dir);
+    gp = popen(cmd, "w");
+    if (!gp) return;
+    fprintf(gp, "set terminal pngcairo size 1600,800 font 'sans,11'\n"
+                "set output '%s/speed_vs_accuracy.png'\n"
+                "set termoption noenhanced\n"
+                "set multiplot layout 1,2 title \"Screen-space rays: speed against accuracy, reflection rays and random "
+                "segments of every scene\\n%s\"\n"
+                "set xlabel 'trace speed (million rays per second, log scale)'\n"
+                "set ylabel 'rays answered right, by the exact reference (%%)'\n"
+                "set logscale x\nset grid\nset key bottom left box\nset yrange [%.1f:101]\n"
+                "set offsets graph 0.08, graph 0.35, 0, 0\n"
+                "set style line 1 lc rgb '#1f77b4' pt 7 ps 1.6\n"
+                "set style line 2 lc rgb '#d62728' pt 5 ps 1.4\n"
+                "set style line 3 lc rgb '#2ca02c' lw 2 dt 2 pt 6 ps 3\n",
+            o->out_dir, machine, lowest > 5.0 ? lowest - 5.0 : 0.0);
+    for (i = 0; i < 2; ++i) {
+        const char *dev = i ? "vulkan" : "cpu";
+        /* this device's points; the Pareto front: no faster point is as accurate */
+        fprintf(gp,
+                "pts = \"< awk '$(NF-3) == \\\"%s\\\"' %s/points.dat\"\n"
+                "front = \"< awk '$(NF-3) == \\\"%s\\\" {print $(NF-2), $(NF-1)}' %s/points.dat | sort -g -r | "
+                "awk 'NR == 1 || $2 > best {best = $2; print}' | sort -g\"\n"
+                "set title '%s'\n"
+                "plot pts using 3:($5==1?$4:1/0) with points ls 1 title 'exact methods', \\\n"
+                "     pts using 3:($5==0?$4:1/0) with points ls 2 title 'approximate methods', \\\n"
+                "     pts using 3:4:1 with labels rotate by 20 offset 0.6,0.6 left font 'sans,9' notitle, \\\n"
+                "     front using 1:2 with linespoints ls 3 title 'Pareto front'\n",
+                dev, o->out_dir, dev, o->out_dir, i ? "on Vulkan (lavapipe here: the same CPU cores)" : "on the CPU");
+    }
+    fprintf(gp, "unset multiplot\n");
+    if (pclose(gp) != 0) printf("chart: gnuplot failed, see %s/gnuplot.log\n", o->out_dir);
+    else printf("chart: %s/speed_vs_accuracy.png\n", o->out_dir);
+}
+
+static void usage(void)
+{
+    printf("usage: bench [--size N] [--threads T] [--runs R] [--sample S] [--quick] [--only TEXT] [--out DIR]\n"
+           "             [--depth FILE [--format png|pfm|raw] [--width W --height H] [--reversed]]\n");
+}
+
+int main(int argc, char **argv)
+{
+    options o;
+    bench_method m[64];
+    const char *skipped[64];
+    char machine[512], whybuf[64][160];
+    scene scenes[4];
+    ray_set sets[SET_COUNT];
+    stab_case stab[STAB_CASES];
+    lrt_hit *hits;
+    int nm = 0, ns = 0, k, s, a, nstab;
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+
+    memset(&o, 0, sizeof o);
+    o.size = 1024;
+    o.threads = cores > 0 ? (int)cores : 1;
+    o.runs = 5;
+    o.sample = 20000;
+    o.out_dir = "bench";
+    for (a = 1; a < argc; ++a) {
+        const char *v = a + 1 < argc ? argv[a + 1] : NULL;
+        if (!strcmp(argv[a], "--size") && v) o.size = (uint32_t)atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--threads") && v) o.threads = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--runs") && v) o.runs = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--sample") && v) o.sample = (size_t)atol(argv[++a]);
+        else if (!strcmp(argv[a], "--quick")) o.quick = 1;
+        else if (!strcmp(argv[a], "--only") && v) o.only = argv[++a];
+        else if (!strcmp(argv[a], "--out") && v) o.out_dir = argv[++a];
+        else if (!strcmp(argv[a], "--depth") && v) o.depth_file = argv[++a];
+        else if (!strcmp(argv[a], "--format") && v) o.format = argv[++a];
+        else if (!strcmp(argv[a], "--width") && v) o.file_w = (uint32_t)atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--height") && v) o.file_h = (uint32_t)atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--reversed")) o.reversed = 1;
+        else {
+            usage();
+            return 2;
+        }
+    }
+    if (o.quick) {
+        o.size = 128;
+        o.runs = 1;
+        o.sample = 2000;
+    }
+    if (o.runs < 1 || o.runs > 15 || o.threads < 1 || o.size < 1 || o.size > LINEAR_RT_MAX_DIM || o.sample < 1) {
+        usage();
+        return 2;
+    }
+    snprintf(machine, sizeof machine, "%ld-core machine, %d CPU threads per CPU method, size %u, %d timed runs (median)",
+             cores, o.threads, o.size, o.runs);
+
+    nm += bench_add_linear_rt_cpu(m + nm, 64 - nm);
+    nm += bench_add_linear_rt_vulkan(m + nm, 64 - nm);
+    nm += bench_add_embree(m + nm, 64 - nm);
+    nm += bench_add_march_cpu(m + nm, 64 - nm);
+    nm += bench_add_vulkan_peers(m + nm, 64 - nm);
+
+    if (o.depth_file) {
+        if (scene_load(&scenes[0], &o)) return 1;
+        ns = 1;
+    } else {
+        for (k = 0; k < (o.quick ? 2 : 4); ++k) scene_make(&scenes[k], k, o.size, o.size);
+        ns = o.quick ? 2 : 4;
+    }
+    printf("linear_rt benchmark: %s\n", machine);
+    printf("stability cases and reference answers ...\n");
+    fflush(stdout);
+    nstab = make_stability(stab, &o);
+    {
+        size_t maxrays = 0;
+        for (k = 0; k < ns; ++k)
+            if ((size_t)scenes[k].s.width * scenes[k].s.height > maxrays) maxrays = (size_t)scenes[k].s.width * scenes[k].s.height;
+        for (k = 0; k < nstab; ++k)
+            if (stab[k].set.r.count > maxrays) maxrays = stab[k].set.r.count;
+        hits = (lrt_hit *)calloc(maxrays, sizeof(lrt_hit));
+        if (!hits) return 2;
+    }
+
+    for (k = 0; k < nm; ++k) { /* open every method once, at the largest size */
+        skipped[k] = NULL;
+        if (o.only && !strstr(m[k].name, o.only)) {
+            skipped[k] = "not asked for (--only)";
+            continue;
+        }
+        if (!m[k].open) skipped[k] = "built without its package (see the Makefile's bench dependencies)";
+        else if (m[k].open(&m[k], o.size, o.size, o.threads, whybuf[k], sizeof whybuf[k])) skipped[k] = whybuf[k];
+        if (skipped[k]) printf("skipped: %-22s %s\n", m[k].name, skipped[k]);
+    }
+    for (s = 0; s < ns; ++s) {
+        double t0 = bench_now_ms();
+        printf("scene %s %ux%u: reference answers ...", scenes[s].s.name, scenes[s].s.width, scenes[s].s.height);
+        fflush(stdout);
+        for (k = 0; k < SET_COUNT; ++k) make_set(&sets[k], &scenes[s], k, o.sample);
+        printf(" %.1f s\n", (bench_now_ms() - t0) / 1e3);
+        for (k = 0; k < nm; ++k) {
+            if (skipped[k]) continue;
+            printf("  %-22s", m[k].name);
+            fflush(stdout);
+            run_method(&m[k], &scenes[s], sets, SET_COUNT, &o, hits, 1);
+            {
+                const result *r = find(m[k].name, scenes[s].s.name, "segments");
+                const result *p = find(m[k].name, scenes[s].s.name, "primary");
+                if (r && p)
+                    printf(" primary %8.2f M/s %6.2f%% right | segments %8.2f M/s %6.2f%% right | update %.2f ms\n",
+                           mrays(p), pct(p->sc.right, p->sc.n), mrays(r), pct(r->sc.right, r->sc.n), p->update_ms);
+                else printf(" failed: %s\n", g_nres ? g_res[g_nres - 1].why : "?");
+            }
+        }
+        for (k = 0; k < SET_COUNT; ++k) set_free(&sets[k]);
+    }
+    printf("stability suite:\n");
+    for (a = 0; a < nstab; ++a) {
+        char label[64];
+        snprintf(label, sizeof label, "stab:%s", stab[a].sc.s.name);
+        stab[a].sc.s.name = strdup(label);
+        for (k = 0; k < nm; ++k)
+            if (!skipped[k]) run_method(&m[k], &stab[a].sc, &stab[a].set, 1, &o, hits, 1);
+        {
+            int j;
+            printf("  %-22s", stab[a].name);
+            for (j = 0; j < g_nres; ++j)
+                if (!strcmp(g_res[j].set, stab[a].name) && g_res[j].ok && g_res[j].exact && g_res[j].sc.right != g_res[j].sc.n)
+                    printf(" FAIL(%s)", g_res[j].method);
+            printf("\n");
+        }
+    }
+    write_outputs(&o, m, nm, skipped, machine, nstab);
+    chart(&o, machine);
+    for (k = 0; k < nm; ++k)
+        if (!skipped[k] && m[k].close) m[k].close(&m[k]);
+    for (s = 0; s < ns; ++s) scene_free(&scenes[s]);
+    free(hits);
+    printf("wrote %s/results.csv and %s/results.md\n", o.out_dir, o.out_dir);
+    {   /* exact methods must be right on every scored ray */
+        int bad = 0;
+        for (k = 0; k < g_nres; ++k)
+            if (g_res[k].ok && g_res[k].exact && g_res[k].sc.right != g_res[k].sc.n) {
+                printf("EXACT METHOD WRONG: %s on %s / %s: %zu of %zu right\n", g_res[k].method, g_res[k].scene,
+                       g_res[k].set, g_res[k].sc.right, g_res[k].sc.n);
+                bad = 1;
+            }
+        return bad;
+    }
+}
