@@ -103,14 +103,7 @@ static void linear_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
     double o[3], v[3], t0, t1, prev;
     uint32_t i, j;
     int k, b;
-    if (!bmc_ray_valid(r)) {
-        bmc_set_miss(hit, LRT_MISS_INVALID_RAY);
-        return;
-    }
-    if (!bmc_clip(r, w, h, &t0, &t1)) {
-        bmc_set_miss(hit, bmc_miss_kind(r, w, h));
-        return;
-    }
+    if (!bmc_begin(r, w, h, hit, &t0, &t1)) return;
     for (k = 0; k < 3; ++k) {
         o[k] = r->origin[k];
         v[k] = r->dir[k];
@@ -202,14 +195,7 @@ static void dda_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
     dda_line L;
     uint32_t i, j;
     long c0, n, k, sg;
-    if (!bmc_ray_valid(r)) {
-        bmc_set_miss(hit, LRT_MISS_INVALID_RAY);
-        return;
-    }
-    if (!bmc_clip(r, w, h, &t0, &t1)) {
-        bmc_set_miss(hit, bmc_miss_kind(r, w, h));
-        return;
-    }
+    if (!bmc_begin(r, w, h, hit, &t0, &t1)) return;
     L.x0 = (double)r->origin[0] + t0 * (double)r->dir[0];
     L.y0 = (double)r->origin[1] + t0 * (double)r->dir[1];
     L.z0 = (double)r->origin[2] + t0 * (double)r->dir[2];
@@ -298,14 +284,7 @@ static void hiz_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
     const int cap = m->param, top = m->levels - 1;
     double o[3], v[3], t0, t1, t, nx, ny;
     int k, lv = 0;
-    if (!bmc_ray_valid(r)) {
-        bmc_set_miss(hit, LRT_MISS_INVALID_RAY);
-        return;
-    }
-    if (!bmc_clip(r, w, h, &t0, &t1)) {
-        bmc_set_miss(hit, bmc_miss_kind(r, w, h));
-        return;
-    }
+    if (!bmc_begin(r, w, h, hit, &t0, &t1)) return;
     for (k = 0; k < 3; ++k) {
         o[k] = r->origin[k];
         v[k] = r->dir[k];

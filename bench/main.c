@@ -202,6 +202,17 @@ static int scene_load(scene *sc, const options *o)
 }
 
 /* ---- ray sets ----------------------------------------------------------------- */
+/* a ray as the reference takes it */
+static ref_ray to_ref(const lrt_ray *r)
+{
+    ref_ray q;
+    memcpy(q.o, r->origin, sizeof q.o);
+    memcpy(q.v, r->dir, sizeof q.v);
+    q.tmin = r->tmin;
+    q.tmax = r->tmax;
+    return q;
+}
+
 typedef struct ray_set {
     bench_rays r;
     lrt_ray *rays;
@@ -301,12 +312,7 @@ static void make_set(ray_set *rs, const scene *sc, int kind, size_t sample)
     rs->sample_count = (n + rs->sample_stride - 1) / rs->sample_stride;
     rs->ref = (ref_result *)malloc(sizeof(ref_result) * rs->sample_count);
     for (q = 0; q < rs->sample_count; ++q) {
-        ref_ray rr;
-        const lrt_ray *r = &rs->rays[q * rs->sample_stride];
-        memcpy(rr.o, r->origin, sizeof rr.o);
-        memcpy(rr.v, r->dir, sizeof rr.v);
-        rr.tmin = r->tmin;
-        rr.tmax = r->tmax;
+        ref_ray rr = to_ref(&rs->rays[q * rs->sample_stride]);
         rs->ref[q] = ref_trace_ray(&sc->ref, &rr);
     }
 }
@@ -336,12 +342,8 @@ static void score_set(const scene *sc, const ray_set *rs, const lrt_hit *hits, i
         int ok;
         ++s->n;
         if (exact) { /* MODEL.md's rule, perturbations and all */
-            ref_ray rr;
+            ref_ray rr = to_ref(r);
             ref_answer an;
-            memcpy(rr.o, r->origin, sizeof rr.o);
-            memcpy(rr.v, r->dir, sizeof rr.v);
-            rr.tmin = r->tmin;
-            rr.tmax = r->tmax;
             an.kind = (int)a->kind;
             an.t = a->t;
             an.x = (int)a->x;
@@ -454,11 +456,7 @@ static void stab_rays(stab_case *c, size_t n, void (*gen)(const scene *, lrt_ray
     rs->sample_count = n;
     rs->ref = (ref_result *)malloc(sizeof(ref_result) * n);
     for (q = 0; q < n; ++q) {
-        ref_ray rr;
-        memcpy(rr.o, rs->rays[q].origin, sizeof rr.o);
-        memcpy(rr.v, rs->rays[q].dir, sizeof rr.v);
-        rr.tmin = rs->rays[q].tmin;
-        rr.tmax = rs->rays[q].tmax;
+        ref_ray rr = to_ref(&rs->rays[q]);
         rs->ref[q] = ref_trace_ray(&c->sc.ref, &rr);
     }
 }

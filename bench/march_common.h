@@ -87,6 +87,22 @@ static inline int bmc_clip(const lrt_ray *r, uint32_t w, uint32_t h, double *t0,
     return 1;
 }
 
+/* The start every march shares: an invalid ray or one with nothing on
+   screen is answered into hit (returns 0); else [t0, t1] is its clipped
+   interval (returns 1). */
+static inline int bmc_begin(const lrt_ray *r, uint32_t w, uint32_t h, lrt_hit *hit, double *t0, double *t1)
+{
+    if (!bmc_ray_valid(r)) {
+        bmc_set_miss(hit, LRT_MISS_INVALID_RAY);
+        return 0;
+    }
+    if (!bmc_clip(r, w, h, t0, t1)) {
+        bmc_set_miss(hit, bmc_miss_kind(r, w, h));
+        return 0;
+    }
+    return 1;
+}
+
 /* texel index of a screen coordinate: floor, clamped to [0, n-1] (x == n,
    the screen's far edge, and rounding at the clip land in the last texel);
    truncation is floor for x >= 0, and negative x (or NaN) gives 0 */

@@ -178,6 +178,25 @@ static bvh_stats measure_bvh(const lrt_depth *depth, uint32_t node_bits, lrt_bvh
 }
 
 /* ---- agreement with the exact reference ------------------------------------ */
+/* Is this answer right for this ray, by MODEL.md's rule? */
+static int judge(const ref_map *m, const lrt_ray *r, const lrt_hit *h, char *why, size_t why_size)
+{
+    ref_ray q;
+    ref_answer a;
+    int c;
+    for (c = 0; c < 3; ++c) {
+        q.o[c] = r->origin[c];
+        q.v[c] = r->dir[c];
+    }
+    q.tmin = r->tmin;
+    q.tmax = r->tmax;
+    a.kind = (int)h->kind;
+    a.t = h->t;
+    a.x = h->kind == LRT_HIT ? (int)h->x : -1;
+    a.y = h->kind == LRT_HIT ? (int)h->y : -1;
+    return ref_check(m, &q, &a, 0, why, why_size);
+}
+
 static size_t check_rays(const ref_map *m, const lrt_ray *rays, const lrt_hit *hits,
                          size_t count, size_t sample, const char *name)
 {
@@ -186,26 +205,13 @@ static size_t check_rays(const ref_map *m, const lrt_ray *rays, const lrt_hit *h
     for (k = 0; k < sample; ++k) {
         /* a fixed, evenly spread sample: ray k * count / sample */
         size_t i = (size_t)(((double)k * (double)count) / (double)sample);
-        ref_ray q;
-        ref_answer a;
         char why[1024];
-        int c;
-        for (c = 0; c < 3; ++c) {
-            q.o[c] = rays[i].origin[c];
-            q.v[c] = rays[i].dir[c];
-        }
-        q.tmin = rays[i].tmin;
-        q.tmax = rays[i].tmax;
-        a.kind = (int)hits[i].kind;
-        a.t = hits[i].t;
-        a.x = hits[i].kind == LRT_HIT ? (int)hits[i].x : -1;
-        a.y = hits[i].kind == LRT_HIT ? (int)hits[i].y : -1;
-        if (ref_check(m, &q, &a, 0, why, sizeof why)) {
+        if (judge(m, &rays[i], &hits[i], why, sizeof why)) {
             ++agree;
         } else if (shown++ < 5) {
-            printf("  DISAGREE %s ray %lu o=(%.9g %.9g %.9g) d=(%.9g %.9g %.9g): %s\n", name,
-                   (unsigned long)i, (double)q.o[0], (double)q.o[1], (double)q.o[2],
-                   (double)q.v[0], (double)q.v[1], (double)q.v[2], why);
+            printf("  DISAGREE %s ray %lu o=(%.9g %.9g %.9g) d=(%.9g %.9g %.9g): %s\n", name, (unsigned long)i,
+                   (double)rays[i].origin[0], (double)rays[i].origin[1], (double)rays[i].origin[2],
+                   (double)rays[i].dir[0], (double)rays[i].dir[1], (double)rays[i].dir[2], why);
         }
     }
     return agree;
@@ -360,22 +366,9 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
         if (same_hit(h, &seg_cpu[i])) {
             ++g->seg_same;
         } else if (g->seg_sampled < sample) { /* the reference is slow: judge the first few */
-            ref_ray q;
-            ref_answer a;
             char why[256];
-            int c;
-            for (c = 0; c < 3; ++c) {
-                q.o[c] = seg[i].origin[c];
-                q.v[c] = seg[i].dir[c];
-            }
-            q.tmin = seg[i].tmin;
-            q.tmax = seg[i].tmax;
-            a.kind = (int)h->kind;
-            a.t = h->t;
-            a.x = h->kind == LRT_HIT ? (int)h->x : -1;
-            a.y = h->kind == LRT_HIT ? (int)h->y : -1;
             ++g->seg_sampled;
-            g->seg_right += ref_check(m, &q, &a, 0, why, sizeof why) != 0;
+            g->seg_right += judge(m, &seg[i], h, why, sizeof why) != 0;
         }
     }
     g->ran = 1;

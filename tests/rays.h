@@ -243,4 +243,38 @@ static ref_answer to_answer(const lrt_hit *h)
     return a;
 }
 
+/* ---- frames for update tests: a floor and a sphere that moves in and out ---- */
+static void paint_frame(float *d, int w, int h, int frame)
+{
+    int i, j;
+    float cx = (float)(w / 4 + (frame * 7) % (w / 2 + 1)), cy = (float)(h / 3 + (frame * 5) % (h / 3 + 1));
+    float r = 6.0f + (float)(frame % 5);
+    for (j = 0; j < h; ++j)
+        for (i = 0; i < w; ++i) {
+            float dx = (float)i - cx, dy = (float)j - cy, q = dx * dx + dy * dy;
+            float v = 0.7f + 0.2f * (float)j / (float)h; /* a floor */
+            if (q < r * r) v = 0.3f + 0.001f * sqrtf(q); /* a sphere that moves in and out */
+            d[(size_t)j * (size_t)w + (size_t)i] = v;
+        }
+}
+
+/* The smallest rectangle holding every texel that differs between two
+   frames (empty, at the origin, when none does): the dirty rect an engine
+   would pass to an update. */
+static lrt_rect changed_rect(const float *prev, const float *d, int w, int h)
+{
+    int i, j, x0 = w, y0 = h, x1 = -1, y1 = -1;
+    lrt_rect rect;
+    for (j = 0; j < h; ++j)
+        for (i = 0; i < w; ++i)
+            if (d[(size_t)j * w + i] != prev[(size_t)j * w + i]) {
+                x0 = i < x0 ? i : x0; x1 = i > x1 ? i : x1;
+                y0 = j < y0 ? j : y0; y1 = j > y1 ? j : y1;
+            }
+    if (x1 < 0) { x0 = y0 = 0; x1 = y1 = -1; }
+    rect.x = (uint32_t)x0; rect.y = (uint32_t)y0;
+    rect.width = (uint32_t)(x1 - x0 + 1); rect.height = (uint32_t)(y1 - y0 + 1);
+    return rect;
+}
+
 #endif /* LINEAR_RT_TESTS_RAYS_H */

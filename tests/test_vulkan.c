@@ -352,20 +352,6 @@ static void test_build_and_trace(void)
 }
 
 /* ---- (b) update == the CPU's update ---------------------------------------------------- */
-static void paint_frame(float *d, int w, int h, int frame)
-{
-    int i, j;
-    float cx = (float)(w / 4 + (frame * 7) % (w / 2 + 1)), cy = (float)(h / 3 + (frame * 5) % (h / 3 + 1));
-    float r = 6.0f + (float)(frame % 5);
-    for (j = 0; j < h; ++j)
-        for (i = 0; i < w; ++i) {
-            float dx = (float)i - cx, dy = (float)j - cy, q = dx * dx + dy * dy;
-            float v = 0.7f + 0.2f * (float)j / (float)h; /* a floor */
-            if (q < r * r) v = 0.3f + 0.001f * sqrtf(q); /* a sphere that moves in and out */
-            d[(size_t)j * (size_t)w + (size_t)i] = v;
-        }
-}
-
 /* floats -> the bytes of a format */
 static void encode(const float *f, void *out, size_t n, lrt_format format)
 {
@@ -408,20 +394,11 @@ static void update_case(lrt_format format, uint32_t bits, int source)
     } else {
         CHECK(same_nodes(&gpu, &live, what), "%s: GPU build of frame 0 differs", what);
         for (frame = 1; frame <= frames; ++frame) {
-            int i, j, x0 = w, y0 = h, x1 = -1, y1 = -1;
             lrt_rect rect;
             lrt_result r;
             memcpy(prev, d, sizeof(float) * w * h);
             paint_frame(d, w, h, frame);
-            for (j = 0; j < h; ++j)
-                for (i = 0; i < w; ++i)
-                    if (d[(size_t)j * w + i] != prev[(size_t)j * w + i]) {
-                        x0 = i < x0 ? i : x0; x1 = i > x1 ? i : x1;
-                        y0 = j < y0 ? j : y0; y1 = j > y1 ? j : y1;
-                    }
-            if (x1 < 0) { x0 = y0 = 0; x1 = y1 = -1; }
-            rect.x = (uint32_t)x0; rect.y = (uint32_t)y0;
-            rect.width = (uint32_t)(x1 - x0 + 1); rect.height = (uint32_t)(y1 - y0 + 1);
+            rect = changed_rect(prev, d, w, h);
             encode(d, bytes, (size_t)w * h, format);
             CHECK(lrt_bvh_update(&live, &dm, (frame & 1) ? NULL : &rect) == LRT_SUCCESS, "%s: CPU update", what);
             if (gpu_depth_write(&g, &dm, 0) || vkt_begin(&g_t)) break;
