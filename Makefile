@@ -45,6 +45,11 @@ SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 # what `make test` runs, one count each in its summary line
 TESTS := test-reference test-core test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-demo test-bench
 
+# hardening (sanitizers with clang, valgrind, static checks, limits) and the
+# fuzzers: their own makefiles, which add their tests to TESTS
+include tests/hardening.mk
+include tests/fuzz/fuzz.mk
+
 .PHONY: all demo test deps clean spv spv-check bench bench-deps $(TESTS) test-sanitize
 
 all: $(B)/demo $(B)/test_reference $(B)/test_core

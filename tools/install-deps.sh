@@ -6,8 +6,9 @@
 # have ray query: Mesa 25 from bookworm-backports on Debian 12. Does nothing,
 # and needs no network, when they all are; otherwise installs the missing
 # ones with apt-get (Debian/Ubuntu), as root or through sudo.
+# stb_image / stb_image_write (libstb-dev) read and write the examples' PNGs.
 # `install-deps.sh --bench` adds what `make bench` needs on top: gnuplot
-# (gnuplot-nox), Embree 3 (libembree-dev) and stb_image (libstb-dev).
+# (gnuplot-nox) and Embree 3 (libembree-dev).
 #
 # bookworm-backports: when no apt source has that suite yet, the script adds
 # it in /etc/apt/sources.list.d/linear-rt-backports.sources, reusing the URI
@@ -46,10 +47,10 @@ if command -v dpkg-query >/dev/null 2>&1; then
     installed vulkan-validationlayers || main_pkgs+=("vulkan-validationlayers")
     command -v glslangValidator >/dev/null 2>&1 || main_pkgs+=("glslang-tools")
     command -v spirv-val >/dev/null 2>&1 || main_pkgs+=("spirv-tools")
+    installed libstb-dev || main_pkgs+=("libstb-dev") # the examples' PNG in and out
     if [ "${1:-}" = --bench ]; then
         command -v gnuplot >/dev/null 2>&1 || main_pkgs+=("gnuplot-nox")
         installed libembree-dev || main_pkgs+=("libembree-dev")
-        installed libstb-dev || main_pkgs+=("libstb-dev")
     fi
     mesa=$(dpkg-query -W -f='${Version}' mesa-vulkan-drivers 2>/dev/null || true)
     if ! installed mesa-vulkan-drivers || ! dpkg --compare-versions "$mesa" ge "$MESA_MIN"; then
