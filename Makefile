@@ -43,14 +43,14 @@ SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl)
 SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 
 # what `make test` runs, one count each in its summary line
-TESTS := test-reference test-core test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-demo test-bench
+TESTS := test-reference test-core test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-demo test-examples test-bench
 
 # hardening (sanitizers with clang, valgrind, static checks, limits) and the
 # fuzzers: their own makefiles, which add their tests to TESTS
 include tests/hardening.mk
 include tests/fuzz/fuzz.mk
 
-.PHONY: all demo test deps clean spv spv-check bench bench-deps $(TESTS) test-sanitize
+.PHONY: all demo examples test deps clean spv spv-check bench bench-deps $(TESTS) test-sanitize
 
 all: $(B)/demo $(B)/test_reference $(B)/test_core
 
@@ -63,12 +63,33 @@ deps:
 $(B):
 	@mkdir -p $(B)
 
-# ---- demo ---------------------------------------------------------------------
-$(B)/demo: examples/demo.c $(LIB) $(SCENE) $(REF) $(DEMO_VK_DEPS) | deps $(B)
-	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" examples/demo.c -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
+# ---- demo and examples ----------------------------------------------------------
+# The examples' shared code, and what the demo adds: the benchmark's march.
+EXAMPLE_HDR := examples/example.h examples/depth_file.h $(SCENE) $(LIB)
+EXAMPLES := minimal ssr ao shadows
+
+$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c bench/m_march_cpu.c bench/bench.h bench/march_common.h $(EXAMPLE_HDR) $(REF) $(DEMO_VK_DEPS) | deps $(B)
+	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" examples/demo.c bench/m_march_cpu.c -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
 
 demo: $(B)/demo
 	$(B)/demo
+
+# each example is one file: make examples builds them all into build/
+$(B)/minimal: examples/minimal.c $(LIB) | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) -O3 $< -o $@ -lm
+
+$(B)/ssr $(B)/ao $(B)/shadows: $(B)/%: examples/%.c $(EXAMPLE_HDR) | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) -O3 $< -o $@ $(LDLIBS)
+
+examples: $(addprefix $(B)/,$(EXAMPLES)) $(B)/vulkan_inline
+
+# the examples as tests: their effects against the reference, their
+# pictures, their answers to bad files (tests/test_examples.c)
+$(B)/test_examples: tests/test_examples.c examples/ssr.c examples/ao.c examples/shadows.c $(EXAMPLE_HDR) $(REF) tests/check.h | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) -O2 $< -o $@ $(LDLIBS)
+
+test-examples: $(B)/test_examples $(addprefix $(B)/,$(EXAMPLES))
+	$(B)/test_examples
 
 # ---- tests --------------------------------------------------------------------
 $(B)/test_reference: tests/test_reference.c $(REF) | deps $(B)
@@ -190,7 +211,7 @@ test-vulkan:
 endif
 
 test-demo: $(B)/demo
-	$(B)/demo --size 128
+	$(B)/demo --size 128 --out $(B)/demo_out
 	@echo "test-demo: ok, every checked ray agrees with the reference"
 
 # ---- benchmark ------------------------------------------------------------------

@@ -213,6 +213,7 @@ typedef enum lrt_result {
     LRT_ERROR_LIMIT_EXCEEDED = 17,  /* a device limit: storage buffer range, dispatch size */
     LRT_ERROR_MISALIGNED = 18,      /* an offset or stride is not a multiple of the texel size or of
                                        the device's storage buffer offset alignment */
+    LRT_ERROR_INVALID_CAMERA = 19,  /* a projection matrix with a non-finite entry or no inverse */
     LRT_RESULT_MAX_ENUM = 0x7fffffff
 } lrt_result;
 
@@ -341,6 +342,54 @@ LINEAR_RT_API lrt_result lrt_trace(const lrt_bvh *bvh, const lrt_depth *depth, c
    threads with disjoint ranges. */
 LINEAR_RT_API lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
                                          lrt_hit *hits, size_t first, size_t end, uint32_t flags);
+
+/* ---- rays from a camera (optional helpers) ---------------------------------
+   An engine has view-space rays (a reflection, an AO or a shadow ray from a
+   surface point); the tracer takes screen-space segments (MODEL.md). These
+   helpers are the set-up every engine would write the same way: a view-space
+   point from a texel's depth, and a view-space segment clipped to the near
+   and far planes and projected.
+   Conventions: the projection maps view space to Vulkan clip space (x, y, z,
+   w), 0 <= z <= w between the planes; column-major, m[col * 4 + row] (as
+   GLSL stores it); NDC y = -1 is row 0 (Vulkan's viewport). So screen x =
+   (ndc.x + 1) / 2 * width, y = (ndc.y + 1) / 2 * height, z = ndc.z, or
+   1 - ndc.z with LRT_DEPTH_REVERSED_Z (screen z is always 0 near, as the
+   tracer's). Perspective and orthographic projections both work. */
+typedef struct lrt_camera {
+    float proj[16];          /* view -> clip, column-major */
+    float inv_proj[16];      /* clip -> view */
+    uint32_t width, height;  /* the depth map's size in texels */
+    uint32_t flags;          /* LRT_DEPTH_REVERSED_Z: the projection puts near at z = 1 */
+} lrt_camera;
+
+/* A perspective projection in these conventions: right-handed view space
+   looking down -z with y up, vertical field of view in radians, aspect =
+   width / height, 0 < near_z < far_z; flags LRT_DEPTH_REVERSED_Z or 0. */
+LINEAR_RT_API void lrt_perspective(float out[16], float fov_y_radians, float aspect, float near_z, float far_z,
+                                   uint32_t flags);
+/* Keeps the projection and its inverse. LRT_ERROR_INVALID_CAMERA for a
+   matrix with a non-finite entry or no inverse; LRT_ERROR_INVALID_SIZE,
+   LRT_ERROR_INVALID_OPTION (flags other than LRT_DEPTH_REVERSED_Z). */
+LINEAR_RT_API lrt_result lrt_camera_init(lrt_camera *camera, const float projection[16], uint32_t width,
+                                         uint32_t height, uint32_t flags);
+/* The view-space point at screen point (x, y, depth); 0 when there is none
+   (the point is at infinity, or a value is not finite). */
+LINEAR_RT_API int lrt_camera_unproject(const lrt_camera *camera, const float screen[3], float view[3]);
+/* The screen point of a view-space point; 0 for a point at or behind the eye
+   (clip w <= 0) or a non-finite result. */
+LINEAR_RT_API int lrt_camera_project(const lrt_camera *camera, const float view[3], float screen[3]);
+/* The screen-space ray of the view-space segment from -> to, clipped to the
+   near and far planes: origin = screen point of the clipped start, dir = the
+   clipped end's screen point - origin, [tmin, tmax] = [0, 1]; t of a hit is
+   then a screen-space parameter (lrt_camera_unproject the hit point for its
+   view-space position). Returns 1, or 0 when no part of the segment lies
+   between the planes or a value is not finite; *ray is then an invalid ray
+   (NaN origin), which lrt_trace answers with LRT_MISS_INVALID_RAY.
+   Self-intersection is the caller's policy (MODEL.md): a ray from a surface
+   point starts on its own texel's top, so lift the origin towards the eye
+   (see examples/ssr.c: by half the texel's depth slope). */
+LINEAR_RT_API int lrt_camera_segment(const lrt_camera *camera, const float from[3], const float to[3],
+                                     lrt_ray *ray);
 
 /* ---- helpers ----------------------------------------------------------------- */
 LINEAR_RT_API const char *lrt_result_string(lrt_result result);
@@ -638,6 +687,7 @@ LINEAR_RT_DEF const char *lrt_result_string(lrt_result result)
     case LRT_ERROR_MISSING_VULKAN_FEATURE: return "a Vulkan version, extension, feature, layer or memory type is missing";
     case LRT_ERROR_LIMIT_EXCEEDED: return "a device limit is exceeded";
     case LRT_ERROR_MISALIGNED: return "an offset or stride is misaligned";
+    case LRT_ERROR_INVALID_CAMERA: return "the projection matrix is not finite or not invertible";
     default: return "unknown result code";
     }
 }
@@ -1717,13 +1767,189 @@ LINEAR_RT_DEF lrt_result lrt_trace(const lrt_bvh *bvh, const lrt_depth *depth, c
     return lrt_trace_range(bvh, depth, rays, hits, 0, count, flags);
 }
 
+/* ============================================================================
+   6. Rays from a camera: view space -> clip space -> screen space. Optional
+      helpers for the ray set-up (the tracer never calls them). Double
+      precision throughout: the matrices of a far plane at 1e4 are badly
+      conditioned in float, and this runs once per ray, not per node.
+   ========================================================================== */
+LINEAR_RT_DEF void lrt_perspective(float out[16], float fov_y_radians, float aspect, float near_z, float far_z,
+                                   uint32_t flags)
+{
+    double f = 1.0 / tan(0.5 * (double)fov_y_radians), n = near_z, fa = far_z;
+    int k;
+    if (!out) return;
+    for (k = 0; k < 16; ++k) out[k] = 0.0f;
+    out[0] = (float)(f / (double)aspect);
+    out[5] = (float)-f;   /* y up in view space, row 0 at the top of the image */
+    out[11] = -1.0f;      /* w = -z: the distance in front of the eye */
+    if (flags & LRT_DEPTH_REVERSED_Z) {
+        out[10] = (float)(n / (fa - n));
+        out[14] = (float)(n * fa / (fa - n));
+    } else {
+        out[10] = (float)(fa / (n - fa));
+        out[14] = (float)(n * fa / (n - fa));
+    }
+}
+
+/* Inverse by cofactors; 0 when singular (relative to the matrix's scale) or
+   not finite. */
+static int lrt__invert4(const float *m, float *out)
+{
+    double a[16], inv[16], det, scale = 0.0;
+    int k;
+    for (k = 0; k < 16; ++k) {
+        a[k] = m[k];
+        if (!(a[k] - a[k] == 0.0)) return 0;
+        scale = fabs(a[k]) > scale ? fabs(a[k]) : scale;
+    }
+    inv[0] = a[5] * a[10] * a[15] - a[5] * a[11] * a[14] - a[9] * a[6] * a[15] + a[9] * a[7] * a[14] + a[13] * a[6] * a[11] - a[13] * a[7] * a[10];
+    inv[4] = -a[4] * a[10] * a[15] + a[4] * a[11] * a[14] + a[8] * a[6] * a[15] - a[8] * a[7] * a[14] - a[12] * a[6] * a[11] + a[12] * a[7] * a[10];
+    inv[8] = a[4] * a[9] * a[15] - a[4] * a[11] * a[13] - a[8] * a[5] * a[15] + a[8] * a[7] * a[13] + a[12] * a[5] * a[11] - a[12] * a[7] * a[9];
+    inv[12] = -a[4] * a[9] * a[14] + a[4] * a[10] * a[13] + a[8] * a[5] * a[14] - a[8] * a[6] * a[13] - a[12] * a[5] * a[10] + a[12] * a[6] * a[9];
+    inv[1] = -a[1] * a[10] * a[15] + a[1] * a[11] * a[14] + a[9] * a[2] * a[15] - a[9] * a[3] * a[14] - a[13] * a[2] * a[11] + a[13] * a[3] * a[10];
+    inv[5] = a[0] * a[10] * a[15] - a[0] * a[11] * a[14] - a[8] * a[2] * a[15] + a[8] * a[3] * a[14] + a[12] * a[2] * a[11] - a[12] * a[3] * a[10];
+    inv[9] = -a[0] * a[9] * a[15] + a[0] * a[11] * a[13] + a[8] * a[1] * a[15] - a[8] * a[3] * a[13] - a[12] * a[1] * a[11] + a[12] * a[3] * a[9];
+    inv[13] = a[0] * a[9] * a[14] - a[0] * a[10] * a[13] - a[8] * a[1] * a[14] + a[8] * a[2] * a[13] + a[12] * a[1] * a[10] - a[12] * a[2] * a[9];
+    inv[2] = a[1] * a[6] * a[15] - a[1] * a[7] * a[14] - a[5] * a[2] * a[15] + a[5] * a[3] * a[14] + a[13] * a[2] * a[7] - a[13] * a[3] * a[6];
+    inv[6] = -a[0] * a[6] * a[15] + a[0] * a[7] * a[14] + a[4] * a[2] * a[15] - a[4] * a[3] * a[14] - a[12] * a[2] * a[7] + a[12] * a[3] * a[6];
+    inv[10] = a[0] * a[5] * a[15] - a[0] * a[7] * a[13] - a[4] * a[1] * a[15] + a[4] * a[3] * a[13] + a[12] * a[1] * a[7] - a[12] * a[3] * a[5];
+    inv[14] = -a[0] * a[5] * a[14] + a[0] * a[6] * a[13] + a[4] * a[1] * a[14] - a[4] * a[2] * a[13] - a[12] * a[1] * a[6] + a[12] * a[2] * a[5];
+    inv[3] = -a[1] * a[6] * a[11] + a[1] * a[7] * a[10] + a[5] * a[2] * a[11] - a[5] * a[3] * a[10] - a[9] * a[2] * a[7] + a[9] * a[3] * a[6];
+    inv[7] = a[0] * a[6] * a[11] - a[0] * a[7] * a[10] - a[4] * a[2] * a[11] + a[4] * a[3] * a[10] + a[8] * a[2] * a[7] - a[8] * a[3] * a[6];
+    inv[11] = -a[0] * a[5] * a[11] + a[0] * a[7] * a[9] + a[4] * a[1] * a[11] - a[4] * a[3] * a[9] - a[8] * a[1] * a[7] + a[8] * a[3] * a[5];
+    inv[15] = a[0] * a[5] * a[10] - a[0] * a[6] * a[9] - a[4] * a[1] * a[10] + a[4] * a[2] * a[9] + a[8] * a[1] * a[6] - a[8] * a[2] * a[5];
+    det = a[0] * inv[0] + a[1] * inv[4] + a[2] * inv[8] + a[3] * inv[12];
+    /* a 4x4 determinant scales as scale^4: below 1e-12 of that is singular for float input */
+    if (!(fabs(det) > 1e-12 * scale * scale * scale * scale)) return 0;
+    for (k = 0; k < 16; ++k) {
+        double v = inv[k] / det;
+        if (!(fabs(v) <= 3.0e38)) return 0;
+        out[k] = (float)v;
+    }
+    return 1;
+}
+
+LINEAR_RT_DEF lrt_result lrt_camera_init(lrt_camera *camera, const float projection[16], uint32_t width,
+                                         uint32_t height, uint32_t flags)
+{
+    lrt_camera c;
+    int k;
+    if (!camera || !projection) return LRT_ERROR_NULL_POINTER;
+    if (width == 0 || height == 0 || width > LINEAR_RT_MAX_DIM || height > LINEAR_RT_MAX_DIM) return LRT_ERROR_INVALID_SIZE;
+    if (flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) return LRT_ERROR_INVALID_OPTION;
+    for (k = 0; k < 16; ++k) c.proj[k] = projection[k];
+    if (!lrt__invert4(c.proj, c.inv_proj)) return LRT_ERROR_INVALID_CAMERA;
+    c.width = width;
+    c.height = height;
+    c.flags = flags;
+    *camera = c;
+    return LRT_SUCCESS;
+}
+
+/* clip = m * (p, 1), column-major */
+static void lrt__transform(const float *m, const double p[4], double out[4])
+{
+    int r;
+    for (r = 0; r < 4; ++r)
+        out[r] = (double)m[r] * p[0] + (double)m[4 + r] * p[1] + (double)m[8 + r] * p[2] + (double)m[12 + r] * p[3];
+}
+
+/* Screen point of a clip-space point with w > 0; 0 if not finite in float. */
+static int lrt__clip_to_screen(const lrt_camera *c, const double clip[4], float screen[3])
+{
+    double x = (clip[0] / clip[3] + 1.0) * 0.5 * (double)c->width;
+    double y = (clip[1] / clip[3] + 1.0) * 0.5 * (double)c->height;
+    double z = clip[2] / clip[3];
+    if (c->flags & LRT_DEPTH_REVERSED_Z) z = 1.0 - z;
+    if (!(fabs(x) <= 3.0e38 && fabs(y) <= 3.0e38 && fabs(z) <= 3.0e38)) return 0;
+    screen[0] = (float)x;
+    screen[1] = (float)y;
+    screen[2] = (float)z;
+    return 1;
+}
+
+LINEAR_RT_DEF int lrt_camera_unproject(const lrt_camera *camera, const float screen[3], float view[3])
+{
+    double ndc[4], p[4];
+    int k;
+    if (!camera || !screen || !view) return 0;
+    ndc[0] = 2.0 * (double)screen[0] / (double)camera->width - 1.0;
+    ndc[1] = 2.0 * (double)screen[1] / (double)camera->height - 1.0;
+    ndc[2] = (camera->flags & LRT_DEPTH_REVERSED_Z) ? 1.0 - (double)screen[2] : (double)screen[2];
+    ndc[3] = 1.0;
+    lrt__transform(camera->inv_proj, ndc, p);
+    if (!(p[3] != 0.0)) return 0;
+    for (k = 0; k < 3; ++k) {
+        double v = p[k] / p[3];
+        if (!(fabs(v) <= 3.0e38)) return 0;
+        view[k] = (float)v;
+    }
+    return 1;
+}
+
+LINEAR_RT_DEF int lrt_camera_project(const lrt_camera *camera, const float view[3], float screen[3])
+{
+    double p[4], clip[4];
+    if (!camera || !view || !screen) return 0;
+    p[0] = view[0];
+    p[1] = view[1];
+    p[2] = view[2];
+    p[3] = 1.0;
+    lrt__transform(camera->proj, p, clip);
+    if (!(clip[3] > 0.0)) return 0;
+    return lrt__clip_to_screen(camera, clip, screen);
+}
+
+LINEAR_RT_DEF int lrt_camera_segment(const lrt_camera *camera, const float from[3], const float to[3], lrt_ray *ray)
+{
+    double a[4], b[4], ca[4], cb[4], s0 = 0.0, s1 = 1.0, fa[3], fb[3], pa[4], pb[4];
+    float sa[3], sb[3];
+    int k;
+    if (!ray) return 0;
+    for (k = 0; k < 3; ++k) ray->origin[k] = ray->dir[k] = NAN;
+    ray->tmin = 0.0f;
+    ray->tmax = 1.0f;
+    if (!camera || !from || !to) return 0;
+    for (k = 0; k < 3; ++k) {
+        a[k] = from[k];
+        b[k] = to[k];
+        if (!(a[k] - a[k] == 0.0 && b[k] - b[k] == 0.0)) return 0;
+    }
+    a[3] = b[3] = 1.0;
+    lrt__transform(camera->proj, a, ca);
+    lrt__transform(camera->proj, b, cb);
+    /* clip space is linear along the segment: keep s where z >= 0, w - z >= 0
+       (between the planes) and w > 0 (in front of the eye) */
+    fa[0] = ca[2];         fb[0] = cb[2];
+    fa[1] = ca[3] - ca[2]; fb[1] = cb[3] - cb[2];
+    fa[2] = ca[3];         fb[2] = cb[3];
+    for (k = 0; k < 3; ++k) {
+        if (fa[k] < 0.0 && fb[k] < 0.0) return 0;
+        if (fa[k] < 0.0) { double s = fa[k] / (fa[k] - fb[k]); s0 = s > s0 ? s : s0; }
+        else if (fb[k] < 0.0) { double s = fa[k] / (fa[k] - fb[k]); s1 = s < s1 ? s : s1; }
+    }
+    if (!(s0 <= s1)) return 0;
+    for (k = 0; k < 4; ++k) {
+        pa[k] = ca[k] + s0 * (cb[k] - ca[k]);
+        pb[k] = ca[k] + s1 * (cb[k] - ca[k]);
+    }
+    if (!(pa[3] > 0.0 && pb[3] > 0.0)) return 0; /* touches the eye (w = 0) only */
+    if (!lrt__clip_to_screen(camera, pa, sa) || !lrt__clip_to_screen(camera, pb, sb)) return 0;
+    for (k = 0; k < 3; ++k) {
+        ray->origin[k] = sa[k];
+        ray->dir[k] = sb[k] - sa[k];
+    }
+    return 1;
+}
+
 #ifdef __cplusplus
 }
 #endif
 #endif /* LINEAR_RT_IMPLEMENTATION_DONE */
 
 /* ============================================================================
-   6. Vulkan: the kernels of shaders/ (BuildBVH and UpdateBVH in one refit
+   7. Vulkan: the kernels of shaders/ (BuildBVH and UpdateBVH in one refit
       kernel, the traversal in another), recorded into the caller's command
       buffers inside the caller's device. Host and kernels agree on
       shaders/README.md: bindings, push constants, dispatch shape.

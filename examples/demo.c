@@ -14,17 +14,30 @@
      timestamps of the two dispatches side by side with the CPU's, and the
      GPU hits checked against the CPU hits; also the segments. No device:
      the demo says why and shows the CPU table alone.
-   Exits 0 if every checked ray agrees, 1 otherwise.
+   Then the pictures, into out/ (examples/ssr.c, ao.c and shadows.c, and the
+   benchmark's 64-step linear march, bench/m_march_cpu.c): the scene's
+   colour and depth, reflections traced with linear_rt and the same rays
+   marched in 64 steps, side by side, ambient occlusion and contact shadows;
+   each with its time, and the share of reflection rays on which the march
+   agrees with linear_rt (same hit texel, or both miss).
+   Exits 0 if every checked ray agrees, 1 otherwise (2: bad arguments or file).
 
    make demo              (builds build/demo with -O3 and runs it)
    build/demo --size 128  (a smaller map)
-   build/demo --no-gpu    (the CPU path alone) */
+   build/demo --no-gpu    (the CPU path alone)
+   build/demo --depth FILE [--color FILE] [--fov DEG --near N --far F] [--reversed-z]
+                          (the pictures from your own frame; the timings stay on the scene)
+   build/demo --out DIR   (where the pictures go; default out/) */
 #define _POSIX_C_SOURCE 200809L
 
-#define LINEAR_RT_IMPLEMENTATION
-#include "../linear_rt.h"
+#include "example.h" /* linear_rt.h's implementation, the frame, PNG out */
+#include "../bench/bench.h"
 #include "../tests/reference.h"
 #include "scene.h"
+#define EXAMPLE_NO_MAIN
+#include "ssr.c"
+#include "ao.c"
+#include "shadows.c"
 #ifdef LINEAR_RT_VULKAN
 #include "../tests/vk_util.h"
 #endif
@@ -391,13 +404,146 @@ done:
 
 static void usage(const char *argv0)
 {
-    fprintf(stderr, "usage: %s [--size N] [--no-gpu]   (N in 1..%u, default 1024)\n", argv0,
-            (unsigned)LINEAR_RT_MAX_DIM);
+    fprintf(stderr, "usage: %s [--no-gpu] [--no-pictures] %s\n   (N in 1..%u, default 1024)\n", argv0,
+            example_options_usage(), (unsigned)LINEAR_RT_MAX_DIM);
+}
+
+double bench_now_ms(void) { return example_now_ms(); } /* for bench/m_march_cpu.c */
+
+/* The 64-step linear march of the benchmark (bench/m_march_cpu.c), on the
+   same rays: what an engine would write instead. */
+static int march64_trace(const example_frame *f, const lrt_ray *rays, lrt_hit *hits, int threads, double *ms)
+{
+    bench_method ms_all[16];
+    bench_scene sc;
+    bench_rays rs;
+    char why[256];
+    int k, count = bench_add_march_cpu(ms_all, 16), found = -1, bad = 1;
+    for (k = 0; k < count; ++k)
+        if (!strcmp(ms_all[k].name, "march64 cpu")) found = k;
+    memset(&sc, 0, sizeof sc);
+    sc.name = "frame";
+    sc.width = f->w;
+    sc.height = f->h;
+    sc.depth = f->depth;
+    sc.lrt = f->lrt;
+    rs.name = "reflection";
+    rs.rays = rays;
+    rs.count = (size_t)f->w * f->h;
+    rs.flags = 0;
+    if (found >= 0) {
+        bench_method *m = &ms_all[found];
+        double build_ms;
+        bad = m->open(m, f->w, f->h, threads, why, sizeof why) || m->build(m, &sc, &build_ms, why, sizeof why) ||
+              m->trace(m, &sc, &rs, hits, ms, why, sizeof why);
+        if (bad) fprintf(stderr, "march64: %s\n", why);
+    }
+    for (k = 0; k < count; ++k) ms_all[k].close(&ms_all[k]);
+    return bad;
+}
+
+/* The pictures of the frame (the scene, or the user's files) into o->out_dir. */
+static int pictures(const example_options *o)
+{
+    example_frame f;
+    size_t n, k, agree = 0, traced = 0;
+    lrt_ray *rays = NULL, *ao_rays = NULL;
+    lrt_hit *hits = NULL, *march_hits = NULL, *ao_hits = NULL;
+    uint8_t *img = NULL, *img2 = NULL, *both = NULL;
+    float *occ = NULL;
+    double t0, ms_ssr, ms_march = 0.0, ms_ao, ms_sh;
+    int rc, bad = 0;
+    uint32_t j;
+    t0 = example_now_ms();
+    if ((rc = example_frame_load(&f, o)) != EXAMPLE_EXIT_OK) return rc;
+    printf("pictures: %s %ux%u, into %s/ (%d threads; frame set-up and BVH build %.1f ms)\n",
+           o->depth_file ? o->depth_file : "the embedded scene", f.w, f.h, o->out_dir, o->threads,
+           example_now_ms() - t0);
+    n = (size_t)f.w * f.h;
+    rays = (lrt_ray *)malloc(n * sizeof *rays);
+    hits = (lrt_hit *)malloc(n * sizeof *hits);
+    march_hits = (lrt_hit *)malloc(n * sizeof *march_hits);
+    ao_rays = (lrt_ray *)malloc(n * AO_RAYS * sizeof *ao_rays);
+    ao_hits = (lrt_hit *)malloc(n * AO_RAYS * sizeof *ao_hits);
+    img = (uint8_t *)malloc(n * 3);
+    img2 = (uint8_t *)malloc(n * 3);
+    both = (uint8_t *)malloc(n * 6);
+    occ = (float *)malloc(n * sizeof *occ);
+    if (!rays || !hits || !march_hits || !ao_rays || !ao_hits || !img || !img2 || !both || !occ) {
+        fprintf(stderr, "out of memory for the pictures\n");
+        rc = EXAMPLE_EXIT_FAILED;
+        goto done;
+    }
+    bad |= example_write_png(o->out_dir, "color.png", f.w, f.h, 3, f.rgb);
+    example_depth_picture(&f, img);
+    bad |= example_write_png(o->out_dir, "depth.png", f.w, f.h, 1, img);
+
+    /* reflections: linear_rt, then the same rays marched */
+    ssr_make_rays(&f, rays, o->threads);
+    t0 = example_now_ms();
+    example_trace(&f, rays, hits, f.w, 0, o->threads, "reflections, linear_rt");
+    ms_ssr = example_now_ms() - t0;
+    ssr_shade(&f, hits, img);
+    bad |= example_write_png(o->out_dir, "ssr.png", f.w, f.h, 3, img);
+    if (march64_trace(&f, rays, march_hits, o->threads, &ms_march) == 0) {
+        ssr_shade(&f, march_hits, img2);
+        bad |= example_write_png(o->out_dir, "ssr_march64.png", f.w, f.h, 3, img2);
+        for (j = 0; j < f.h; ++j) { /* linear_rt left, march right */
+            memcpy(&both[(size_t)j * f.w * 6], &img[(size_t)j * f.w * 3], (size_t)f.w * 3);
+            memcpy(&both[(size_t)j * f.w * 6 + (size_t)f.w * 3], &img2[(size_t)j * f.w * 3], (size_t)f.w * 3);
+        }
+        bad |= example_write_png(o->out_dir, "ssr_side_by_side.png", 2 * f.w, f.h, 3, both);
+        for (k = 0; k < n; ++k) {
+            int hit_a = hits[k].kind == LRT_HIT, hit_b = march_hits[k].kind == LRT_HIT;
+            if (hits[k].kind == LRT_MISS_INVALID_RAY) continue;
+            ++traced;
+            agree += hit_a == hit_b && (!hit_a || (hits[k].x == march_hits[k].x && hits[k].y == march_hits[k].y));
+        }
+    } else {
+        bad = 1;
+    }
+
+    ao_make_rays(&f, ao_rays, AO_RADIUS, o->threads);
+    t0 = example_now_ms();
+    example_trace(&f, ao_rays, ao_hits, (size_t)f.w * AO_RAYS, LRT_TRACE_ANY_HIT, o->threads, "ambient occlusion");
+    ms_ao = example_now_ms() - t0;
+    ao_occlusion(&f, ao_hits, occ);
+    ao_picture(&f, occ, img);
+    bad |= example_write_png(o->out_dir, "ao.png", f.w, f.h, 1, img);
+
+    shadows_make_rays(&f, rays, SHADOW_LENGTH, o->threads);
+    t0 = example_now_ms();
+    example_trace(&f, rays, hits, f.w, LRT_TRACE_ANY_HIT, o->threads, "contact shadows");
+    ms_sh = example_now_ms() - t0;
+    shadows_shade(&f, hits, img);
+    bad |= example_write_png(o->out_dir, "shadows.png", f.w, f.h, 3, img);
+
+    printf("  %-36s %10s %12s\n", "traced on the CPU", "ms", "M rays/s");
+    printf("  %-36s %10.1f %12.2f\n", "reflections, linear_rt (exact)", ms_ssr, (double)traced / ms_ssr / 1e3);
+    printf("  %-36s %10.1f %12.2f\n", "reflections, 64-step march", ms_march, (double)traced / ms_march / 1e3);
+    printf("  %-36s %10.1f %12.2f\n", "ambient occlusion, 16 rays/texel", ms_ao, (double)n * AO_RAYS / ms_ao / 1e3);
+    printf("  %-36s %10.1f %12.2f\n", "contact shadows", ms_sh, (double)n / ms_sh / 1e3);
+    printf("  the march agrees with linear_rt on %.1f%% of the %lu reflection rays (same texel, or both miss)\n\n",
+           traced ? 100.0 * (double)agree / (double)traced : 0.0, (unsigned long)traced);
+    rc = bad ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
+done:
+    free(rays);
+    free(hits);
+    free(march_hits);
+    free(ao_rays);
+    free(ao_hits);
+    free(img);
+    free(img2);
+    free(both);
+    free(occ);
+    example_frame_free(&f);
+    return rc;
 }
 
 int main(int argc, char **argv)
 {
-    int size = 1024, a, use_gpu = 1;
+    int size, a, use_gpu = 1, draw = 1;
+    example_options opt;
     gpu_run gpu;
     size_t n, i, j, sample, agree_p, agree_s;
     float *depth_f;
@@ -411,21 +557,22 @@ int main(int argc, char **argv)
     ref_map m;
     scene_camera cam = scene_default_camera();
 
+    example_default_options(&opt);
     for (a = 1; a < argc; ++a) {
-        if (strcmp(argv[a], "--size") == 0 && a + 1 < argc) {
-            char *end;
-            long v = strtol(argv[++a], &end, 10);
-            if (*end || v < 1 || v > (long)LINEAR_RT_MAX_DIM) {
-                usage(argv[0]);
-                return 2;
-            }
-            size = (int)v;
-        } else if (strcmp(argv[a], "--no-gpu") == 0) {
+        int p;
+        if (strcmp(argv[a], "--no-gpu") == 0) {
             use_gpu = 0;
-        } else {
-            usage(argv[0]);
+        } else if (strcmp(argv[a], "--no-pictures") == 0) {
+            draw = 0;
+        } else if ((p = example_parse_option(&opt, argc, argv, &a)) != 1) {
+            if (p == 0) usage(argv[0]);
             return 2;
         }
+    }
+    size = (int)opt.size;
+    if (draw) { /* first, so that a bad file fails at once */
+        int rc = pictures(&opt);
+        if (rc != EXAMPLE_EXIT_OK) return rc;
     }
     n = (size_t)size * (size_t)size;
 

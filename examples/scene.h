@@ -97,6 +97,18 @@ static float scene__hit(const scene__prim *p, const float o[3], const float d[3]
     }
 }
 
+/* The camera's rotation: view = m * (world - eye), m row-major (3x3), eye =
+   (0, height, 0). View space is the renderer's camera space: x right, y up,
+   looking down -z. */
+static inline void scene_view_from_world(const scene_camera *cam, float m[9])
+{
+    const float pi = 3.14159265358979f;
+    float cp = cosf(cam->pitch_deg * pi / 180.0f), sp = sinf(cam->pitch_deg * pi / 180.0f);
+    m[0] = 1.0f; m[1] = 0.0f; m[2] = 0.0f;
+    m[3] = 0.0f; m[4] = cp;   m[5] = -sp;
+    m[6] = 0.0f; m[7] = sp;   m[8] = cp;
+}
+
 /* Renders depth (w*h floats, row 0 = top of the image) and, if rgb is not
    NULL, colour (w*h*3 bytes). */
 static void scene_render(int w, int h, const scene_camera *cam, float *depth, uint8_t *rgb)

@@ -1,0 +1,169 @@
+/* ao.c - screen-space ambient occlusion traced with linear_rt.
+
+   For each texel, AO_RAYS short rays (AO_RADIUS view-space units) over the
+   hemisphere of its normal, cosine-weighted, the pattern turned per texel
+   by a 4x4 dither; any hit occludes (LRT_TRACE_ANY_HIT: the tracer may stop
+   at the first hit it finds). The occluded share, smoothed over 4x4 texels
+   of similar depth, is the picture: white open, dark occluded.
+
+   build/ao [--size N] [--depth FILE ...] [--radius R]   writes out/ao.png */
+#include "example.h"
+
+#define AO_RAYS 16
+#define AO_RADIUS 0.6f
+
+typedef struct ao__job {
+    const example_frame *f;
+    lrt_ray *rays; /* AO_RAYS per texel */
+    float radius;
+} ao__job;
+
+/* An orthonormal tangent frame (t, b) around the unit normal n. */
+static void ao__frame(const float n[3], float t[3], float b[3])
+{
+    float a[3] = {0.0f, 0.0f, 0.0f};
+    a[fabsf(n[0]) < 0.6f ? 0 : 1] = 1.0f;
+    t[0] = a[1] * n[2] - a[2] * n[1];
+    t[1] = a[2] * n[0] - a[0] * n[2];
+    t[2] = a[0] * n[1] - a[1] * n[0];
+    example__normalize(t);
+    b[0] = n[1] * t[2] - n[2] * t[1];
+    b[1] = n[2] * t[0] - n[0] * t[2];
+    b[2] = n[0] * t[1] - n[1] * t[0];
+}
+
+static void ao__rays_row(void *ctx, uint32_t j)
+{
+    static const uint8_t dither[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
+    const ao__job *job = (const ao__job *)ctx;
+    const example_frame *f = job->f;
+    const float golden = 2.39996323f, pi = 3.14159265358979f;
+    uint32_t i;
+    int s;
+    for (i = 0; i < f->w; ++i) {
+        size_t k = (size_t)j * f->w + i;
+        const float *p = &f->pos[3 * k], *n = &f->nrm[3 * k];
+        lrt_ray *rays = &job->rays[k * AO_RAYS];
+        float t[3], b[3], turn = 2.0f * pi * (float)dither[(j & 3) * 4 + (i & 3)] / 16.0f;
+        if (f->depth[k] >= 1.0f) {
+            for (s = 0; s < AO_RAYS; ++s) lrt_camera_segment(NULL, NULL, NULL, &rays[s]);
+            continue;
+        }
+        ao__frame(n, t, b);
+        for (s = 0; s < AO_RAYS; ++s) {
+            /* a spiral over the disc, lifted onto the hemisphere: cosine-weighted */
+            float u = ((float)s + 0.5f) / (float)AO_RAYS, r = sqrtf(u), phi = (float)s * golden + turn;
+            float x = r * cosf(phi), y = r * sinf(phi), z = sqrtf(1.0f - u), to[3];
+            int c;
+            for (c = 0; c < 3; ++c) to[c] = p[c] + job->radius * (x * t[c] + y * b[c] + z * n[c]);
+            if (lrt_camera_segment(&f->camera, p, to, &rays[s])) rays[s].origin[2] -= f->lift[k];
+        }
+    }
+}
+
+/* AO_RAYS rays per texel, texel by texel in row order. */
+EXAMPLE_FN void ao_make_rays(const example_frame *f, lrt_ray *rays, float radius, int threads)
+{
+    ao__job job;
+    job.f = f;
+    job.rays = rays;
+    job.radius = radius;
+    example_parallel_rows(f->h, threads, NULL, ao__rays_row, &job);
+}
+
+/* Occlusion of each texel (0 open .. 1 closed) before smoothing; -1 for sky. */
+EXAMPLE_FN void ao_occlusion(const example_frame *f, const lrt_hit *hits, float *occ)
+{
+    size_t k, n = (size_t)f->w * f->h;
+    int s;
+    for (k = 0; k < n; ++k) {
+        int hit = 0;
+        if (f->depth[k] >= 1.0f) {
+            occ[k] = -1.0f;
+            continue;
+        }
+        for (s = 0; s < AO_RAYS; ++s) hit += hits[k * AO_RAYS + (size_t)s].kind == LRT_HIT;
+        occ[k] = (float)hit / (float)AO_RAYS;
+    }
+}
+
+/* The picture: 1 - occlusion averaged over the 4x4 texels around (which the
+   dither spreads one pattern over) that lie within 5% of this texel's
+   view distance, so edges stay sharp. */
+EXAMPLE_FN void ao_picture(const example_frame *f, const float *occ, uint8_t *grey)
+{
+    uint32_t i, j;
+    int dx, dy;
+    for (j = 0; j < f->h; ++j)
+        for (i = 0; i < f->w; ++i) {
+            size_t k = (size_t)j * f->w + i;
+            float sum = 0.0f, z = f->pos[3 * k + 2], cnt = 0.0f;
+            if (occ[k] < 0.0f) {
+                grey[k] = 255;
+                continue;
+            }
+            for (dy = -2; dy <= 1; ++dy)
+                for (dx = -2; dx <= 1; ++dx) {
+                    long x = (long)i + dx, y = (long)j + dy;
+                    size_t q;
+                    if (x < 0 || y < 0 || x >= (long)f->w || y >= (long)f->h) continue;
+                    q = (size_t)y * f->w + (size_t)x;
+                    if (occ[q] < 0.0f || fabsf(f->pos[3 * q + 2] - z) > 0.05f * fabsf(z)) continue;
+                    sum += occ[q];
+                    cnt += 1.0f;
+                }
+            grey[k] = example_to_byte(1.0f - sum / cnt);
+        }
+}
+
+#ifndef EXAMPLE_NO_MAIN
+int main(int argc, char **argv)
+{
+    example_options o;
+    example_frame f;
+    lrt_ray *rays;
+    lrt_hit *hits;
+    float *occ, radius = AO_RADIUS;
+    uint8_t *grey;
+    size_t n;
+    double t0, t1, t2;
+    int a, rc;
+    example_default_options(&o);
+    for (a = 1; a < argc; ++a) {
+        int p = example_parse_option(&o, argc, argv, &a);
+        if (p == 1) continue;
+        if (p == 0 && !strcmp(argv[a], "--radius") && a + 1 < argc && (radius = (float)atof(argv[a + 1])) > 0.0f) {
+            ++a;
+            continue;
+        }
+        if (p == 0) fprintf(stderr, "usage: %s %s [--radius R]\n", argv[0], example_options_usage());
+        return EXAMPLE_EXIT_BAD_INPUT;
+    }
+    if ((rc = example_frame_load(&f, &o)) != EXAMPLE_EXIT_OK) return rc;
+    n = (size_t)f.w * f.h;
+    rays = (lrt_ray *)malloc(n * AO_RAYS * sizeof *rays);
+    hits = (lrt_hit *)malloc(n * AO_RAYS * sizeof *hits);
+    occ = (float *)malloc(n * sizeof *occ);
+    grey = (uint8_t *)malloc(n);
+    if (!rays || !hits || !occ || !grey) {
+        fprintf(stderr, "out of memory\n");
+        return EXAMPLE_EXIT_FAILED;
+    }
+    t0 = example_now_ms();
+    ao_make_rays(&f, rays, radius, o.threads);
+    t1 = example_now_ms();
+    example_trace(&f, rays, hits, (size_t)f.w * AO_RAYS, LRT_TRACE_ANY_HIT, o.threads, "ao trace");
+    t2 = example_now_ms();
+    ao_occlusion(&f, hits, occ);
+    ao_picture(&f, occ, grey);
+    printf("ao: %ux%u, %zu rays (%d per texel, radius %g): set-up %.1f ms, trace %.1f ms on %d threads\n", f.w, f.h,
+           n * AO_RAYS, AO_RAYS, (double)radius, t1 - t0, t2 - t1, o.threads);
+    rc = example_write_png(o.out_dir, "ao.png", f.w, f.h, 1, grey) ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
+    free(rays);
+    free(hits);
+    free(occ);
+    free(grey);
+    example_frame_free(&f);
+    return rc;
+}
+#endif

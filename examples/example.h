@@ -1,0 +1,440 @@
+/* example.h - what ssr.c, ao.c, shadows.c and the demo share, so that each
+   of them reads as its own effect and nothing else:
+   - the frame: depth, colour and camera, from the embedded scene
+     (examples/scene.h) or from the user's files (examples/depth_file.h);
+   - per texel: the view-space position and normal rebuilt from depth, and
+     how far a ray starting there is lifted off its own surface;
+   - a parallel-for over rows with a progress line, PNG output, timing.
+
+   Include it in ONE .c file of a program (it compiles linear_rt.h's
+   implementation, stb_image and stb_image_write). C99, pthreads. */
+#ifndef EXAMPLE_H
+#define EXAMPLE_H
+
+#ifndef _POSIX_C_SOURCE
+#define _POSIX_C_SOURCE 200809L
+#endif
+
+#define LINEAR_RT_IMPLEMENTATION
+#include "../linear_rt.h"
+#include "depth_file.h"
+#include "scene.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#include <stb/stb_image_write.h>
+
+#if defined(__GNUC__)
+#define EXAMPLE_FN static __attribute__((unused))
+#else
+#define EXAMPLE_FN static
+#endif
+
+/* Exit codes of every example: 0 done, 1 failed while running, 2 bad
+   arguments or a file that cannot be used (one line on stderr says which). */
+enum { EXAMPLE_EXIT_OK = 0, EXAMPLE_EXIT_FAILED = 1, EXAMPLE_EXIT_BAD_INPUT = 2 };
+
+typedef struct example_options {
+    uint32_t size;                /* embedded scene: size x size texels */
+    const char *depth_file;       /* or the user's depth (PNG 8/16, PFM, raw float) */
+    const char *color_file;       /* and optional colour (PNG of the same size) */
+    uint32_t raw_width, raw_height; /* raw float depth has no header */
+    float fov_deg, near_z, far_z; /* the user's perspective projection */
+    int reversed_z;
+    const char *out_dir;          /* pictures go here */
+    int threads;
+} example_options;
+
+typedef struct example_frame {
+    uint32_t w, h;
+    float *depth;        /* w * h, 0 near, row 0 at the top */
+    uint8_t *rgb;        /* w * h * 3 */
+    lrt_camera camera;
+    float view_from_world[9]; /* rotation of the embedded scene's camera (identity for files) */
+    float *pos;          /* w * h * 3: view-space position of each texel's centre */
+    float *nrm;          /* w * h * 3: view-space normal facing the eye; 0 0 0 for the sky */
+    float *lift;         /* w * h: screen-space z by which a ray from this texel is lifted */
+    lrt_depth lrt;
+    lrt_bvh bvh;
+} example_frame;
+
+EXAMPLE_FN double example_now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+EXAMPLE_FN void example_default_options(example_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->size = 1024;
+    o->fov_deg = 60.0f;
+    o->near_z = 0.1f;
+    o->far_z = 60.0f;
+    o->out_dir = "out";
+    o->threads = 2;
+}
+
+EXAMPLE_FN const char *example_options_usage(void)
+{
+    return "[--size N] [--depth FILE [--color FILE] [--width W --height H] [--fov DEG --near N --far F] "
+           "[--reversed-z]] [--out DIR] [--threads T]";
+}
+
+static int example__number(const char *s, double lo, double hi, double *v)
+{
+    char *end;
+    double x = strtod(s, &end);
+    if (end == s || *end || !(x >= lo && x <= hi)) return 0;
+    *v = x;
+    return 1;
+}
+
+/* Parses one shared option at argv[*a]; 1 if it was one (and advances *a),
+   0 if it is not a shared option, -1 (after a one-line message) if it is one
+   with a bad value. */
+EXAMPLE_FN int example_parse_option(example_options *o, int argc, char **argv, int *a)
+{
+    const char *k = argv[*a], *v = *a + 1 < argc ? argv[*a + 1] : NULL;
+    double x;
+    int is_value_option = !strcmp(k, "--size") || !strcmp(k, "--depth") || !strcmp(k, "--color") ||
+                          !strcmp(k, "--width") || !strcmp(k, "--height") || !strcmp(k, "--fov") ||
+                          !strcmp(k, "--near") || !strcmp(k, "--far") || !strcmp(k, "--out") ||
+                          !strcmp(k, "--threads");
+    if (!strcmp(k, "--reversed-z")) {
+        o->reversed_z = 1;
+        return 1;
+    }
+    if (!is_value_option) return 0;
+    if (!v) {
+        fprintf(stderr, "%s needs a value\n", k);
+        return -1;
+    }
+    ++*a;
+    if (!strcmp(k, "--depth")) o->depth_file = v;
+    else if (!strcmp(k, "--color")) o->color_file = v;
+    else if (!strcmp(k, "--out")) o->out_dir = v;
+    else if (!strcmp(k, "--size") && example__number(v, 1, LINEAR_RT_MAX_DIM, &x)) o->size = (uint32_t)x;
+    else if (!strcmp(k, "--width") && example__number(v, 1, LINEAR_RT_MAX_DIM, &x)) o->raw_width = (uint32_t)x;
+    else if (!strcmp(k, "--height") && example__number(v, 1, LINEAR_RT_MAX_DIM, &x)) o->raw_height = (uint32_t)x;
+    else if (!strcmp(k, "--fov") && example__number(v, 1, 179, &x)) o->fov_deg = (float)x;
+    else if (!strcmp(k, "--near") && example__number(v, 1e-6, 1e9, &x)) o->near_z = (float)x;
+    else if (!strcmp(k, "--far") && example__number(v, 1e-6, 1e12, &x)) o->far_z = (float)x;
+    else if (!strcmp(k, "--threads") && example__number(v, 1, 64, &x)) o->threads = (int)x;
+    else {
+        fprintf(stderr, "%s: bad value '%s'\n", k, v);
+        return -1;
+    }
+    return 1;
+}
+
+/* ---- rows in parallel, with a progress line past one second ------------------- */
+typedef void (*example_rows_fn)(void *ctx, uint32_t row);
+
+typedef struct example__pool {
+    example_rows_fn fn;
+    void *ctx;
+    uint32_t rows, next, done;
+    const char *what;
+    double start, last_print;
+    int printed;
+    pthread_mutex_t lock;
+} example__pool;
+
+static void *example__worker(void *arg)
+{
+    example__pool *p = (example__pool *)arg;
+    for (;;) {
+        uint32_t first, end, r;
+        double now;
+        pthread_mutex_lock(&p->lock);
+        first = p->next;
+        end = first + 8 < p->rows ? first + 8 : p->rows;
+        p->next = end;
+        now = example_now_ms();
+        if (p->what && now - p->start > 1000.0 && now - p->last_print > 250.0) {
+            fprintf(stderr, "\r  %s: %3u%%", p->what, (unsigned)(100.0 * p->done / p->rows));
+            p->last_print = now;
+            p->printed = 1;
+        }
+        pthread_mutex_unlock(&p->lock);
+        if (first >= end) return NULL;
+        for (r = first; r < end; ++r) p->fn(p->ctx, r);
+        pthread_mutex_lock(&p->lock);
+        p->done += end - first;
+        pthread_mutex_unlock(&p->lock);
+    }
+}
+
+/* fn(ctx, row) for every row in [0, rows) on `threads` threads; `what`
+   names the work for the progress line (NULL: none). */
+EXAMPLE_FN void example_parallel_rows(uint32_t rows, int threads, const char *what, example_rows_fn fn, void *ctx)
+{
+    example__pool p;
+    pthread_t t[64];
+    int k, started = 0;
+    memset(&p, 0, sizeof p);
+    p.fn = fn;
+    p.ctx = ctx;
+    p.rows = rows;
+    p.what = what;
+    p.start = p.last_print = example_now_ms();
+    pthread_mutex_init(&p.lock, NULL);
+    if (threads > 64) threads = 64;
+    for (k = 1; k < threads; ++k)
+        if (pthread_create(&t[started], NULL, example__worker, &p) == 0) ++started;
+    example__worker(&p);
+    for (k = 0; k < started; ++k) pthread_join(t[k], NULL);
+    pthread_mutex_destroy(&p.lock);
+    if (p.printed) fprintf(stderr, "\r  %s: 100%%\n", what ? what : "");
+}
+
+/* ---- the frame ------------------------------------------------------------------- */
+EXAMPLE_FN float example__dot(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+EXAMPLE_FN void example__normalize(float *v)
+{
+    float l = sqrtf(example__dot(v, v));
+    if (l > 0.0f) {
+        v[0] /= l;
+        v[1] /= l;
+        v[2] /= l;
+    }
+}
+
+/* Per row: each texel's view-space position, then (next pass) its normal
+   and lift. */
+static void example__positions_row(void *ctx, uint32_t j)
+{
+    example_frame *f = (example_frame *)ctx;
+    uint32_t i;
+    for (i = 0; i < f->w; ++i) {
+        size_t k = (size_t)j * f->w + i;
+        float s[3];
+        s[0] = (float)i + 0.5f;
+        s[1] = (float)j + 0.5f;
+        s[2] = f->depth[k];
+        if (s[2] >= 1.0f || !lrt_camera_unproject(&f->camera, s, &f->pos[3 * k])) {
+            f->pos[3 * k] = f->pos[3 * k + 1] = f->pos[3 * k + 2] = 0.0f;
+        }
+    }
+}
+
+/* The normal is the cross product of one horizontal and one vertical
+   difference of positions; of the two neighbours on each axis, the one with
+   the smaller depth step is used, so that a silhouette does not bend the
+   normal of the surface in front of it.
+   The lift is the self-intersection policy of the examples (MODEL.md leaves
+   it to the caller): texels are flat-topped boxes, so on a sloped surface
+   the next texel's top stands up to half a texel's slope above the true
+   surface between them; a ray leaving the surface is lifted towards the eye
+   by that much (half the depth steps to the chosen neighbours, plus 1%)
+   and starts at tmin = 0, clear of its own surface's stairs. */
+static void example__normals_row(void *ctx, uint32_t j)
+{
+    example_frame *f = (example_frame *)ctx;
+    uint32_t i, w = f->w, h = f->h;
+    for (i = 0; i < w; ++i) {
+        size_t k = (size_t)j * w + i;
+        float d = f->depth[k], dx = 0.0f, dy = 0.0f, ex[3] = {0, 0, 0}, ey[3] = {0, 0, 0}, *n = &f->nrm[3 * k];
+        int sx = 0, sy = 0, c;
+        n[0] = n[1] = n[2] = 0.0f;
+        f->lift[k] = 0.0f;
+        if (d >= 1.0f) continue;
+        if (i + 1 < w && f->depth[k + 1] < 1.0f) { sx = 1; dx = f->depth[k + 1] - d; }
+        if (i > 0 && f->depth[k - 1] < 1.0f && (!sx || fabsf(d - f->depth[k - 1]) < fabsf(dx))) { sx = -1; dx = d - f->depth[k - 1]; }
+        if (j + 1 < h && f->depth[k + w] < 1.0f) { sy = 1; dy = f->depth[k + w] - d; }
+        if (j > 0 && f->depth[k - w] < 1.0f && (!sy || fabsf(d - f->depth[k - w]) < fabsf(dy))) { sy = -1; dy = d - f->depth[k - w]; }
+        for (c = 0; c < 3; ++c) {
+            if (sx) ex[c] = sx > 0 ? f->pos[3 * (k + 1) + c] - f->pos[3 * k + c] : f->pos[3 * k + c] - f->pos[3 * (k - 1) + c];
+            if (sy) ey[c] = sy > 0 ? f->pos[3 * (k + w) + c] - f->pos[3 * k + c] : f->pos[3 * k + c] - f->pos[3 * (k - w) + c];
+        }
+        if (sx && sy) {
+            /* screen x right, y down: ex x ey points away from the eye for a camera-facing surface */
+            n[0] = ey[1] * ex[2] - ey[2] * ex[1];
+            n[1] = ey[2] * ex[0] - ey[0] * ex[2];
+            n[2] = ey[0] * ex[1] - ey[1] * ex[0];
+            example__normalize(n);
+            if (example__dot(n, &f->pos[3 * k]) > 0.0f) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
+        } else { /* a lone texel: face the eye */
+            n[0] = -f->pos[3 * k];
+            n[1] = -f->pos[3 * k + 1];
+            n[2] = -f->pos[3 * k + 2];
+            example__normalize(n);
+        }
+        f->lift[k] = 0.5f * (fabsf(dx) + fabsf(dy)) * 1.01f + 1e-7f;
+    }
+}
+
+EXAMPLE_FN void example_frame_free(example_frame *f)
+{
+    lrt_bvh_destroy(&f->bvh);
+    free(f->depth);
+    free(f->rgb);
+    free(f->pos);
+    free(f->nrm);
+    free(f->lift);
+    memset(f, 0, sizeof *f);
+}
+
+/* Loads or renders the frame, sets up its camera, positions, normals and
+   lifts, and builds its BVH. Returns an EXAMPLE_EXIT_* code; on failure one
+   line on stderr says why (for a file: "FILE: problem"). */
+EXAMPLE_FN int example_frame_load(example_frame *f, const example_options *o)
+{
+    const float pi = 3.14159265358979f;
+    float proj[16];
+    char why[512];
+    size_t n, k;
+    lrt_result r;
+    memset(f, 0, sizeof *f);
+    if (o->depth_file) {
+        depth_file_image img;
+        if (depth_file_load(o->depth_file, DEPTH_FILE_AUTO, o->reversed_z, o->raw_width, o->raw_height, &img, why,
+                            sizeof why)) {
+            fprintf(stderr, "%s\n", why);
+            return EXAMPLE_EXIT_BAD_INPUT;
+        }
+        f->w = img.width;
+        f->h = img.height;
+        f->depth = img.depth;
+        n = (size_t)f->w * f->h;
+        if (o->color_file) {
+            if (color_file_load(o->color_file, f->w, f->h, &f->rgb, why, sizeof why)) {
+                fprintf(stderr, "%s\n", why);
+                example_frame_free(f);
+                return EXAMPLE_EXIT_BAD_INPUT;
+            }
+        } else { /* no colour: a grey by depth, so that reflections still show shapes */
+            f->rgb = (uint8_t *)malloc(n * 3);
+            if (f->rgb)
+                for (k = 0; k < n; ++k) f->rgb[3 * k] = f->rgb[3 * k + 1] = f->rgb[3 * k + 2] = (uint8_t)(230.0f - 180.0f * f->depth[k]);
+        }
+        memset(f->view_from_world, 0, sizeof f->view_from_world);
+        f->view_from_world[0] = f->view_from_world[4] = f->view_from_world[8] = 1.0f;
+        if (!(o->near_z < o->far_z)) {
+            fprintf(stderr, "--near must be less than --far\n");
+            example_frame_free(f);
+            return EXAMPLE_EXIT_BAD_INPUT;
+        }
+        lrt_perspective(proj, o->fov_deg * pi / 180.0f, (float)f->w / (float)f->h, o->near_z, o->far_z, 0);
+    } else {
+        scene_camera cam = scene_default_camera();
+        f->w = f->h = o->size;
+        n = (size_t)f->w * f->h;
+        f->depth = (float *)malloc(n * sizeof(float));
+        f->rgb = (uint8_t *)malloc(n * 3);
+        if (f->depth && f->rgb) scene_render((int)f->w, (int)f->h, &cam, f->depth, f->rgb);
+        scene_view_from_world(&cam, f->view_from_world);
+        lrt_perspective(proj, cam.fov_y_deg * pi / 180.0f, 1.0f, cam.near_z, cam.far_z, 0);
+    }
+    f->pos = (float *)malloc(n * 3 * sizeof(float));
+    f->nrm = (float *)malloc(n * 3 * sizeof(float));
+    f->lift = (float *)malloc(n * sizeof(float));
+    if (!f->depth || !f->rgb || !f->pos || !f->nrm || !f->lift) {
+        fprintf(stderr, "out of memory for a %ux%u frame\n", f->w, f->h);
+        example_frame_free(f);
+        return EXAMPLE_EXIT_FAILED;
+    }
+    /* the depth is already standard Z (reversed input was flipped on load) */
+    if ((r = lrt_camera_init(&f->camera, proj, f->w, f->h, 0)) != LRT_SUCCESS) {
+        fprintf(stderr, "camera: %s\n", lrt_result_string(r));
+        example_frame_free(f);
+        return EXAMPLE_EXIT_BAD_INPUT;
+    }
+    example_parallel_rows(f->h, o->threads, NULL, example__positions_row, f);
+    example_parallel_rows(f->h, o->threads, NULL, example__normals_row, f);
+    f->lrt.data = f->depth;
+    f->lrt.width = f->w;
+    f->lrt.height = f->h;
+    f->lrt.format = LRT_FORMAT_FLOAT32;
+    if ((r = lrt_bvh_build(&f->bvh, &f->lrt, NULL, NULL)) != LRT_SUCCESS) {
+        fprintf(stderr, "lrt_bvh_build: %s\n", lrt_result_string(r));
+        example_frame_free(f);
+        return EXAMPLE_EXIT_FAILED;
+    }
+    return EXAMPLE_EXIT_OK;
+}
+
+/* ---- tracing a batch on threads ----------------------------------------------------- */
+typedef struct example__trace_job {
+    const example_frame *f;
+    const lrt_ray *rays;
+    lrt_hit *hits;
+    size_t per_row;
+    uint32_t flags;
+} example__trace_job;
+
+static void example__trace_row(void *ctx, uint32_t row)
+{
+    example__trace_job *t = (example__trace_job *)ctx;
+    size_t first = (size_t)row * t->per_row;
+    lrt_trace_range(&t->f->bvh, &t->f->lrt, t->rays, t->hits, first, first + t->per_row, t->flags);
+}
+
+/* Traces f->h * per_row rays (per_row for each texel row, in row order). */
+EXAMPLE_FN void example_trace(const example_frame *f, const lrt_ray *rays, lrt_hit *hits, size_t per_row,
+                              uint32_t flags, int threads, const char *what)
+{
+    example__trace_job t;
+    t.f = f;
+    t.rays = rays;
+    t.hits = hits;
+    t.per_row = per_row;
+    t.flags = flags;
+    example_parallel_rows(f->h, threads, what, example__trace_row, &t);
+}
+
+/* ---- pictures --------------------------------------------------------------------------- */
+/* Writes DIR/NAME (a PNG of w x h with 1 or 3 channels); 0 on success. */
+EXAMPLE_FN int example_write_png(const char *dir, const char *name, uint32_t w, uint32_t h, int channels,
+                                 const uint8_t *pixels)
+{
+    char path[1024];
+    mkdir(dir, 0777); /* fails harmlessly when it exists */
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    if (!stbi_write_png(path, (int)w, (int)h, channels, pixels, (int)(w * (uint32_t)channels))) {
+        fprintf(stderr, "cannot write %s\n", path);
+        return 1;
+    }
+    printf("  wrote %s (%ux%u)\n", path, w, h);
+    return 0;
+}
+
+/* The depth as a picture: near bright; the far end of the depth range is
+   stretched (perspective depth crowds near 1) by a power curve. */
+EXAMPLE_FN void example_depth_picture(const example_frame *f, uint8_t *grey)
+{
+    size_t k, n = (size_t)f->w * f->h;
+    for (k = 0; k < n; ++k) {
+        float d = f->depth[k];
+        grey[k] = d >= 1.0f ? 0 : (uint8_t)(255.0f * (1.0f - powf(d, 8.0f)) + 0.5f);
+    }
+}
+
+EXAMPLE_FN uint8_t example_to_byte(float v) { return v <= 0.0f ? 0 : v >= 1.0f ? 255 : (uint8_t)(v * 255.0f + 0.5f); }
+
+/* The sky seen in direction d (view space): the embedded scene's sky colour,
+   a little lighter towards the horizon. */
+EXAMPLE_FN void example_sky(const example_frame *f, const float d_view[3], float rgb[3])
+{
+    /* world up in view space is the second row of view_from_world's columns */
+    float up[3] = {f->view_from_world[1], f->view_from_world[4], f->view_from_world[7]};
+    float d[3] = {d_view[0], d_view[1], d_view[2]}, s;
+    example__normalize(d);
+    s = example__dot(d, up);
+    s = s < 0.0f ? 0.0f : s;
+    rgb[0] = 0.75f - 0.20f * s;
+    rgb[1] = 0.82f - 0.12f * s;
+    rgb[2] = 0.97f - 0.02f * s;
+}
+
+#endif

@@ -1,0 +1,132 @@
+/* shadows.c - contact shadows traced with linear_rt.
+
+   One ray per texel towards a directional light (the sun of the embedded
+   scene: low, from the right and behind), SHADOW_LENGTH view-space units
+   long, any hit: the texel is in shadow. Shaded with a Lambert term and a
+   sky ambient, so the picture shows the shadows where a person expects
+   them. Screen-space shadows see only what the depth buffer shows: what
+   hides behind a visible surface is solid to them (MODEL.md), so a thin
+   pole casts the shadow of a wall that runs from it away from the eye.
+
+   build/shadows [--size N] [--depth FILE ...] [--length L]   writes out/shadows.png */
+#include "example.h"
+
+#define SHADOW_LENGTH 0.6f
+
+/* The light direction (towards the light) in view space. */
+static void shadows__light(const example_frame *f, float l[3])
+{
+    const float world[3] = {0.55f, 0.6f, 0.35f}; /* x right, y up, z towards the eye */
+    const float *m = f->view_from_world;
+    int r;
+    for (r = 0; r < 3; ++r) l[r] = m[3 * r] * world[0] + m[3 * r + 1] * world[1] + m[3 * r + 2] * world[2];
+    example__normalize(l);
+}
+
+typedef struct shadows__job {
+    const example_frame *f;
+    lrt_ray *rays;
+    float length;
+} shadows__job;
+
+static void shadows__rays_row(void *ctx, uint32_t j)
+{
+    const shadows__job *job = (const shadows__job *)ctx;
+    const example_frame *f = job->f;
+    float l[3];
+    uint32_t i;
+    shadows__light(f, l);
+    for (i = 0; i < f->w; ++i) {
+        size_t k = (size_t)j * f->w + i;
+        const float *p = &f->pos[3 * k], *n = &f->nrm[3 * k];
+        float to[3];
+        /* sky, and surfaces facing away from the light (shadowed by themselves) */
+        if (f->depth[k] >= 1.0f || example__dot(n, l) <= 0.0f) {
+            lrt_camera_segment(NULL, NULL, NULL, &job->rays[k]);
+            continue;
+        }
+        to[0] = p[0] + job->length * l[0];
+        to[1] = p[1] + job->length * l[1];
+        to[2] = p[2] + job->length * l[2];
+        if (lrt_camera_segment(&f->camera, p, to, &job->rays[k])) job->rays[k].origin[2] -= f->lift[k];
+    }
+}
+
+/* One shadow ray per texel, row by row. */
+EXAMPLE_FN void shadows_make_rays(const example_frame *f, lrt_ray *rays, float length, int threads)
+{
+    shadows__job job;
+    job.f = f;
+    job.rays = rays;
+    job.length = length;
+    example_parallel_rows(f->h, threads, NULL, shadows__rays_row, &job);
+}
+
+/* Lit colour: albedo * (ambient + sun * max(n.l, 0) * unshadowed). */
+EXAMPLE_FN void shadows_shade(const example_frame *f, const lrt_hit *hits, uint8_t *out)
+{
+    size_t k, n = (size_t)f->w * f->h;
+    float l[3];
+    shadows__light(f, l);
+    for (k = 0; k < n; ++k) {
+        float lit, c;
+        int ch;
+        if (f->depth[k] >= 1.0f) {
+            memcpy(&out[3 * k], &f->rgb[3 * k], 3);
+            continue;
+        }
+        c = example__dot(&f->nrm[3 * k], l);
+        lit = 0.35f + 0.9f * (c > 0.0f && hits[k].kind != LRT_HIT ? c : 0.0f);
+        for (ch = 0; ch < 3; ++ch) out[3 * k + (size_t)ch] = example_to_byte(lit * (float)f->rgb[3 * k + (size_t)ch] / 255.0f);
+    }
+}
+
+#ifndef EXAMPLE_NO_MAIN
+int main(int argc, char **argv)
+{
+    example_options o;
+    example_frame f;
+    lrt_ray *rays;
+    lrt_hit *hits;
+    uint8_t *out;
+    float length = SHADOW_LENGTH;
+    size_t n, k, shadowed = 0;
+    double t0, t1, t2;
+    int a, rc;
+    example_default_options(&o);
+    for (a = 1; a < argc; ++a) {
+        int p = example_parse_option(&o, argc, argv, &a);
+        if (p == 1) continue;
+        if (p == 0 && !strcmp(argv[a], "--length") && a + 1 < argc && (length = (float)atof(argv[a + 1])) > 0.0f) {
+            ++a;
+            continue;
+        }
+        if (p == 0) fprintf(stderr, "usage: %s %s [--length L]\n", argv[0], example_options_usage());
+        return EXAMPLE_EXIT_BAD_INPUT;
+    }
+    if ((rc = example_frame_load(&f, &o)) != EXAMPLE_EXIT_OK) return rc;
+    n = (size_t)f.w * f.h;
+    rays = (lrt_ray *)malloc(n * sizeof *rays);
+    hits = (lrt_hit *)malloc(n * sizeof *hits);
+    out = (uint8_t *)malloc(n * 3);
+    if (!rays || !hits || !out) {
+        fprintf(stderr, "out of memory\n");
+        return EXAMPLE_EXIT_FAILED;
+    }
+    t0 = example_now_ms();
+    shadows_make_rays(&f, rays, length, o.threads);
+    t1 = example_now_ms();
+    example_trace(&f, rays, hits, f.w, LRT_TRACE_ANY_HIT, o.threads, "shadow trace");
+    t2 = example_now_ms();
+    shadows_shade(&f, hits, out);
+    for (k = 0; k < n; ++k) shadowed += hits[k].kind == LRT_HIT;
+    printf("shadows: %ux%u, %zu rays of length %g: set-up %.1f ms, trace %.1f ms on %d threads, %.1f%% in shadow\n",
+           f.w, f.h, n, (double)length, t1 - t0, t2 - t1, o.threads, 100.0 * (double)shadowed / (double)n);
+    rc = example_write_png(o.out_dir, "shadows.png", f.w, f.h, 3, out) ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
+    free(rays);
+    free(hits);
+    free(out);
+    example_frame_free(&f);
+    return rc;
+}
+#endif

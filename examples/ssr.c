@@ -1,0 +1,150 @@
+/* ssr.c - screen-space reflections traced with linear_rt.
+
+   For each texel: its view-space position and normal (rebuilt from depth by
+   example.h), the view ray reflected about the normal, clipped to the near
+   and far planes and projected to a screen-space segment
+   (lrt_camera_segment), lifted off its own surface, traced to the closest
+   hit; shaded from the colour buffer at the hit texel, or from the sky when
+   the ray leaves the screen or reaches the far plane unblocked.
+
+   build/ssr [--size N] [--depth FILE ...]    writes out/ssr.png
+   (make examples builds it; example.h lists the options.)
+
+   The demo and the tests include this file with EXAMPLE_NO_MAIN defined and
+   call ssr_make_rays / ssr_shade themselves. */
+#include "example.h"
+
+/* How much a texel reflects: floor-like surfaces (normal near world up) are
+   polished stone, the rest follows Schlick's Fresnel from a dull 4%. */
+static float ssr__reflectivity(const example_frame *f, const float n[3], const float view_dir[3])
+{
+    float up[3] = {f->view_from_world[1], f->view_from_world[4], f->view_from_world[7]};
+    float c = -example__dot(n, view_dir), m;
+    c = c < 0.0f ? 0.0f : c > 1.0f ? 1.0f : c;
+    m = (1.0f - c) * (1.0f - c) * (1.0f - c) * (1.0f - c) * (1.0f - c);
+    if (example__dot(n, up) > 0.95f) return 0.35f + 0.45f * m;
+    return 0.04f + 0.5f * m;
+}
+
+/* The reflection direction at texel k (view space), and whether it has one. */
+static int ssr__reflect(const example_frame *f, size_t k, float r[3], float v[3])
+{
+    const float *p = &f->pos[3 * k], *n = &f->nrm[3 * k];
+    float d;
+    if (f->depth[k] >= 1.0f || (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f)) return 0;
+    v[0] = p[0];
+    v[1] = p[1];
+    v[2] = p[2];
+    example__normalize(v); /* the eye is at the origin of view space */
+    d = example__dot(v, n);
+    r[0] = v[0] - 2.0f * d * n[0];
+    r[1] = v[1] - 2.0f * d * n[1];
+    r[2] = v[2] - 2.0f * d * n[2];
+    return 1;
+}
+
+typedef struct ssr__job {
+    const example_frame *f;
+    lrt_ray *rays;
+} ssr__job;
+
+static void ssr__rays_row(void *ctx, uint32_t j)
+{
+    ssr__job *job = (ssr__job *)ctx;
+    const example_frame *f = job->f;
+    uint32_t i;
+    for (i = 0; i < f->w; ++i) {
+        size_t k = (size_t)j * f->w + i;
+        lrt_ray *ray = &job->rays[k];
+        float r[3], v[3], to[3];
+        const float *p = &f->pos[3 * k];
+        /* sky texels and degenerate ones get lrt_camera_segment's invalid
+           ray (NaN origin): the tracer skips it at once */
+        if (!ssr__reflect(f, k, r, v)) {
+            lrt_camera_segment(NULL, NULL, NULL, ray);
+            continue;
+        }
+        /* far enough to cross the whole view; the far plane clips it */
+        to[0] = p[0] + r[0] * 1e4f;
+        to[1] = p[1] + r[1] * 1e4f;
+        to[2] = p[2] + r[2] * 1e4f;
+        if (lrt_camera_segment(&f->camera, p, to, ray)) ray->origin[2] -= f->lift[k];
+    }
+}
+
+/* One reflection ray per texel, row by row (rays[j * w + i]). */
+EXAMPLE_FN void ssr_make_rays(const example_frame *f, lrt_ray *rays, int threads)
+{
+    ssr__job job;
+    job.f = f;
+    job.rays = rays;
+    example_parallel_rows(f->h, threads, NULL, ssr__rays_row, &job);
+}
+
+/* The frame's colour with the reflections the hits found mixed in. */
+EXAMPLE_FN void ssr_shade(const example_frame *f, const lrt_hit *hits, uint8_t *out)
+{
+    size_t k, n = (size_t)f->w * f->h;
+    for (k = 0; k < n; ++k) {
+        float r[3], v[3], refl[3], kr;
+        int c;
+        if (!ssr__reflect(f, k, r, v)) {
+            memcpy(&out[3 * k], &f->rgb[3 * k], 3);
+            continue;
+        }
+        if (hits[k].kind == LRT_HIT) {
+            size_t q = (size_t)hits[k].y * f->w + hits[k].x;
+            for (c = 0; c < 3; ++c) refl[c] = (float)f->rgb[3 * q + (size_t)c] / 255.0f;
+        } else {
+            example_sky(f, r, refl);
+        }
+        kr = ssr__reflectivity(f, &f->nrm[3 * k], v);
+        for (c = 0; c < 3; ++c)
+            out[3 * k + (size_t)c] = example_to_byte((1.0f - kr) * (float)f->rgb[3 * k + (size_t)c] / 255.0f + kr * refl[c]);
+    }
+}
+
+#ifndef EXAMPLE_NO_MAIN
+int main(int argc, char **argv)
+{
+    example_options o;
+    example_frame f;
+    lrt_ray *rays;
+    lrt_hit *hits;
+    uint8_t *out;
+    size_t n, k, hit_count = 0;
+    double t0, t1, t2;
+    int a, rc;
+    example_default_options(&o);
+    for (a = 1; a < argc; ++a) {
+        int p = example_parse_option(&o, argc, argv, &a);
+        if (p == 1) continue;
+        if (p == 0) fprintf(stderr, "usage: %s %s\n", argv[0], example_options_usage());
+        return EXAMPLE_EXIT_BAD_INPUT;
+    }
+    if ((rc = example_frame_load(&f, &o)) != EXAMPLE_EXIT_OK) return rc;
+    n = (size_t)f.w * f.h;
+    rays = (lrt_ray *)malloc(n * sizeof *rays);
+    hits = (lrt_hit *)malloc(n * sizeof *hits);
+    out = (uint8_t *)malloc(n * 3);
+    if (!rays || !hits || !out) {
+        fprintf(stderr, "out of memory\n");
+        return EXAMPLE_EXIT_FAILED;
+    }
+    t0 = example_now_ms();
+    ssr_make_rays(&f, rays, o.threads);
+    t1 = example_now_ms();
+    example_trace(&f, rays, hits, f.w, 0, o.threads, "ssr trace");
+    t2 = example_now_ms();
+    ssr_shade(&f, hits, out);
+    for (k = 0; k < n; ++k) hit_count += hits[k].kind == LRT_HIT;
+    printf("ssr: %ux%u, %zu reflection rays: set-up %.1f ms, trace %.1f ms on %d threads, %.1f%% hit\n", f.w, f.h, n,
+           t1 - t0, t2 - t1, o.threads, 100.0 * (double)hit_count / (double)n);
+    rc = example_write_png(o.out_dir, "ssr.png", f.w, f.h, 3, out) ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
+    free(rays);
+    free(hits);
+    free(out);
+    example_frame_free(&f);
+    return rc;
+}
+#endif
