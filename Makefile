@@ -217,22 +217,18 @@ test-demo: $(B)/demo
 # ---- benchmark ------------------------------------------------------------------
 # make bench: every method on the same rays (bench/main.c), results in bench/.
 # Optional parts are built when their package is there (tools/install-deps.sh
-# --bench installs them): Embree 3, stb_image (PNG input), and for the Vulkan
+# --bench installs them): Embree 3, and for the Vulkan
 # peers glslang (their kernels are compiled here into build/, never committed).
 HAVE_EMBREE := $(shell test -f /usr/include/embree3/rtcore.h && echo 1)
-HAVE_STB := $(shell test -f /usr/include/stb/stb_image.h && echo 1)
 HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
 BENCH_SRC := bench/main.c bench/m_linear_rt.c bench/m_embree.c bench/m_march_cpu.c bench/m_vk_peers.c
-BENCH_HDR := bench/bench.h bench/march_common.h $(LIB) $(REF) $(SCENE)
+BENCH_HDR := bench/bench.h bench/march_common.h examples/depth_file.h $(LIB) $(REF) $(SCENE)
 BENCH_FLAGS := $(STD) $(WARN) $(CFLAGS) -O3
 BENCH_LIBS := $(LDLIBS)
 BENCH_DEPS :=
 ifeq ($(HAVE_EMBREE),1)
 BENCH_FLAGS += -DBENCH_HAVE_EMBREE
 BENCH_LIBS += -lembree3
-endif
-ifeq ($(HAVE_STB),1)
-BENCH_FLAGS += -DBENCH_HAVE_STB
 endif
 ifeq ($(HAVE_VULKAN),1)
 BENCH_FLAGS += -DBENCH_HAVE_VULKAN -DVK_NO_PROTOTYPES

@@ -16,6 +16,7 @@
 #include "bench.h"
 #include "../tests/reference.h"
 #include "../examples/scene.h"
+#include "../examples/depth_file.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -116,88 +117,23 @@ static void scene_free(scene *sc)
 }
 
 /* ---- the user's own depth: PNG 8/16-bit, PFM, raw float ----------------------- */
-#ifdef BENCH_HAVE_STB
-#define STB_IMAGE_IMPLEMENTATION
-#define STBI_ONLY_PNG
-#include <stb/stb_image.h>
-#endif
-
-static int fail_file(const char *file, const char *what)
-{
-    fprintf(stderr, "bench: %s: %s\n", file, what);
-    return 1;
-}
-
+/* examples/depth_file.h reads it (the examples' reader: one-line reasons,
+   the model's clamp, reversed Z flipped) */
 static int scene_load(scene *sc, const options *o)
 {
-    const char *f = o->depth_file, *fmt = o->format;
-    size_t n, k;
-    uint32_t w = 0, h = 0;
+    depth_file_image img;
+    char why[512];
+    int kind = DEPTH_FILE_AUTO;
     memset(sc, 0, sizeof *sc);
-    if (!fmt) {
-        size_t len = strlen(f);
-        fmt = len > 4 && strcmp(f + len - 4, ".png") == 0 ? "png" : len > 4 && strcmp(f + len - 4, ".pfm") == 0 ? "pfm" : "raw";
+    if (o->format) {
+        kind = !strcmp(o->format, "png") ? DEPTH_FILE_PNG : !strcmp(o->format, "pfm") ? DEPTH_FILE_PFM : DEPTH_FILE_RAW;
     }
-    if (strcmp(fmt, "png") == 0) {
-#ifdef BENCH_HAVE_STB
-        int x, y, c;
-        unsigned short *p16;
-        if (!stbi_info(f, &x, &y, &c)) return fail_file(f, stbi_failure_reason());
-        p16 = stbi_load_16(f, &x, &y, &c, 1); /* 8-bit files widen exactly: v * 257 */
-        if (!p16) return fail_file(f, stbi_failure_reason());
-        w = (uint32_t)x;
-        h = (uint32_t)y;
-        sc->depth = (float *)malloc(sizeof(float) * w * h);
-        for (k = 0; k < (size_t)w * h; ++k) sc->depth[k] = (float)p16[k] / 65535.0f;
-        stbi_image_free(p16);
-#else
-        return fail_file(f, "PNG support needs stb_image (Debian: libstb-dev)");
-#endif
-    } else {
-        FILE *fp = fopen(f, "rb");
-        float scale = 1.0f;
-        if (!fp) return fail_file(f, "cannot open");
-        if (strcmp(fmt, "pfm") == 0) {
-            char tag[3] = {0};
-            if (fscanf(fp, "%2s %u %u %f", tag, &w, &h, &scale) != 4 || strcmp(tag, "Pf") != 0 || fgetc(fp) == EOF) {
-                fclose(fp);
-                return fail_file(f, "not a single-channel PFM (Pf)");
-            }
-        } else {
-            w = o->file_w;
-            h = o->file_h;
-            if (!w || !h) {
-                fclose(fp);
-                return fail_file(f, "raw float needs --width and --height");
-            }
-        }
-        if (w == 0 || h == 0 || w > LINEAR_RT_MAX_DIM || h > LINEAR_RT_MAX_DIM) {
-            fclose(fp);
-            return fail_file(f, "size out of range");
-        }
-        n = (size_t)w * h;
-        sc->depth = (float *)malloc(sizeof(float) * n);
-        if (!sc->depth || fread(sc->depth, sizeof(float), n, fp) != n) {
-            fclose(fp);
-            return fail_file(f, "truncated: fewer texels than its size");
-        }
-        fclose(fp);
-        if (strcmp(fmt, "pfm") == 0) { /* bottom row first; scale < 0: little-endian (assumed host) */
-            for (k = 0; k < h / 2; ++k) {
-                size_t a = k * w, b = (h - 1 - k) * (size_t)w, i;
-                for (i = 0; i < w; ++i) {
-                    float t = sc->depth[a + i];
-                    sc->depth[a + i] = sc->depth[b + i];
-                    sc->depth[b + i] = t;
-                }
-            }
-        }
+    if (depth_file_load(o->depth_file, kind, o->reversed, o->file_w, o->file_h, &img, why, sizeof why)) {
+        fprintf(stderr, "bench: %s\n", why);
+        return 1;
     }
-    for (k = 0; k < (size_t)w * h; ++k) { /* standard Z, the model's clamp */
-        float d = o->reversed ? 1.0f - sc->depth[k] : sc->depth[k];
-        sc->depth[k] = !(d <= 1.0f) ? 1.0f : d < 0.0f ? 0.0f : d;
-    }
-    scene_finish(sc, "file", w, h);
+    sc->depth = img.depth;
+    scene_finish(sc, "file", img.width, img.height);
     return 0;
 }
 

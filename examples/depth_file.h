@@ -9,8 +9,9 @@
    The depth comes out as MODEL.md wants it: floats, row 0 at the top, 0 near,
    NaN and values above 1 as 1, below 0 as 0 (after the reversed-Z flip).
 
-   Header-only, static functions; stb_image from Debian's libstb-dev decodes
-   the PNGs (compiled into this file, PNG only). */
+   Header-only; include it in ONE file of a program: it compiles stb_image
+   (Debian's libstb-dev; PNG only) with external linkage. Its own functions
+   are static. */
 #ifndef DEPTH_FILE_H
 #define DEPTH_FILE_H
 
