@@ -38,24 +38,34 @@ static void ao__rays_row(void *ctx, uint32_t j)
     const ao__job *job = (const ao__job *)ctx;
     const example_frame *f = job->f;
     const float golden = 2.39996323f, pi = 3.14159265358979f;
+    float disc[4][AO_RAYS][3]; /* the 4 turns of this row's dither, each a spiral of AO_RAYS points */
     uint32_t i;
-    int s;
+    int s, q;
+    for (q = 0; q < 4; ++q) {
+        float turn = 2.0f * pi * (float)dither[(j & 3) * 4 + (uint32_t)q] / 16.0f;
+        for (s = 0; s < AO_RAYS; ++s) {
+            /* a spiral over the disc, lifted onto the hemisphere: cosine-weighted */
+            float u = ((float)s + 0.5f) / (float)AO_RAYS, r = sqrtf(u), phi = (float)s * golden + turn;
+            disc[q][s][0] = r * cosf(phi);
+            disc[q][s][1] = r * sinf(phi);
+            disc[q][s][2] = sqrtf(1.0f - u);
+        }
+    }
     for (i = 0; i < f->w; ++i) {
         size_t k = (size_t)j * f->w + i;
         const float *p = &f->pos[3 * k], *n = &f->nrm[3 * k];
         lrt_ray *rays = &job->rays[k * AO_RAYS];
-        float t[3], b[3], turn = 2.0f * pi * (float)dither[(j & 3) * 4 + (i & 3)] / 16.0f;
+        float t[3], b[3];
         if (f->depth[k] >= 1.0f) {
             for (s = 0; s < AO_RAYS; ++s) lrt_camera_segment(NULL, NULL, NULL, &rays[s]);
             continue;
         }
         ao__frame(n, t, b);
         for (s = 0; s < AO_RAYS; ++s) {
-            /* a spiral over the disc, lifted onto the hemisphere: cosine-weighted */
-            float u = ((float)s + 0.5f) / (float)AO_RAYS, r = sqrtf(u), phi = (float)s * golden + turn;
-            float x = r * cosf(phi), y = r * sinf(phi), z = sqrtf(1.0f - u), to[3];
+            const float *d = disc[i & 3][s];
+            float to[3];
             int c;
-            for (c = 0; c < 3; ++c) to[c] = p[c] + job->radius * (x * t[c] + y * b[c] + z * n[c]);
+            for (c = 0; c < 3; ++c) to[c] = p[c] + job->radius * (d[0] * t[c] + d[1] * b[c] + d[2] * n[c]);
             if (lrt_camera_segment(&f->camera, p, to, &rays[s])) rays[s].origin[2] -= f->lift[k];
         }
     }
