@@ -1,5 +1,6 @@
 # Makefile of linear_rt (GNU make).
-#   make demo    build build/demo (-O3) and run the headline workload
+#   make demo    build build/demo (-O3): the headline workload, and the pictures in out/
+#   make examples  build/minimal, ssr, ao, shadows, vulkan_inline
 #   make test    every test; ends with one line "N passed, M failed"
 #   make spv     compile shaders/*.comp and regenerate shaders_spv.h (needs glslang)
 #   make clean
@@ -50,7 +51,7 @@ TESTS := test-reference test-core test-sanitize-reference test-sanitize-core tes
 include tests/hardening.mk
 include tests/fuzz/fuzz.mk
 
-.PHONY: all demo examples test deps clean spv spv-check bench bench-deps $(TESTS) test-sanitize
+.PHONY: all demo examples pictures test deps clean spv spv-check bench bench-deps $(TESTS) test-sanitize
 
 all: $(B)/demo $(B)/test_reference $(B)/test_core
 
@@ -82,6 +83,10 @@ $(B)/ssr $(B)/ao $(B)/shadows: $(B)/%: examples/%.c $(EXAMPLE_HDR) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) -O3 $< -o $@ $(LDLIBS)
 
 examples: $(addprefix $(B)/,$(EXAMPLES)) $(B)/vulkan_inline
+
+# the README's pictures: the demo's, at 512x512
+pictures: $(B)/demo
+	$(B)/demo --size 512 --no-gpu --out examples/pictures
 
 # the examples as tests: their effects against the reference, their
 # pictures, their answers to bad files (tests/test_examples.c)

@@ -409,14 +409,23 @@ EXAMPLE_FN int example_write_png(const char *dir, const char *name, uint32_t w, 
     return 0;
 }
 
-/* The depth as a picture: near bright; the far end of the depth range is
-   stretched (perspective depth crowds near 1) by a power curve. */
+/* The depth as a picture: near bright, far dark, sky black. Perspective
+   depth crowds near 1, so the grey follows the log of the view distance
+   between the frame's nearest and farthest texels. */
 EXAMPLE_FN void example_depth_picture(const example_frame *f, uint8_t *grey)
 {
     size_t k, n = (size_t)f->w * f->h;
+    float zmin = 3e38f, zmax = 0.0f, span;
     for (k = 0; k < n; ++k) {
-        float d = f->depth[k];
-        grey[k] = d >= 1.0f ? 0 : (uint8_t)(255.0f * (1.0f - powf(d, 8.0f)) + 0.5f);
+        float z = -f->pos[3 * k + 2];
+        if (f->depth[k] >= 1.0f || !(z > 0.0f)) continue;
+        zmin = z < zmin ? z : zmin;
+        zmax = z > zmax ? z : zmax;
+    }
+    span = zmax > zmin ? logf(zmax / zmin) : 1.0f;
+    for (k = 0; k < n; ++k) {
+        float z = -f->pos[3 * k + 2];
+        grey[k] = f->depth[k] >= 1.0f || !(z > 0.0f) ? 0 : (uint8_t)(40.0f + 215.0f * (1.0f - logf(z / zmin) / span) + 0.5f);
     }
 }
 
