@@ -493,12 +493,18 @@ static int pictures(const example_options *o)
             memcpy(&both[(size_t)j * f.w * 6 + (size_t)f.w * 3], &img2[(size_t)j * f.w * 3], (size_t)f.w * 3);
         }
         bad |= example_write_png(o->out_dir, "ssr_side_by_side.png", 2 * f.w, f.h, 3, both);
-        for (k = 0; k < n; ++k) {
-            int hit_a = hits[k].kind == LRT_HIT, hit_b = march_hits[k].kind == LRT_HIT;
+        for (k = 0; k < n; ++k) { /* where the march answers otherwise: white on the colour, darkened */
+            int hit_a = hits[k].kind == LRT_HIT, hit_b = march_hits[k].kind == LRT_HIT, same;
+            same = hit_a == hit_b && (!hit_a || (hits[k].x == march_hits[k].x && hits[k].y == march_hits[k].y));
+            img2[3 * k] = img2[3 * k + 1] = img2[3 * k + 2] = 255;
+            if (same || hits[k].kind == LRT_MISS_INVALID_RAY) {
+                for (j = 0; j < 3; ++j) img2[3 * k + j] = (uint8_t)(f.rgb[3 * k + j] / 4);
+            }
             if (hits[k].kind == LRT_MISS_INVALID_RAY) continue;
             ++traced;
-            agree += hit_a == hit_b && (!hit_a || (hits[k].x == march_hits[k].x && hits[k].y == march_hits[k].y));
+            agree += (size_t)same;
         }
+        bad |= example_write_png(o->out_dir, "ssr_difference.png", f.w, f.h, 3, img2);
     } else {
         bad = 1;
     }
