@@ -1,0 +1,52 @@
+# examples/vulkan_inline/vulkan_inline.mk - the vulkan_inline example: a
+# compute shader of the user's own (contact_shadows.comp) that includes
+# shaders/linear_rt.glsl, and its host code (main.c).
+# Included by the Makefile, which defines B, LIB, SCENE, STD, WARN, CFLAGS,
+# HAVE_VULKAN, VK_PROGRAM_FLAGS, VK_LIBS, GLSLANG, SPIRV_VAL, SPV_ENV, TESTS
+# and the rules for $(B), deps and $(B)/spv2h. It leaves the default goal alone.
+#   make build/vulkan_inline      the example (needs <vulkan/vulkan.h> and glslang)
+#   make test-vulkan-inline       runs it with validation at 64x64; skips (exit 0)
+#                                 without Vulkan headers, glslang or a device,
+#                                 unless CI=true
+
+VI_DEFAULT_GOAL := $(.DEFAULT_GOAL)
+VI_DIR := examples/vulkan_inline
+VI_SPV_H := $(B)/vulkan_inline_spv.h
+VI_HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
+# the scene, the tests' Vulkan helpers and reference are included by main.c
+VI_DEPS := $(VI_DIR)/main.c $(LIB) shaders_spv.h $(SCENE) tests/vk_util.h tests/reference.h $(VI_SPV_H)
+
+TESTS += test-vulkan-inline
+.PHONY: test-vulkan-inline
+
+# The SPIR-V is compiled here, never committed: glslang finds linear_rt.glsl
+# through -Ishaders, and spv2h embeds it as contact_shadows_spv[].
+$(VI_SPV_H): $(VI_DIR)/contact_shadows.comp shaders/linear_rt.glsl $(B)/spv2h | $(B)
+	@mkdir -p $(B)/vulkan_inline_spv
+	$(GLSLANG) -V $(SPV_ENV) -Ishaders -o $(B)/vulkan_inline_spv/contact_shadows.spv $(VI_DIR)/contact_shadows.comp \
+	  > $(B)/vulkan_inline_spv/contact_shadows.log 2>&1 || { cat $(B)/vulkan_inline_spv/contact_shadows.log; exit 1; }
+	@if command -v $(SPIRV_VAL) >/dev/null 2>&1; then $(SPIRV_VAL) $(SPV_ENV) $(B)/vulkan_inline_spv/contact_shadows.spv; fi
+	$(B)/spv2h $@ contact_shadows_spv=$(B)/vulkan_inline_spv/contact_shadows.spv
+
+ifeq ($(HAVE_VULKAN)$(VI_HAVE_GLSLANG),11)
+$(B)/vulkan_inline: $(VI_DEPS) | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) -O3 $(VK_PROGRAM_FLAGS) -I$(B) $< -o $@ -lm $(VK_LIBS)
+
+# exit 77 is the program's "no Vulkan loader or device" (1 under CI=true)
+test-vulkan-inline: $(B)/vulkan_inline
+	@$(B)/vulkan_inline --validation --size 64 --out $(B)/vulkan_inline_out; rc=$$?; \
+	if [ $$rc -eq 77 ]; then echo "test-vulkan-inline: skipped: no Vulkan device"; exit 0; fi; \
+	if [ $$rc -eq 0 ]; then echo "test-vulkan-inline: ok"; fi; exit $$rc
+else
+VI_MISSING := $(if $(filter 1,$(HAVE_VULKAN)),$(GLSLANG) is not installed (Debian: glslang-tools),<vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev))
+# make examples still builds the others
+.PHONY: $(B)/vulkan_inline
+$(B)/vulkan_inline:
+	@echo "vulkan_inline: not built: $(VI_MISSING)"
+test-vulkan-inline:
+	@echo "test-vulkan-inline: skipped: $(VI_MISSING)"; \
+	[ "$$CI" != "true" ]
+endif
+
+# the Makefile's first target stays the default goal wherever this is included
+.DEFAULT_GOAL := $(VI_DEFAULT_GOAL)
