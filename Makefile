@@ -50,6 +50,7 @@ TESTS := test-reference test-core test-sanitize-reference test-sanitize-core tes
 # fuzzers: their own makefiles, which add their tests to TESTS
 include tests/hardening.mk
 include tests/fuzz/fuzz.mk
+include examples/vulkan_inline/vulkan_inline.mk
 
 .PHONY: all demo examples pictures test deps clean spv spv-check bench bench-deps $(TESTS) test-sanitize
 
