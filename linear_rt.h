@@ -210,7 +210,7 @@ typedef enum lrt_result {
     LRT_ERROR_NO_VULKAN_LOADER = 14, /* the Vulkan loader library could not be loaded */
     LRT_ERROR_NO_VULKAN_DEVICE = 15, /* no driver, or no device with what the kernels need */
     LRT_ERROR_MISSING_VULKAN_FEATURE = 16, /* a Vulkan version, extension, feature, layer or memory type is missing */
-    LRT_ERROR_LIMIT_EXCEEDED = 17,  /* a device limit: storage buffer range, dispatch size */
+    LRT_ERROR_LIMIT_EXCEEDED = 17,  /* a device limit: storage buffer range, dispatch size, image size */
     LRT_ERROR_MISALIGNED = 18,      /* an offset or stride is not a multiple of the texel size or of
                                        the device's storage buffer offset alignment */
     LRT_ERROR_INVALID_CAMERA = 19,  /* a projection matrix with a non-finite entry or no inverse */
@@ -335,11 +335,14 @@ enum {
 };
 
 /* Trace count rays into hits (one lrt_hit per ray). depth must be the map
-   the BVH was last built or updated from. */
+   the BVH was last built or updated from. At most LINEAR_RT_MAX_RAYS_PER_CALL
+   (2^30) rays a call: a larger count is LRT_ERROR_TOO_MANY_RAYS, returned
+   before any ray is read or hit written. */
 LINEAR_RT_API lrt_result lrt_trace(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
                                    lrt_hit *hits, size_t count, uint32_t flags);
 /* Trace rays[first .. end-1] into hits[first .. end-1]: split a batch across
-   threads with disjoint ranges. */
+   threads with disjoint ranges. first > end, or more than
+   LINEAR_RT_MAX_RAYS_PER_CALL rays: LRT_ERROR_TOO_MANY_RAYS. */
 LINEAR_RT_API lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
                                          lrt_hit *hits, size_t first, size_t end, uint32_t flags);
 
@@ -510,7 +513,10 @@ LINEAR_RT_API lrt_result lrt_vk_bvh_buffer_sizes(uint32_t width, uint32_t height
                                                  VkDeviceSize *out_counters_bytes);
 /* Lays out the tree and binds (or creates) its buffers; records nothing: the
    tree is filled by lrt_vk_cmd_build. Library memory: DEVICE_LOCAL preferred,
-   else HOST_VISIBLE. On error *out is untouched and nothing is left created. */
+   else HOST_VISIBLE. A node or counter range past the device's
+   maxStorageBufferRange (a 16384x16384 map has 585 MiB of 16-bit nodes) is
+   LRT_ERROR_LIMIT_EXCEEDED. On error *out is untouched and nothing is left
+   created. */
 LINEAR_RT_API lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh_desc *desc, lrt_vk_bvh *out);
 /* Frees what create made (never your buffers); safe on a zeroed or
    destroyed lrt_vk_bvh. The GPU must be done with it. */
@@ -543,8 +549,11 @@ typedef struct lrt_vk_depth {
    dispatches. It records no barrier except build's one between its fill of
    the counters and its dispatch: see BARRIERS at the top of the file for
    those you record. Every argument is checked first: on an error nothing is
-   recorded. The command buffer's compute pipeline, push descriptors and push
-   constants are left changed. */
+   recorded. The device's limits are arguments too: a node, counter, depth,
+   ray or hit range past maxStorageBufferRange, a dispatch past
+   maxComputeWorkGroupCount, or an image depth past maxImageDimension2D is
+   LRT_ERROR_LIMIT_EXCEEDED. The command buffer's compute pipeline, push
+   descriptors and push constants are left changed. */
 
 /* BuildBVH: fills the counters with 0, then refits every node from depth
    (padding too). Once after create, before any update or trace. */
@@ -561,7 +570,9 @@ LINEAR_RT_API lrt_result lrt_vk_cmd_update(lrt_vk_context *ctx, VkCommandBuffer 
    binds lower and starts at a later ray, which works when the two offsets
    are the same ray index away from aligned offsets (a slice [first, end) of
    rays and hits arrays that start aligned always is). count 0 records
-   nothing. */
+   nothing; more than LINEAR_RT_MAX_RAYS_PER_CALL is LRT_ERROR_TOO_MANY_RAYS,
+   and more rays than maxStorageBufferRange / 32 bytes hold (4 Mi rays in
+   lavapipe's 128 MiB) LRT_ERROR_LIMIT_EXCEEDED. */
 LINEAR_RT_API lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
                                           const lrt_vk_depth *depth, VkBuffer rays, VkDeviceSize rays_offset,
                                           VkBuffer hits, VkDeviceSize hits_offset, uint32_t count, uint32_t flags);
@@ -891,7 +902,7 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
     for (ny = ny0; ny <= ny1; ++ny) {
         for (chunk = nx0; chunk <= nx1; chunk += 16) { /* 16 nodes = 64 texels a step */
             uint32_t last = nx1 - chunk < 15 ? nx1 : chunk + 15, tx0 = chunk * 4u;
-            uint32_t n = (last - chunk + 1) * 4u, real = 0;
+            uint32_t n = (last - chunk + 1) * 4u, real;
             for (r = 0; r < 2; ++r) {
                 uint32_t ty = ny * 2u + r;
                 real = tx0 >= L->width ? 0u : (L->width - tx0 < n ? L->width - tx0 : n);
@@ -901,7 +912,7 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
             }
             for (nx = chunk; nx <= last; ++nx) {
                 size_t node = (base + lrt_layout_node_index(L, 1, nx, ny)) * 8u;
-                const uint32_t *c0 = codes[0] + (nx - chunk) * 4u, *c1 = codes[1] + (nx - chunk) * 4u;
+                const uint32_t *c0 = codes[0] + (size_t)(nx - chunk) * 4u, *c1 = codes[1] + (size_t)(nx - chunk) * 4u;
                 if (L->node_bits == 8) {
                     uint8_t *out = (uint8_t *)bvh->nodes + node;
                     for (s = 0; s < 4; ++s) {
@@ -1551,8 +1562,8 @@ LRT__INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup
             en = _mm_max_ps(_mm_min_ps(zmask, tz), en);
             ex = _mm_min_ps(yx[k], ex);
             ex = _mm_min_ps(_mm_max_ps(zmask, tz), ex);
-            _mm_storeu_ps(enter + 4 * k, en);
-            _mm_storeu_ps(exit + 4 * k, ex);
+            _mm_storeu_ps(enter + 4 * (size_t)k, en);
+            _mm_storeu_ps(exit + 4 * (size_t)k, ex);
             mask |= (uint32_t)_mm_movemask_ps(_mm_cmple_ps(en, ex)) << (4 * k);
         }
     }
@@ -2501,6 +2512,10 @@ static lrt_result lrt__vk_check(const lrt_vk_context *c, VkCommandBuffer cmd, co
     if (!bpp) return LRT_ERROR_INVALID_FORMAT;
     if (depth->flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) return LRT_ERROR_INVALID_OPTION;
     if (depth->width != bvh->layout.width || depth->height != bvh->layout.height) return LRT_ERROR_SIZE_MISMATCH;
+    /* the tree's ranges against this context's device (create checked its own) */
+    if ((VkDeviceSize)bvh->layout.bytes > c->limits.maxStorageBufferRange ||
+        bvh->counters_bytes > c->limits.maxStorageBufferRange)
+        return LRT_ERROR_LIMIT_EXCEEDED;
     memset(src, 0, sizeof *src);
     if (depth->buffer == VK_NULL_HANDLE && depth->view == VK_NULL_HANDLE) return LRT_ERROR_NULL_POINTER;
     if (depth->buffer != VK_NULL_HANDLE && depth->view != VK_NULL_HANDLE) return LRT_ERROR_INVALID_OPTION;
@@ -2524,6 +2539,8 @@ static lrt_result lrt__vk_check(const lrt_vk_context *c, VkCommandBuffer cmd, co
         src->row_stride = (uint32_t)stride;
     } else {
         if (!lrt__vk_layout_ok(depth->layout)) return LRT_ERROR_INVALID_OPTION;
+        if (depth->width > c->limits.maxImageDimension2D || depth->height > c->limits.maxImageDimension2D)
+            return LRT_ERROR_LIMIT_EXCEEDED; /* no such image on this device */
         src->image = 1;
         src->view.sampler = c->sampler; /* immutable in the layout anyway */
         src->view.imageView = depth->view;
@@ -2788,9 +2805,9 @@ static VKAPI_ATTR VkBool32 VKAPI_CALL lrt__vk_on_message(VkDebugUtilsMessageSeve
     lrt_vk_device *d = (lrt_vk_device *)user;
     (void)types;
     ++d->message_count;
-    fprintf(stderr, "linear_rt: vulkan %s: %s\n",
-            severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error" : "warning",
-            data && data->pMessage ? data->pMessage : "(no message)");
+    (void)fprintf(stderr, "linear_rt: vulkan %s: %s\n",
+                  severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error" : "warning",
+                  data && data->pMessage ? data->pMessage : "(no message)");
     return VK_FALSE;
 }
 
@@ -2816,7 +2833,7 @@ static int lrt__vk_device_features(PFN_vkGetPhysicalDeviceFeatures2 get, VkPhysi
 #define LRT__WANT(want, have, set)                                                                               \
     if (want) {                                                                                                   \
         if (!(have)) return 0;                                                                                    \
-        set = VK_TRUE;                                                                                            \
+        (set) = VK_TRUE;                                                                                          \
     }
     LRT__WANT(req->shader_float64, f.features.shaderFloat64, on->features.shaderFloat64)
     LRT__WANT(req->shader_int64, f.features.shaderInt64, on->features.shaderInt64)

@@ -16,7 +16,11 @@
        must still be right by tests/reference.h's ref_check (counted);
        any-hit on a slice at an offset; 2D dispatches of trace and refit;
    (d) every bad argument's result code, without a device and with one, and
-       that an erroring call records nothing.
+       that an erroring call records nothing;
+   (e) device limits (maxStorageBufferRange, maxComputeWorkGroupCount,
+       maxImageDimension2D) on contexts that see lowered ones: past them
+       LRT_ERROR_LIMIT_EXCEEDED and nothing recorded, within them the CPU's
+       trees and answers (test_device_limits).
    No Vulkan loader or device: prints why and exits 0 (skipped), or 1 when
    the environment variable CI is "true". Ends with "N passed, M failed". */
 #ifndef LINEAR_RT_VULKAN
@@ -781,6 +785,230 @@ static void test_bad_arguments(void)
     gpu_depth_destroy(&g);
 }
 
+/* ---- device limits, on contexts that see smaller ones ---------------------------------
+   lavapipe's own limits (maxStorageBufferRange 128 MiB, maxComputeWorkGroupCount
+   65535, maxImageDimension2D 16384) are reached here only by the range, in
+   test_bad_arguments (16384^2 nodes, rays past 128 MiB). A context reads the
+   limits once, at create, through the vkGetPhysicalDeviceProperties its
+   vkGetInstanceProcAddr gives: a getter that gives a wrapper lowering them
+   makes a small device out of the real one, with the public API alone (no
+   test hook in linear_rt.h). Past a lowered limit every call must return
+   LRT_ERROR_LIMIT_EXCEEDED and record nothing; within them the answers must
+   still be the CPU's (a 2D dispatch of 4x2 groups, say), and the validation
+   layer, which knows the real limits, sees every command recorded. */
+static PFN_vkGetInstanceProcAddr g_real_gipa;
+static PFN_vkGetPhysicalDeviceProperties g_real_properties;
+static uint32_t g_low_range, g_low_groups_x, g_low_groups_y, g_low_image; /* 0: the real limit */
+
+static VKAPI_ATTR void VKAPI_CALL low_properties(VkPhysicalDevice pd, VkPhysicalDeviceProperties *p)
+{
+    g_real_properties(pd, p);
+    if (g_low_range) p->limits.maxStorageBufferRange = g_low_range;
+    if (g_low_groups_x) p->limits.maxComputeWorkGroupCount[0] = g_low_groups_x;
+    if (g_low_groups_y) p->limits.maxComputeWorkGroupCount[1] = g_low_groups_y;
+    if (g_low_image) p->limits.maxImageDimension2D = g_low_image;
+}
+
+static VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL low_gipa(VkInstance instance, const char *name)
+{
+    if (strcmp(name, "vkGetPhysicalDeviceProperties") == 0) return (PFN_vkVoidFunction)low_properties;
+    return g_real_gipa(instance, name);
+}
+
+/* A context on g_dev's device whose limits read as these (0: the real one). */
+static lrt_vk_context *low_context(uint32_t range, uint32_t groups_x, uint32_t groups_y, uint32_t image)
+{
+    lrt_vk_context_desc cd = g_dev.desc;
+    lrt_vk_context *ctx = NULL;
+    lrt_result r;
+    g_real_gipa = g_dev.desc.get_instance_proc_addr;
+    g_real_properties =
+        (PFN_vkGetPhysicalDeviceProperties)g_real_gipa(g_dev.desc.instance, "vkGetPhysicalDeviceProperties");
+    g_low_range = range;
+    g_low_groups_x = groups_x;
+    g_low_groups_y = groups_y;
+    g_low_image = image;
+    cd.get_instance_proc_addr = low_gipa;
+    r = g_real_properties ? lrt_vk_context_create(&cd, &ctx) : LRT_ERROR_MISSING_VULKAN_FEATURE;
+    CHECK(r == LRT_SUCCESS, "context with lowered limits (range %u, groups %ux%u, image %u): %s", range, groups_x,
+          groups_y, image, lrt_result_string(r));
+    return r == LRT_SUCCESS ? ctx : NULL;
+}
+
+/* Traces rays[0..n) from rb into hb with ctx (after a barrier for earlier
+   submissions) and compares hb with the CPU's hits. */
+static void limits_trace(lrt_vk_context *ctx, const lrt_vk_bvh *bvh, const lrt_vk_depth *depth, vkt_buffer *rb,
+                         vkt_buffer *hb, const lrt_hit *cpu_hits, uint32_t n, const char *what)
+{
+    const lrt_hit *gpu = (const lrt_hit *)hb->map;
+    lrt_result r;
+    uint32_t i, differ = 0;
+    memset(hb->map, 0xff, (size_t)hb->size);
+    if (vkt_begin(&g_t)) return;
+    vkt_compute_barrier(&g_t);
+    r = lrt_vk_cmd_trace(ctx, g_t.cmd, bvh, depth, rb->buffer, 0, hb->buffer, 0, n, 0);
+    CHECK(r == LRT_SUCCESS, "%s: %s", what, lrt_result_string(r));
+    vkt_host_barrier(&g_t);
+    if (vkt_submit(&g_t)) return;
+    for (i = 0; i < n; ++i) differ += !same_answer(&gpu[i], &cpu_hits[i]);
+    CHECK(differ == 0, "%s: %u of %u answers differ from the CPU's", what, differ, n);
+}
+
+/* Records build (dirty == NULL) or update of dirty with ctx, submits, and
+   compares the nodes with the CPU's. */
+static void limits_refit(lrt_vk_context *ctx, const lrt_vk_bvh *bvh, const lrt_vk_depth *depth, const lrt_rect *dirty,
+                         const lrt_bvh *cpu, const char *what)
+{
+    lrt_result r;
+    if (vkt_begin(&g_t)) return;
+    vkt_compute_barrier(&g_t);
+    r = dirty ? lrt_vk_cmd_update(ctx, g_t.cmd, bvh, depth, dirty) : lrt_vk_cmd_build(ctx, g_t.cmd, bvh, depth);
+    CHECK(r == LRT_SUCCESS, "%s: %s", what, lrt_result_string(r));
+    vkt_host_barrier(&g_t);
+    if (vkt_submit(&g_t)) return;
+    CHECK(same_nodes(bvh, cpu, what), "%s: nodes differ from the CPU build", what);
+}
+
+static void test_device_limits(void)
+{
+    enum { NRAYS = 600 };
+    test_map m, wide;
+    lrt_bvh cpu, cpu_wide;
+    lrt_vk_bvh bvh, bvh_wide, untouched, fits;
+    lrt_vk_bvh_desc bd;
+    gpu_depth buf, img, wbuf;
+    vkt_buffer rb, hb;
+    lrt_hit cpu_hits[NRAYS];
+    lrt_ray *rays;
+    VkDeviceSize nodes_bytes, counters_bytes;
+    lrt_vk_context *range_ctx, *span_ctx, *group_ctx, *image_ctx;
+    unsigned char sentinel[sizeof(lrt_vk_bvh)];
+    const VkFormat image_format = default_image_format(LRT_FORMAT_FLOAT32, 1);
+    lrt_rect rect;
+    uint32_t i, span_rays;
+    VkCommandBuffer cmd;
+
+    make_map(&m, 64, 64, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 0);
+    make_map(&wide, 128, 64, SHAPE_TERRACES, LRT_FORMAT_FLOAT32, 0, 0);
+    lrt_bvh_build(&cpu, &m.depth, NULL, NULL);
+    lrt_bvh_build(&cpu_wide, &wide.depth, NULL, NULL);
+    lrt_vk_bvh_buffer_sizes(64, 64, LRT_FORMAT_FLOAT32, NULL, &nodes_bytes, &counters_bytes);
+    /* 64x64 float: 9360 node bytes, 2340 counter bytes, 16384 depth bytes */
+    CHECK(nodes_bytes > counters_bytes && nodes_bytes < 64u * 64u * 4u, "64x64: %u node bytes, %u counter bytes",
+          (unsigned)nodes_bytes, (unsigned)counters_bytes);
+    span_rays = (uint32_t)(nodes_bytes / sizeof(lrt_ray)); /* the most rays a range of nodes_bytes holds */
+    memset(&bvh, 0, sizeof bvh);
+    memset(&bvh_wide, 0, sizeof bvh_wide);
+    memset(&buf, 0, sizeof buf);
+    memset(&img, 0, sizeof img);
+    memset(&wbuf, 0, sizeof wbuf);
+    memset(&rb, 0, sizeof rb);
+    memset(&hb, 0, sizeof hb);
+    rays = (lrt_ray *)malloc(sizeof(lrt_ray) * NRAYS);
+    range_ctx = low_context((uint32_t)nodes_bytes - 16u, 0, 0, 0); /* the 64x64 float tree does not fit */
+    span_ctx = low_context((uint32_t)nodes_bytes, 0, 0, 0);         /* the tree fits, its float depth does not */
+    group_ctx = low_context(0, 4, 2, 0);                            /* 8 groups of 64: 512 rays or level-1 nodes */
+    image_ctx = low_context(0, 0, 0, 32);                           /* no 64x64 image */
+    if (!rays || !range_ctx || !span_ctx || !group_ctx || !image_ctx || !vkt_format_sampled(&g_t, image_format) ||
+        gpu_depth_create(&m.depth, SRC_PACKED, VK_FORMAT_UNDEFINED, &buf) ||
+        gpu_depth_create(&m.depth, SRC_IMAGE, image_format, &img) ||
+        gpu_depth_create(&wide.depth, SRC_PACKED, VK_FORMAT_UNDEFINED, &wbuf) ||
+        gpu_build(&m.depth, 0, &buf, &bvh, "limits 64x64") || gpu_build(&wide.depth, 0, &wbuf, &bvh_wide, "limits 128x64") ||
+        vkt_buffer_create(&g_t, NRAYS * sizeof(lrt_ray), &rb) || vkt_buffer_create(&g_t, NRAYS * sizeof(lrt_hit), &hb)) {
+        CHECK(0, "device limits: set-up failed");
+        goto done;
+    }
+    for (i = 0; i < NRAYS; ++i) rays[i] = make_ray(&m, (int)(i % RAY_KIND_COUNT));
+    memcpy(rb.map, rays, NRAYS * sizeof(lrt_ray));
+    lrt_trace(&cpu, &m.depth, rays, cpu_hits, NRAYS, 0);
+
+    /* creating: a tree past the range is refused, a smaller one fits */
+    memset(&bd, 0, sizeof bd);
+    bd.width = 64;
+    bd.height = 64;
+    bd.format = LRT_FORMAT_FLOAT32;
+    memset(&untouched, 0xab, sizeof untouched);
+    memcpy(sentinel, &untouched, sizeof sentinel);
+    CHECK(lrt_vk_bvh_create(range_ctx, &bd, &untouched) == LRT_ERROR_LIMIT_EXCEEDED, "create: nodes past the range");
+    CHECK(memcmp(&untouched, sentinel, sizeof sentinel) == 0, "create past the range: the lrt_vk_bvh was written");
+    bd.format = LRT_FORMAT_UNORM8; /* 8-bit nodes: half the bytes */
+    CHECK(lrt_vk_bvh_create(range_ctx, &bd, &fits) == LRT_SUCCESS, "create: 8-bit nodes within the range");
+    lrt_vk_bvh_destroy(range_ctx, &fits);
+
+    /* recording past a limit: the result code, and nothing recorded (the
+       trees and hits are poisoned and must stay so after the submission) */
+    memset(bvh.mapped, 0x3c, bvh.layout.bytes);
+    memset(bvh_wide.mapped, 0x3c, bvh_wide.layout.bytes);
+    memset(hb.map, 0x3c, (size_t)hb.size);
+    if (vkt_begin(&g_t)) goto done;
+    cmd = g_t.cmd;
+    rect.x = 0; rect.y = 0; rect.width = 8; rect.height = 8;
+#define EXPECT_LIMIT(call, what)                                                                                \
+    do {                                                                                                        \
+        lrt_result r_ = (call);                                                                                 \
+        CHECK(r_ == LRT_ERROR_LIMIT_EXCEEDED, "%s: got %s", what, lrt_result_string(r_));                       \
+    } while (0)
+    EXPECT_LIMIT(lrt_vk_cmd_build(range_ctx, cmd, &bvh, &buf.depth), "build: nodes past the range");
+    EXPECT_LIMIT(lrt_vk_cmd_update(range_ctx, cmd, &bvh, &img.depth, NULL), "update: nodes past the range");
+    EXPECT_LIMIT(lrt_vk_cmd_trace(range_ctx, cmd, &bvh, &img.depth, rb.buffer, 0, hb.buffer, 0, 1, 0),
+                 "trace: nodes past the range");
+    EXPECT_LIMIT(lrt_vk_cmd_build(span_ctx, cmd, &bvh, &buf.depth), "build: depth buffer past the range");
+    EXPECT_LIMIT(lrt_vk_cmd_update(span_ctx, cmd, &bvh, &buf.depth, &rect), "update: depth buffer past the range");
+    EXPECT_LIMIT(lrt_vk_cmd_trace(span_ctx, cmd, &bvh, &buf.depth, rb.buffer, 0, hb.buffer, 0, 1, 0),
+                 "trace: depth buffer past the range");
+    EXPECT_LIMIT(lrt_vk_cmd_trace(span_ctx, cmd, &bvh, &img.depth, rb.buffer, 0, hb.buffer, 0, span_rays + 1u, 0),
+                 "trace: rays past the range");
+    EXPECT_LIMIT(lrt_vk_cmd_trace(group_ctx, cmd, &bvh, &buf.depth, rb.buffer, 0, hb.buffer, 0, 8u * 64u + 1u, 0),
+                 "trace: 513 rays, 9 groups past 4x2");
+    EXPECT_LIMIT(lrt_vk_cmd_build(group_ctx, cmd, &bvh_wide, &wbuf.depth), "build: 128x64, 16 groups past 4x2");
+    EXPECT_LIMIT(lrt_vk_cmd_update(group_ctx, cmd, &bvh_wide, &wbuf.depth, NULL), "update: 128x64, 16 groups past 4x2");
+    EXPECT_LIMIT(lrt_vk_cmd_build(image_ctx, cmd, &bvh, &img.depth), "build: 64x64 image past 32");
+    EXPECT_LIMIT(lrt_vk_cmd_update(image_ctx, cmd, &bvh, &img.depth, &rect), "update: 64x64 image past 32");
+    EXPECT_LIMIT(lrt_vk_cmd_trace(image_ctx, cmd, &bvh, &img.depth, rb.buffer, 0, hb.buffer, 0, 1, 0),
+                 "trace: 64x64 image past 32");
+#undef EXPECT_LIMIT
+    vkt_host_barrier(&g_t);
+    if (vkt_submit(&g_t)) goto done;
+    {
+        const unsigned char *a = (const unsigned char *)bvh.mapped, *b = (const unsigned char *)bvh_wide.mapped,
+                            *h = (const unsigned char *)hb.map;
+        size_t k, touched = 0;
+        for (k = 0; k < bvh.layout.bytes; ++k) touched += a[k] != 0x3c;
+        for (k = 0; k < bvh_wide.layout.bytes; ++k) touched += b[k] != 0x3c;
+        for (k = 0; k < hb.size; ++k) touched += h[k] != 0x3c;
+        CHECK(touched == 0, "calls past a limit recorded work: %zu bytes changed", touched);
+    }
+
+    /* within the lowered limits: the CPU's trees and answers */
+    limits_refit(span_ctx, &bvh, &img.depth, NULL, &cpu, "build from an image, range = the nodes");
+    limits_trace(span_ctx, &bvh, &img.depth, &rb, &hb, cpu_hits, span_rays, "trace of as many rays as the range holds");
+    limits_refit(group_ctx, &bvh, &buf.depth, NULL, &cpu, "build in 4x2 groups");
+    limits_trace(group_ctx, &bvh, &buf.depth, &rb, &hb, cpu_hits, 8u * 64u, "trace of 512 rays in 4x2 groups");
+    limits_refit(g_ctx, &bvh_wide, &wbuf.depth, NULL, &cpu_wide, "build 128x64");
+    rect.x = 64; rect.y = 0; rect.width = 64; rect.height = 64; /* 512 level-1 nodes: 4x2 groups */
+    limits_refit(group_ctx, &bvh_wide, &wbuf.depth, &rect, &cpu_wide, "update of 64x64 texels in 4x2 groups");
+    limits_refit(image_ctx, &bvh, &buf.depth, NULL, &cpu, "build from a buffer, images up to 32");
+    limits_trace(image_ctx, &bvh, &buf.depth, &rb, &hb, cpu_hits, NRAYS, "trace from a buffer, images up to 32");
+
+done:
+    vkt_buffer_destroy(&g_t, &rb);
+    vkt_buffer_destroy(&g_t, &hb);
+    lrt_vk_bvh_destroy(g_ctx, &bvh);
+    lrt_vk_bvh_destroy(g_ctx, &bvh_wide);
+    gpu_depth_destroy(&buf);
+    gpu_depth_destroy(&img);
+    gpu_depth_destroy(&wbuf);
+    lrt_vk_context_destroy(range_ctx);
+    lrt_vk_context_destroy(span_ctx);
+    lrt_vk_context_destroy(group_ctx);
+    lrt_vk_context_destroy(image_ctx);
+    lrt_bvh_destroy(&cpu);
+    lrt_bvh_destroy(&cpu_wide);
+    free_map(&m);
+    free_map(&wide);
+    free(rays);
+}
+
 /* ---- a context with VkAllocationCallbacks and no vkGetDeviceProcAddr ------------------- */
 static int g_host_allocs, g_host_frees;
 typedef struct host_header { void *raw; size_t size; } host_header; /* 16 bytes, just before the block */
@@ -952,6 +1180,7 @@ int main(void)
         test_context_options();
         test_device_without_extension();
         test_bad_arguments();
+        test_device_limits();
         test_build_and_trace();
         test_update();
         test_2d_dispatch();

@@ -7,6 +7,9 @@
 # and needs no network, when they all are; otherwise installs the missing
 # ones with apt-get (Debian/Ubuntu), as root or through sudo.
 # stb_image / stb_image_write (libstb-dev) read and write the examples' PNGs.
+# The hardening tests and fuzzers add valgrind, cppcheck, clang-tidy, clang's
+# sanitizer and libFuzzer runtime (libclang-rt-14-dev on Debian 12) and, on
+# amd64, gcc-multilib (32-bit builds).
 # `install-deps.sh --bench` adds what `make bench` needs on top: gnuplot
 # (gnuplot-nox) and Embree 3 (libembree-dev).
 #
@@ -48,6 +51,21 @@ if command -v dpkg-query >/dev/null 2>&1; then
     command -v glslangValidator >/dev/null 2>&1 || main_pkgs+=("glslang-tools")
     command -v spirv-val >/dev/null 2>&1 || main_pkgs+=("spirv-tools")
     installed libstb-dev || main_pkgs+=("libstb-dev") # the examples' PNG in and out
+    # tests/hardening.mk and tests/fuzz: valgrind, the static checkers, clang's
+    # sanitizer and libFuzzer runtimes (of the clang installed, or of the
+    # distribution's clang), and 32-bit builds on amd64
+    command -v valgrind >/dev/null 2>&1 || main_pkgs+=("valgrind")
+    command -v cppcheck >/dev/null 2>&1 || main_pkgs+=("cppcheck")
+    command -v clang-tidy >/dev/null 2>&1 || main_pkgs+=("clang-tidy")
+    if ! command -v clang >/dev/null 2>&1; then
+        main_pkgs+=("libclang-rt-dev")
+    elif ! printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n) { (void)d; (void)n; return 0; }\n' |
+        clang -x c -fsanitize=fuzzer,address,undefined - -o /dev/null >/dev/null 2>&1; then
+        main_pkgs+=("libclang-rt-$(clang -dumpversion | cut -d. -f1)-dev") # Debian 12: libclang-rt-14-dev
+    fi
+    if [ "$(dpkg --print-architecture 2>/dev/null)" = amd64 ]; then
+        installed gcc-multilib || main_pkgs+=("gcc-multilib") # gcc -m32: test-m32
+    fi
     if [ "${1:-}" = --bench ]; then
         command -v gnuplot >/dev/null 2>&1 || main_pkgs+=("gnuplot-nox")
         installed libembree-dev || main_pkgs+=("libembree-dev")
