@@ -734,8 +734,10 @@ static lrt_result lrt__check_depth(const lrt_depth *depth, size_t *out_stride)
     stride = depth->row_stride ? depth->row_stride : row_bytes;
     if (stride < row_bytes) return LRT_ERROR_INVALID_STRIDE;
     /* the map spans stride*(height-1) + row_bytes bytes: no C object is
-       larger than PTRDIFF_MAX, so a span past it is an overflow */
-    if (stride > ((size_t)PTRDIFF_MAX - row_bytes) / (depth->height > 1 ? depth->height - 1 : 1))
+       larger than PTRDIFF_MAX, so a span past it is an overflow (one row
+       spans row_bytes, whatever its stride, which is then never used) */
+    if (depth->height == 1) stride = row_bytes;
+    else if (stride > ((size_t)PTRDIFF_MAX - row_bytes) / (depth->height - 1))
         return LRT_ERROR_SIZE_OVERFLOW;
     *out_stride = stride;
     return LRT_SUCCESS;
@@ -1148,6 +1150,17 @@ typedef struct lrt__ray_setup {
 #define LRT__MAX_KEEP(cand, acc) ((cand) > (acc) ? (cand) : (acc))
 #define LRT__MIN_KEEP(cand, acc) ((cand) < (acc) ? (cand) : (acc))
 
+/* A box is met when enter <= exit. Each plane's t is rounded on its own, so
+   a ray through a texel corner (exactly: a one-point interval) can find the
+   interval empty by an ulp at one corner and not at the next, tie-breaking
+   one straight line both ways. Exits are widened by 2^-21 of their size (a
+   few ulps, well inside MODEL.md's 8-ulp tolerance) before that comparison,
+   so a corner the ray touches always counts; the front-to-back walk then
+   keeps the first. The product is exact (a power of two), so fused or not,
+   every path computes the same float. */
+#define LRT__WIDEN_EXIT (1.0f / 2097152.0f)
+LRT__INLINE float lrt__widen(float exit) { return exit + fabsf(exit) * LRT__WIDEN_EXIT; }
+
 #if !LRT__SSE
 static int lrt__finite(float f) { return f - f == 0.0f; }
 #endif
@@ -1206,22 +1219,30 @@ LRT__INLINE float lrt__depth_plane(const lrt__ray_setup *s, lrt_format format, u
     return (n * (vmax == 255u ? 1.0f / 255.0f : 1.0f / 65535.0f)) * s->iv[2];
 }
 
-/* Clips the ray to the screen rectangle and to z <= 1 (nothing lies beyond
-   the far plane). Returns the kind a miss would have: off the screen when
-   the rectangle's part of [tmin, tmax] is empty or ends before tmax. */
+/* Clips the ray to the screen rectangle and to 0 <= z <= 1 (nothing solid
+   lies in front of the near plane or beyond the far one; a depth plane's t
+   is then only ever taken for a z in range, where o.z * 65535 cannot
+   overflow). Returns the kind a miss would have: off the screen when the
+   rectangle's part of [tmin, tmax] is empty or ends before tmax. */
 LRT__INLINE uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t height, float tmin, float tmax)
 {
     /* the far plane's t the way the texel test computes depth planes, so a
        far-plane texel (depth 1) is met exactly at the clip */
     float xy_enter = -INFINITY, xy_exit = INFINITY, t1 = lrt__depth_plane(s, LRT_FORMAT_FLOAT32, 0x3f800000u);
+    float t0 = (0.0f - s->o[2]) * s->iv[2]; /* v.z = 0: -inf, +inf or NaN (o.z = 0: dropped) */
     uint32_t kind;
     lrt__slab(0.0f, (float)width, s->o[0], s->iv[0], s->neg_x, &xy_enter, &xy_exit);
     lrt__slab(0.0f, (float)height, s->o[1], s->iv[1], s->neg_y, &xy_enter, &xy_exit);
     s->t_lo = LRT__MAX_KEEP(xy_enter, tmin);
     s->t_hi = LRT__MIN_KEEP(xy_exit, tmax);
     kind = (s->t_lo > s->t_hi || xy_exit < tmax) ? LRT_MISS_OFF_SCREEN : LRT_MISS_TMAX;
-    if (s->neg_z) s->t_lo = LRT__MAX_KEEP(t1, s->t_lo);
-    else s->t_hi = LRT__MIN_KEEP(t1, s->t_hi);
+    if (s->neg_z) {
+        s->t_lo = LRT__MAX_KEEP(t1, s->t_lo);
+        s->t_hi = LRT__MIN_KEEP(t0, s->t_hi);
+    } else {
+        s->t_lo = LRT__MAX_KEEP(t0, s->t_lo);
+        s->t_hi = LRT__MIN_KEEP(t1, s->t_hi);
+    }
     return kind;
 }
 
@@ -1564,7 +1585,10 @@ LRT__INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup
             ex = _mm_min_ps(_mm_max_ps(zmask, tz), ex);
             _mm_storeu_ps(enter + 4 * (size_t)k, en);
             _mm_storeu_ps(exit + 4 * (size_t)k, ex);
-            mask |= (uint32_t)_mm_movemask_ps(_mm_cmple_ps(en, ex)) << (4 * k);
+            { /* ex + |ex| 2^-21: lrt__widen */
+                const __m128 wide = _mm_add_ps(ex, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), ex), _mm_set1_ps(LRT__WIDEN_EXIT)));
+                mask |= (uint32_t)_mm_movemask_ps(_mm_cmple_ps(en, wide)) << (4 * k);
+            }
         }
     }
 #else
@@ -1584,7 +1608,7 @@ LRT__INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup
             else en = LRT__MAX_KEEP(tz, en);
             enter[k] = en;
             exit[k] = ex;
-            mask |= (uint32_t)(en <= ex) << k;
+            mask |= (uint32_t)(en <= lrt__widen(ex)) << k;
         }
     }
 #endif
@@ -1608,7 +1632,7 @@ LRT__INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uin
     if (s->neg_z) exit = LRT__MIN_KEEP(tz, exit);
     else enter = LRT__MAX_KEEP(tz, enter);
     *t = enter;
-    return enter <= exit;
+    return enter <= lrt__widen(exit);
 }
 
 /* Reorders a slot mask so that bit k is slot k ^ flip: then walking bits from
@@ -2109,6 +2133,8 @@ static void lrt__vk_host_free(const VkAllocationCallbacks *cb, void *ptr)
     else LINEAR_RT_FREE(ptr, NULL);
 }
 
+/* 1 the device has the extension, 0 it has not (or *vr says why not), -1
+   the list could not be allocated */
 static int lrt__vk_has_extension(lrt_vk_context *c, const char *name, const VkAllocationCallbacks *cb, VkResult *vr)
 {
     uint32_t n = 0, i;
@@ -2117,7 +2143,7 @@ static int lrt__vk_has_extension(lrt_vk_context *c, const char *name, const VkAl
     *vr = c->p_vkEnumerateDeviceExtensionProperties(c->physical_device, NULL, &n, NULL);
     if (*vr != VK_SUCCESS) return 0;
     props = (VkExtensionProperties *)lrt__vk_host_alloc(cb, sizeof *props * (n ? n : 1));
-    if (!props) return 0;
+    if (!props) return -1; /* out of host memory: not a missing extension */
     *vr = c->p_vkEnumerateDeviceExtensionProperties(c->physical_device, NULL, &n, props);
     if (*vr == VK_INCOMPLETE) *vr = VK_SUCCESS; /* a layer added one meanwhile: what we have is enough */
     for (i = 0; *vr == VK_SUCCESS && i < n; ++i)
@@ -2263,7 +2289,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_context_create(const lrt_vk_context_desc *desc, 
     VkPhysicalDeviceProperties props;
     lrt_vk_context *c;
     VkResult vr = VK_SUCCESS;
-    int missing = 0;
+    int missing = 0, has_ext = 0;
     if (!desc || !out) return LRT_ERROR_NULL_POINTER;
     if (desc->instance == VK_NULL_HANDLE || desc->physical_device == VK_NULL_HANDLE ||
         desc->device == VK_NULL_HANDLE || !desc->get_instance_proc_addr)
@@ -2303,8 +2329,9 @@ LINEAR_RT_DEF lrt_result lrt_vk_context_create(const lrt_vk_context_desc *desc, 
     c->p_vkGetPhysicalDeviceMemoryProperties(c->physical_device, &c->memory_properties);
     lrt_vk_get_requirements(&req);
     if (props.apiVersion < req.api_version || !lrt__vk_supports(c, &req) ||
-        !lrt__vk_has_extension(c, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME, cb, &vr)) {
+        (has_ext = lrt__vk_has_extension(c, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME, cb, &vr)) != 1) {
         lrt__vk_host_free(cb, c);
+        if (has_ext < 0) return LRT_ERROR_OUT_OF_MEMORY;
         if (vr != VK_SUCCESS) {
             if (desc->vk_result) *desc->vk_result = vr;
             return LRT_ERROR_VULKAN;
@@ -2521,7 +2548,8 @@ static lrt_result lrt__vk_check(const lrt_vk_context *c, VkCommandBuffer cmd, co
     if (depth->buffer != VK_NULL_HANDLE && depth->view != VK_NULL_HANDLE) return LRT_ERROR_INVALID_OPTION;
     if (depth->buffer != VK_NULL_HANDLE) {
         const VkDeviceSize row_bytes = (VkDeviceSize)depth->width * bpp, max_range = c->limits.maxStorageBufferRange;
-        const VkDeviceSize stride = depth->row_stride ? depth->row_stride : row_bytes;
+        /* one row spans row_bytes whatever its stride, which is then never used */
+        const VkDeviceSize stride = depth->row_stride && depth->height > 1 ? depth->row_stride : row_bytes;
         VkDeviceSize base, rem, span;
         if (stride < row_bytes) return LRT_ERROR_INVALID_STRIDE;
         if (depth->offset % bpp || stride % bpp) return LRT_ERROR_MISALIGNED;

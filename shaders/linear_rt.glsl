@@ -249,7 +249,8 @@ float lrt_depth_plane(LrtSetup s, uint format, uint raw)
     return t;
 }
 
-// the far plane z = 1 and the screen rectangle; returns the kind of a miss
+// the screen rectangle and 0 <= z <= 1 (the near and far planes); returns
+// the kind of a miss
 uint lrt_clip(inout LrtSetup s, LrtParams p, float tmin, float tmax)
 {
     float xy_en = -LRT_INF, xy_ex = LRT_INF;
@@ -262,8 +263,17 @@ uint lrt_clip(inout LrtSetup s, LrtParams p, float tmin, float tmax)
     // plane does: for a z that does not change, it keeps the ray iff o.z <= 1
     float t1 = s.zero.z ? (((s.neg.z != 0u) == (s.o.z <= 1.0)) ? -LRT_INF : LRT_INF)
                         : lrt_depth_plane(s, 3u, floatBitsToUint(1.0));
-    if (s.neg.z != 0u) s.t_lo = max(t1, s.t_lo);
-    else s.t_hi = min(t1, s.t_hi);
+    // the near plane z = 0 bounds it from the same side as a depth plane:
+    // for a z that does not change, it keeps the ray iff o.z >= 0
+    precise float tn = (0.0 - s.o.z) * s.iv.z;
+    float t0 = s.zero.z ? (((s.neg.z != 0u) == (s.o.z >= 0.0)) ? LRT_INF : -LRT_INF) : tn;
+    if (s.neg.z != 0u) {
+        s.t_lo = max(t1, s.t_lo);
+        s.t_hi = min(t0, s.t_hi);
+    } else {
+        s.t_lo = max(t0, s.t_lo);
+        s.t_hi = min(t1, s.t_hi);
+    }
     return kind;
 }
 
@@ -397,6 +407,15 @@ uint lrt_start_node(LrtParams p, LrtSetup s, out uint sx, out uint sy)
     return lv;
 }
 
+// exits widened by 2^-21 of their size before en <= ex, as linear_rt.h's
+// lrt__widen: a ray through a texel corner meets it however each plane's t
+// rounds (the product is exact, so fusing changes nothing)
+float lrt_widen(float ex)
+{
+    precise float w = ex + abs(ex) * (1.0 / 2097152.0);
+    return w;
+}
+
 // the exact test of a candidate texel against its true depth
 bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float ex, out float t)
 {
@@ -406,7 +425,7 @@ bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float e
     if (s.neg.z != 0u) ex = min(tz, ex);
     else en = max(tz, en);
     t = en;
-    return en <= ex;
+    return en <= lrt_widen(ex);
 }
 
 LrtHit lrt_report(LrtSetup s, float t_scale, float t, float tmin, float tmax, uint tx, uint ty)
@@ -502,7 +521,7 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
             }
             en8[k] = en;
             ex8[k] = ex;
-            if (en <= ex) mask |= 1u << k;
+            if (en <= lrt_widen(ex)) mask |= 1u << k;
         }
         if (lv == 1u) { // texels: the exact test, front to back
             for (uint k = 0u; k < 8u; ++k) {

@@ -110,6 +110,58 @@ static void free_map(test_map *m)
     ref_map_free(&m->ref);
 }
 
+/* ---- rays the fuzzer found wrong once (tests/fuzz/crashes-found/README.md) ---- */
+/* Case k's map and ray; 0 past the last case. The answer is the reference's. */
+static int found_case(int k, test_map *m, lrt_ray *r)
+{
+    static const struct {
+        int w, h, format;
+        float fill;                     /* every texel, as a float depth or a unorm v */
+        int sx[2], sy[2];               /* up to two other texels (-1: none) */
+        float sv[2];
+        float o[3], v[3], tmin, tmax;
+    } c[] = {
+        /* a ray through two texel corners: the first, (6,7) at t = 3.2, was skipped */
+        {16, 16, 3, 1.0f, {6, 9}, {7, 11}, {0.168f, 0.2f}, {0, 0, 0}, {1.875f, 2.5f, 0.05859375f}, 0, 12},
+        /* unorm depth and an origin far in front of the near plane: o.z * 65535 overflowed */
+        {1, 1, 2, 1000, {-1, -1}, {-1, -1}, {0, 0}, {0.5f, 0.5f, -1e34f}, {0, 0, 0}, 0, 1},
+        {1, 1, 1, 100, {-1, -1}, {-1, -1}, {0, 0}, {0.5f, 0.5f, -1e37f}, {0, 0, 0}, 0, 1},
+        /* ... and through the restart of a far-away ray */
+        {1, 1, 1, 100, {-1, -1}, {-1, -1}, {0, 0}, {1.25f, 1.25f, -1577}, {-7.5f, -7.5f, -1e38f}, 0, 1},
+        {1, 1, 2, 1000, {-1, -1}, {-1, -1}, {0, 0}, {1.25f, 1.25f, -1577}, {-7.5f, -7.5f, -1e38f}, 0, 1},
+    };
+    size_t n, i, bpp;
+    int q;
+    if (k < 0 || k >= (int)(sizeof c / sizeof c[0])) return 0;
+    memset(m, 0, sizeof *m);
+    bpp = c[k].format == 1 ? 1 : c[k].format == 2 ? 2 : 4;
+    n = (size_t)c[k].w * (size_t)c[k].h;
+    m->storage = malloc(n * bpp);
+    if (!m->storage) exit(2);
+    for (i = 0; i < n; ++i) {
+        int x = (int)(i % (size_t)c[k].w), y = (int)(i / (size_t)c[k].w);
+        float v = c[k].fill;
+        for (q = 0; q < 2; ++q)
+            if (c[k].sx[q] == x && c[k].sy[q] == y) v = c[k].sv[q];
+        if (bpp == 1) ((uint8_t *)m->storage)[i] = (uint8_t)v;
+        else if (bpp == 2) ((uint16_t *)m->storage)[i] = (uint16_t)v;
+        else ((float *)m->storage)[i] = v;
+    }
+    m->depth.data = m->storage;
+    m->depth.width = (uint32_t)c[k].w;
+    m->depth.height = (uint32_t)c[k].h;
+    m->depth.format = (lrt_format)c[k].format;
+    m->name = "fuzz-found";
+    if (ref_map_from_raw(&m->ref, m->storage, c[k].w, c[k].h, 0, c[k].format, 0) != 0) exit(2);
+    for (q = 0; q < 3; ++q) {
+        r->origin[q] = c[k].o[q];
+        r->dir[q] = c[k].v[q];
+    }
+    r->tmin = c[k].tmin;
+    r->tmax = c[k].tmax;
+    return 1;
+}
+
 /* ---- ray kinds -------------------------------------------------------------- */
 enum {
     RAY_PRIMARY, RAY_SEGMENT, RAY_REFLECT, RAY_GRAZING, RAY_EDGE, RAY_CORNER, RAY_INSIDE, RAY_LEAVING,

@@ -186,6 +186,36 @@ static void test_named_cases(void)
     ref_map_free(&m.ref);
 }
 
+/* the rays the fuzzer found wrong once: each must now agree with the reference */
+static void test_found_cases(void)
+{
+    test_map m;
+    lrt_ray r;
+    int k;
+    for (k = 0; found_case(k, &m, &r); ++k) {
+        lrt_bvh bvh;
+        lrt_hit h;
+        ref_ray q;
+        ref_answer a;
+        char why[256];
+        CHECK(lrt_bvh_build(&bvh, &m.depth, NULL, NULL) == LRT_SUCCESS, "found case %d: build", k);
+        CHECK(lrt_trace(&bvh, &m.depth, &r, &h, 1, 0) == LRT_SUCCESS, "found case %d: trace", k);
+        q = to_ref(&r);
+        a = to_answer(&h);
+        CHECK(ref_check(&m.ref, &q, &a, 0, why, sizeof why), "found case %d: %s", k, why);
+        lrt_bvh_destroy(&bvh);
+        free_map(&m);
+    }
+    { /* a one-row map spans one row, whatever its stride */
+        float row[60] = {0};
+        lrt_depth d = {row, 60, 1, 0, LRT_FORMAT_FLOAT32, 0};
+        lrt_bvh bvh;
+        d.row_stride = (size_t)PTRDIFF_MAX - sizeof row + 2;
+        CHECK(lrt_bvh_build(&bvh, &d, NULL, NULL) == LRT_SUCCESS, "one row with a huge stride builds");
+        lrt_bvh_destroy(&bvh);
+    }
+}
+
 /* ---- 3. Morton mapping and level geometry --------------------------------------- */
 static uint32_t ilog2(uint32_t v) { uint32_t k = 0; while ((1u << k) < v) ++k; return k; }
 
@@ -471,6 +501,7 @@ static void test_ranges(void)
 int main(void)
 {
     test_named_cases();
+    test_found_cases();
     test_layout();
     test_update();
     test_bad_arguments();

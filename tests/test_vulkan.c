@@ -326,6 +326,38 @@ static void build_case(int w, int h, int shape, lrt_format format, int reversed,
     free_map(&m);
 }
 
+/* the rays the fuzzer found wrong once, on the GPU: the CPU's answers */
+static void test_found_cases(void)
+{
+    test_map m;
+    lrt_ray r;
+    int k;
+    for (k = 0; found_case(k, &m, &r); ++k) {
+        lrt_bvh cpu;
+        lrt_vk_bvh gpu;
+        gpu_depth g;
+        lrt_hit ch, gh;
+        int kind = RAY_CORNER;
+        char what[64];
+        snprintf(what, sizeof what, "found case %d", k);
+        memset(&gpu, 0, sizeof gpu);
+        CHECK(lrt_bvh_build(&cpu, &m.depth, NULL, NULL) == LRT_SUCCESS, "%s: CPU build", what);
+        CHECK(lrt_trace(&cpu, &m.depth, &r, &ch, 1, 0) == LRT_SUCCESS, "%s: CPU trace", what);
+        if (gpu_depth_create(&m.depth, 0, VK_FORMAT_UNDEFINED, &g) == 0 && gpu_build(&m.depth, 0, &g, &gpu, what) == 0 &&
+            gpu_trace(&gpu, &g, &r, &gh, 1, 0, 0, what) == 0) {
+            CHECK(memcmp(&gh, &ch, sizeof gh) == 0, "%s: GPU kind %u t %g (%u,%u), CPU kind %u t %g (%u,%u)", what,
+                  gh.kind, (double)gh.t, gh.x, gh.y, ch.kind, (double)ch.t, ch.x, ch.y);
+            judge(what, &m, &r, &kind, &gh, &ch, 1, 0);
+            lrt_vk_bvh_destroy(g_ctx, &gpu);
+            gpu_depth_destroy(&g);
+        } else {
+            CHECK(0, "%s: GPU set-up failed", what);
+        }
+        lrt_bvh_destroy(&cpu);
+        free_map(&m);
+    }
+}
+
 static void test_build_and_trace(void)
 {
     static const int sizes[][2] = {{1, 1}, {3, 5}, {7, 9}, {33, 20}, {64, 64}, {100, 37}, {5, 300}, {300, 200}};
@@ -1182,6 +1214,7 @@ int main(void)
         test_bad_arguments();
         test_device_limits();
         test_build_and_trace();
+        test_found_cases();
         test_update();
         test_2d_dispatch();
         print_trace_summary();
