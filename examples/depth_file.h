@@ -64,6 +64,46 @@ DEPTH_FILE_FN float depth_file__clamp(float d, int reversed_z)
     return !(d <= 1.0f) ? 1.0f : d < 0.0f ? 0.0f : d;
 }
 
+/* stb_image's reason for a failure, as one printable line: its text may
+   quote a chunk name from the file (any 4 bytes, a newline among them) */
+DEPTH_FILE_FN void depth_file__stb_reason(char *text, size_t size)
+{
+    const char *r = stbi_failure_reason();
+    size_t k;
+    snprintf(text, size, "corrupt PNG (%s)", r ? r : "unknown");
+    for (k = 0; text[k]; ++k)
+        if ((unsigned char)text[k] < 0x20 || (unsigned char)text[k] > 0x7e) text[k] = '?';
+}
+
+/* Walks the PNG's chunks before stb_image sees them: a chunk that claims
+   more bytes than the file has left is refused here (stb_image would first
+   allocate what it claims, up to 2 GiB, then fail). */
+DEPTH_FILE_FN int depth_file__png_chunks(const unsigned char *b, size_t size, char *why, size_t why_size)
+{
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    size_t at = 8;
+    char text[160];
+    if (size < 8 || memcmp(b, sig, 8) != 0) return depth_file__fail(why, why_size, "not a PNG (no PNG signature)");
+    while (at < size) {
+        uint32_t len;
+        int k, iend;
+        if (size - at < 12) return depth_file__fail(why, why_size, "truncated PNG (a chunk header is cut off)");
+        len = (uint32_t)b[at] << 24 | (uint32_t)b[at + 1] << 16 | (uint32_t)b[at + 2] << 8 | (uint32_t)b[at + 3];
+        iend = memcmp(b + at + 4, "IEND", 4) == 0;
+        if (len > size - at - 12) {
+            char name[5];
+            for (k = 0; k < 4; ++k) name[k] = b[at + 4 + (size_t)k] >= 0x20 && b[at + 4 + (size_t)k] <= 0x7e ? (char)b[at + 4 + (size_t)k] : '?';
+            name[4] = 0;
+            snprintf(text, sizeof text, "truncated PNG: chunk %s claims %lu bytes, %lu are left", name,
+                     (unsigned long)len, (unsigned long)(size - at - 12));
+            return depth_file__fail(why, why_size, text);
+        }
+        at += 12 + (size_t)len;
+        if (iend) return 0;
+    }
+    return depth_file__fail(why, why_size, "truncated PNG (no IEND chunk)");
+}
+
 DEPTH_FILE_FN int depth_file__size_ok(int w, int h)
 {
     return w >= 1 && h >= 1 && (unsigned)w <= DEPTH_FILE_MAX_DIM && (unsigned)h <= DEPTH_FILE_MAX_DIM;
@@ -75,6 +115,7 @@ DEPTH_FILE_FN int depth_file__png(const unsigned char *bytes, size_t size, int r
     int w, h, c, is16;
     size_t i, n;
     if (size > 0x7fffffffu) return depth_file__fail(why, why_size, "too large for a PNG");
+    if (depth_file__png_chunks(bytes, size, why, why_size)) return 1;
     if (!stbi_info_from_memory(bytes, (int)size, &w, &h, &c))
         return depth_file__fail(why, why_size, "not a PNG (or a corrupt one)");
     if (!depth_file__size_ok(w, h)) return depth_file__fail(why, why_size, "image size outside 1..16384");
@@ -101,7 +142,7 @@ corrupt:
     out->depth = NULL;
     {
         char text[160];
-        snprintf(text, sizeof text, "corrupt PNG (%s)", stbi_failure_reason());
+        depth_file__stb_reason(text, sizeof text);
         return depth_file__fail(why, why_size, text);
     }
 }
@@ -234,6 +275,7 @@ DEPTH_FILE_FN int color_file_decode(const unsigned char *bytes, size_t size, uin
     *rgb = NULL;
     if (!bytes || size == 0) return depth_file__fail(why, why_size, "empty file");
     if (size > 0x7fffffffu) return depth_file__fail(why, why_size, "too large for a PNG");
+    if (depth_file__png_chunks(bytes, size, why, why_size)) return 1;
     if (!stbi_info_from_memory(bytes, (int)size, &w, &h, &c))
         return depth_file__fail(why, why_size, "not a PNG (or a corrupt one)");
     if ((uint32_t)w != width || (uint32_t)h != height) {
@@ -242,7 +284,7 @@ DEPTH_FILE_FN int color_file_decode(const unsigned char *bytes, size_t size, uin
     }
     p = stbi_load_from_memory(bytes, (int)size, &w, &h, &c, 3);
     if (!p) {
-        snprintf(text, sizeof text, "corrupt PNG (%s)", stbi_failure_reason());
+        depth_file__stb_reason(text, sizeof text);
         return depth_file__fail(why, why_size, text);
     }
     *rgb = (uint8_t *)p; /* stb_image allocates with malloc (STBI_MALLOC default): free() releases it */
