@@ -14,6 +14,7 @@
 #include "../reference.h"
 
 #include <float.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,15 +36,12 @@ static float f32(input *in) { uint32_t b = u32(in); float f; memcpy(&f, &b, 4); 
 typedef uint32_t codes;
 #define CODE(c) ((codes)1u << (c))
 
-/* Known deviations, accepted in place of success so that the fuzzer goes on
-   past them: each is one of crashes-found/ (see the README there). */
-static codes g_tolerated;
 static char g_map[160]; /* the map under test, for failure messages */
 
 static void expect(const char *what, lrt_result got, codes errors)
 {
     if (errors == 0 && got == LRT_SUCCESS) return;
-    if ((unsigned)got < 32 && ((errors | g_tolerated) & CODE(got))) return;
+    if ((unsigned)got < 32 && (errors & CODE(got))) return;
     FAIL("%s returned %d (%s); documented errors for this input: 0x%x", what, (int)got, lrt_result_string(got),
          (unsigned)errors);
 }
@@ -64,9 +62,6 @@ static codes depth_errors(const lrt_depth *d, size_t *span)
     if (d->flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) e |= CODE(LRT_ERROR_INVALID_OPTION);
     if (bpp && d->width <= LINEAR_RT_MAX_DIM && d->height <= LINEAR_RT_MAX_DIM) {
         size_t row = (size_t)d->width * bpp, stride = d->row_stride ? d->row_stride : row;
-        /* crashes-found/core-one-row-huge-stride: a one-row map spans one
-           row, yet a stride above PTRDIFF_MAX - row is called an overflow */
-        if (d->height == 1 && stride > (size_t)PTRDIFF_MAX - row) g_tolerated |= CODE(LRT_ERROR_SIZE_OVERFLOW);
         if (stride < row) e |= CODE(LRT_ERROR_INVALID_STRIDE);
         else if (d->height > 1 && stride > ((size_t)PTRDIFF_MAX - row) / (d->height - 1))
             e |= CODE(LRT_ERROR_SIZE_OVERFLOW); /* the span, stride*(h-1) + row, exceeds PTRDIFF_MAX */
@@ -157,33 +152,10 @@ static lrt_ray make_ray(input *in, const ref_map *m)
      below 1e-30 is rescaled by 2^-e; tmin * 2^e underflows to 0 (a false
      hit at t = tmin) and t_scale = 2^-e overflows to inf for e <= -128 (a
      hit reported at tmax, or with t = NaN).
-   - core-unorm-huge-*-z: with unorm depth, o.z * 65535 (or 255) overflows
-     in the texel's depth plane, whose t is then NaN and dropped: a false hit
-     far in front of the near plane. o.z is the given one, or that of the
-     point where a far-away ray is restarted (entering the screen rectangle).
    - core-underflowed-*-crossing: (plane - o) * (1/v) underflows to 0 for an
      origin a hair off a plane (a screen edge, a texel top) and a huge
      direction: at t = 0 the ray is taken to be on the screen (a tmax miss
      for an off-screen one) or in a texel (a false hit). */
-static int huge_z_on_screen(const lrt_ray *r, const ref_map *m)
-{
-    double lo = r->tmin, hi = r->tmax, z0, z1;
-    int k;
-    for (k = 0; k < 2; ++k) { /* [lo, hi]: the part of [tmin, tmax] over the screen rectangle */
-        double o = r->origin[k], v = r->dir[k], n = k ? m->h : m->w;
-        if (v == 0.0) {
-            if (o < 0 || o > n) return 0;
-            continue;
-        }
-        lo = fmax(lo, fmin(-o / v, (n - o) / v));
-        hi = fmin(hi, fmax(-o / v, (n - o) / v));
-    }
-    if (!(lo <= hi)) return 0;
-    z0 = r->origin[2] + lo * r->dir[2];
-    z1 = r->origin[2] + hi * r->dir[2];
-    return fabs(z0) > FLT_MAX / 65536.0 || fabs(z1) > FLT_MAX / 65536.0;
-}
-
 static int near_plane(double o, double v, double plane)
 {
     return o != plane && fabs(plane - o) < FLT_MIN * fabs(v);
@@ -205,19 +177,17 @@ static int tiny_crossing(const lrt_ray *r, const ref_map *m)
     return 0;
 }
 
-enum { KNOWN_DENORMAL = 1, KNOWN_RESCALE, KNOWN_UNDERFLOW, KNOWN_UNORM_Z, KNOWN_CORNER, KNOWN_COUNT };
+enum { KNOWN_DENORMAL = 1, KNOWN_RESCALE, KNOWN_UNDERFLOW, KNOWN_COUNT };
 static const char *known_names[KNOWN_COUNT] = {"", "core-denormal-dir-far-plane", "core-rescaled-tmin-underflow",
-                                               "core-underflowed-*-crossing", "core-unorm-huge-*-z",
-                                               "core-corner-missed"};
+                                               "core-underflowed-*-crossing"};
 static unsigned long g_known[KNOWN_COUNT], g_judged;
 
 /* Which known bug a ray may meet (0: none): judged from the ray alone. */
-static int known_deviation(const lrt_ray *r, const ref_map *m, uint32_t format)
+static int known_deviation(const lrt_ray *r, const ref_map *m)
 {
 #ifdef FUZZ_STRICT
     (void)r;
     (void)m;
-    (void)format;
     return 0;
 #else
     int k;
@@ -228,29 +198,7 @@ static int known_deviation(const lrt_ray *r, const ref_map *m, uint32_t format)
     }
     if (vmax != 0.0f && vmax < 1e-30f) return KNOWN_RESCALE;
     if (tiny_crossing(r, m)) return KNOWN_UNDERFLOW;
-    if (format != LRT_FORMAT_FLOAT32 && (fabsf(r->origin[2]) > FLT_MAX / 65536.0f || huge_z_on_screen(r, m)))
-        return KNOWN_UNORM_Z;
     return 0;
-#endif
-}
-
-/* core-corner-missed: an answer the reference refuses, for a ray whose
-   exact hit is at a texel corner (x and y within 1e-4 of integers): the
-   tracer can step past a texel the ray meets only at (or a hair beside)
-   its corner, and report a later hit. */
-static int known_corner(const ref_map *m, const ref_ray *q)
-{
-#ifdef FUZZ_STRICT
-    (void)m;
-    (void)q;
-    return 0;
-#else
-    ref_result e = ref_trace_ray(m, q);
-    double x, y;
-    if (e.kind != REF_HIT) return 0;
-    x = q->o[0] + e.t * q->v[0];
-    y = q->o[1] + e.t * q->v[1];
-    return fabs(x - floor(x + 0.5)) < 1e-4 && fabs(y - floor(y + 0.5)) < 1e-4 ? KNOWN_CORNER : 0;
 #endif
 }
 
@@ -288,7 +236,7 @@ static void print_neighbourhood(const ref_map *m, const ref_ray *q)
 }
 
 /* Every answer judged by the reference; misses must carry t = 0, x = y = 0. */
-static void judge(const ref_map *m, uint32_t format, const lrt_ray *rays, const lrt_hit *hits, size_t n, uint32_t flags)
+static void judge(const ref_map *m, const lrt_ray *rays, const lrt_hit *hits, size_t n, uint32_t flags)
 {
     size_t i;
     for (i = 0; i < n; ++i) {
@@ -306,14 +254,11 @@ static void judge(const ref_map *m, uint32_t format, const lrt_ray *rays, const 
         a.t = h->t;
         a.x = (int)h->x;
         a.y = (int)h->y;
-        known = known_deviation(r, m, format);
+        known = known_deviation(r, m);
         if (!known && !ref_check(m, &q, &a, (flags & LRT_TRACE_ANY_HIT) != 0, why, sizeof why)) {
-            known = known_corner(m, &q);
-            if (!known) {
-                print_neighbourhood(m, &q);
-                FAIL("%s, ray %zu%s o=(%a %a %a) v=(%a %a %a) t=[%a %a]: %s", g_map, i, flags ? " (any-hit)" : "",
-                     r->origin[0], r->origin[1], r->origin[2], r->dir[0], r->dir[1], r->dir[2], r->tmin, r->tmax, why);
-            }
+            print_neighbourhood(m, &q);
+            FAIL("%s, ray %zu%s o=(%a %a %a) v=(%a %a %a) t=[%a %a]: %s", g_map, i, flags ? " (any-hit)" : "",
+                 r->origin[0], r->origin[1], r->origin[2], r->dir[0], r->dir[1], r->dir[2], r->tmin, r->tmax, why);
         }
         if (known) { /* well-formed, at least */
             ++g_known[known];
@@ -357,7 +302,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     memset(&bvh, 0, sizeof bvh);
     memset(&bvh_in, 0, sizeof bvh_in);
-    g_tolerated = 0;
     for (k = 0; k < 4; ++k) rect_b[k] = u8(&in);
     if (bits_sel % 4 == 3) node_bits_raw = u32(&in);
 
@@ -490,7 +434,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         r = lrt_trace(&bvh, &d, rays, hits, nrays, trace_flags);
         expect("lrt_trace", r, terr);
         if (r == LRT_SUCCESS) {
-            judge(&ref, (uint32_t)d.format, rays, hits, nrays, trace_flags);
+            judge(&ref, rays, hits, nrays, trace_flags);
             expect("lrt_trace_range", lrt_trace_range(&bvh, &d, rays, hits2, 0, split, trace_flags), 0);
             expect("lrt_trace_range", lrt_trace_range(&bvh, &d, rays, hits2, split, nrays, trace_flags), 0);
             if (nrays && memcmp(hits, hits2, sizeof(lrt_hit) * nrays) != 0) FAIL("two slices differ from one batch");
