@@ -1336,6 +1336,10 @@ LRT__INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t heig
     if (m != 0.0f && m < 1e-30f) { /* rare: rescale so that max |v| is about 1 */
         int e;
         (void)frexpf(m, &e);
+        /* at most by 2^126, so that t_scale = 2^-e stays finite (a reported
+           t of 0 stays 0, never 0 * inf); even the least subnormal then
+           becomes a normal float */
+        e = e < -126 ? -126 : e;
         for (k = 0; k < 3; ++k) v[k] = ldexpf(v[k], -e);
         tmin = ldexpf(tmin, e); /* may underflow to 0: tmin is reported as given */
         tmax = ldexpf(tmax, e);

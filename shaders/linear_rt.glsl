@@ -337,6 +337,7 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
     if (m != 0.0 && m < 1e-30) { // rare: rescale so that max |v| is about 1
         int e;
         frexp(m, e);
+        e = max(e, -126); // at most by 2^126: t_scale = 2^-e stays finite, as linear_rt.h
         v = vec3(ldexp(v.x, -e), ldexp(v.y, -e), ldexp(v.z, -e));
         tmin = ldexp(tmin, e);
         tmax = ldexp(tmax, e);

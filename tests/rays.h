@@ -129,6 +129,9 @@ static int found_case(int k, test_map *m, lrt_ray *r)
         /* ... and through the restart of a far-away ray */
         {1, 1, 1, 100, {-1, -1}, {-1, -1}, {0, 0}, {1.25f, 1.25f, -1577}, {-7.5f, -7.5f, -1e38f}, 0, 1},
         {1, 1, 2, 1000, {-1, -1}, {-1, -1}, {0, 0}, {1.25f, 1.25f, -1577}, {-7.5f, -7.5f, -1e38f}, 0, 1},
+        /* directions below 2^-128 were rescaled by an infinite t_scale: a hit with t = NaN, or at tmax */
+        {1, 1, 3, 0.5f, {-1, -1}, {-1, -1}, {0, 0}, {0.5f, 0.5f, 0.6f}, {1e-39f, 0, 0}, 0, FLT_MAX},
+        {1, 1, 3, 0.5f, {-1, -1}, {-1, -1}, {0, 0}, {0.5f, 0.5f, 0.0f}, {0, 0, 2e-39f}, 0, FLT_MAX},
     };
     size_t n, i, bpp;
     int q;
