@@ -11,7 +11,14 @@
    with the right hit/miss and texel, false hits, false misses and the mean
    distance from the right hit. Then the stability suite: small named cases
    built to break someone. Writes bench/results.csv, bench/results.md and
-   bench/speed_vs_accuracy.png (gnuplot), and prints the tables. */
+   bench/speed_vs_accuracy.png (gnuplot), and prints the tables.
+
+   The embedded scenes' reflection, AO and shadow rays are built in screen
+   space from the depth gradient (the committed results' rays). A --depth
+   FILE gets a perspective camera (--fov, --near, --far) instead, and those
+   three sets are built as examples/ssr.c, ao.c and shadows.c build theirs:
+   view-space segments from each texel's position and normal, through
+   lrt_camera_segment, origins lifted by the examples' policy. */
 #define _POSIX_C_SOURCE 200809L
 #include "bench.h"
 #include "../tests/reference.h"
@@ -43,8 +50,11 @@ typedef struct options {
     const char *depth_file, *format;
     uint32_t file_w, file_h;
     int reversed;
+    float fov_deg, near_z, far_z; /* --depth FILE: its perspective projection */
+    int camera_given;             /* --fov, --near or --far was given */
     const char *out_dir;
     const char *only;    /* run only methods whose name contains this */
+    int chart_only;      /* redraw the chart from out_dir's points.dat, run nothing */
 } options;
 
 /* ---- deterministic random numbers -------------------------------------------- */
@@ -62,6 +72,16 @@ typedef struct scene {
     bench_scene s;
     float *depth;
     ref_map ref;
+    /* A scene with a camera (--depth FILE): its reflection, ao and shadow
+       rays are view-space segments built as examples/ssr.c, ao.c and
+       shadows.c build them. The embedded scenes have none here: their ray
+       sets are the screen-space ones of the committed results. */
+    int has_camera;
+    lrt_camera camera;
+    float view_from_world[9]; /* rotation of the camera (identity for a file) */
+    float *pos;               /* w * h * 3: view-space position of each texel's centre */
+    float *nrm;               /* w * h * 3: view-space normal facing the eye; 0 0 0 for the sky */
+    float *lift;              /* w * h: screen-space z by which a ray from this texel is lifted */
 } scene;
 
 static void scene_finish(scene *sc, const char *name, uint32_t w, uint32_t h)
@@ -87,6 +107,7 @@ static void scene_make(scene *sc, int kind, uint32_t w, uint32_t h)
 {
     static const char *names[4] = {"yard", "poles", "terraces", "noise"};
     uint32_t i, j;
+    memset(sc, 0, sizeof *sc);
     sc->depth = (float *)malloc(sizeof(float) * w * h);
     if (!sc->depth) exit(2);
     if (kind == 0) {
@@ -113,7 +134,113 @@ static void scene_make(scene *sc, int kind, uint32_t w, uint32_t h)
 static void scene_free(scene *sc)
 {
     free(sc->depth);
+    free(sc->pos);
+    free(sc->nrm);
+    free(sc->lift);
     ref_map_free(&sc->ref);
+}
+
+/* ---- a scene's camera: the examples' view-space set-up ---------------------------
+   The per-texel code below is examples/example.h's example__positions_row
+   and example__normals_row, on a scene instead of an example_frame: that
+   header also compiles linear_rt's and stb_image_write's implementations
+   (m_linear_rt.c and depth_file.h compile them here), so it cannot be
+   included. Keep the two in step. */
+static float v3_dot(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+static void v3_normalize(float *v)
+{
+    float l = sqrtf(v3_dot(v, v));
+    if (l > 0.0f) {
+        v[0] /= l;
+        v[1] /= l;
+        v[2] /= l;
+    }
+}
+
+/* each texel's view-space position (example__positions_row) */
+static void camera_positions_row(scene *sc, uint32_t j)
+{
+    uint32_t i;
+    for (i = 0; i < sc->s.width; ++i) {
+        size_t k = (size_t)j * sc->s.width + i;
+        float s[3];
+        s[0] = (float)i + 0.5f;
+        s[1] = (float)j + 0.5f;
+        s[2] = sc->depth[k];
+        if (s[2] >= 1.0f || !lrt_camera_unproject(&sc->camera, s, &sc->pos[3 * k]))
+            sc->pos[3 * k] = sc->pos[3 * k + 1] = sc->pos[3 * k + 2] = 0.0f;
+    }
+}
+
+/* each texel's normal and lift (example__normals_row): the normal from the
+   neighbours with the smaller depth step on each axis; the lift is the
+   examples' self-intersection policy (README "Self-intersection"): half
+   the depth steps to those neighbours, plus 1%, towards the eye, and
+   tmin = 0 */
+static void camera_normals_row(scene *sc, uint32_t j)
+{
+    const float *depth = sc->depth, *pos = sc->pos;
+    uint32_t i, w = sc->s.width, h = sc->s.height;
+    for (i = 0; i < w; ++i) {
+        size_t k = (size_t)j * w + i;
+        float d = depth[k], dx = 0.0f, dy = 0.0f, ex[3] = {0, 0, 0}, ey[3] = {0, 0, 0}, *n = &sc->nrm[3 * k];
+        int sx = 0, sy = 0, c;
+        n[0] = n[1] = n[2] = 0.0f;
+        sc->lift[k] = 0.0f;
+        if (d >= 1.0f) continue;
+        if (i + 1 < w && depth[k + 1] < 1.0f) { sx = 1; dx = depth[k + 1] - d; }
+        if (i > 0 && depth[k - 1] < 1.0f && (!sx || fabsf(d - depth[k - 1]) < fabsf(dx))) { sx = -1; dx = d - depth[k - 1]; }
+        if (j + 1 < h && depth[k + w] < 1.0f) { sy = 1; dy = depth[k + w] - d; }
+        if (j > 0 && depth[k - w] < 1.0f && (!sy || fabsf(d - depth[k - w]) < fabsf(dy))) { sy = -1; dy = d - depth[k - w]; }
+        for (c = 0; c < 3; ++c) {
+            if (sx) ex[c] = sx > 0 ? pos[3 * (k + 1) + c] - pos[3 * k + c] : pos[3 * k + c] - pos[3 * (k - 1) + c];
+            if (sy) ey[c] = sy > 0 ? pos[3 * (k + w) + c] - pos[3 * k + c] : pos[3 * k + c] - pos[3 * (k - w) + c];
+        }
+        if (sx && sy) { /* screen x right, y down: ex x ey points away from the eye */
+            n[0] = ey[1] * ex[2] - ey[2] * ex[1];
+            n[1] = ey[2] * ex[0] - ey[0] * ex[2];
+            n[2] = ey[0] * ex[1] - ey[1] * ex[0];
+            v3_normalize(n);
+            if (v3_dot(n, &pos[3 * k]) > 0.0f) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
+        } else { /* a lone texel: face the eye */
+            n[0] = -pos[3 * k];
+            n[1] = -pos[3 * k + 1];
+            n[2] = -pos[3 * k + 2];
+            v3_normalize(n);
+        }
+        sc->lift[k] = 0.5f * (fabsf(dx) + fabsf(dy)) * 1.01f + 1e-7f;
+    }
+}
+
+/* Gives the scene a perspective camera (example_frame_load's, for a file:
+   aspect = width / height, standard Z, reversed input already flipped) and
+   its positions, normals and lifts. 0 on success, else a one-line reason. */
+static int scene_set_camera(scene *sc, float fov_deg, float near_z, float far_z, const float view_from_world[9],
+                            char *why, size_t why_size)
+{
+    const float pi = 3.14159265358979f;
+    const size_t n = (size_t)sc->s.width * sc->s.height;
+    float proj[16];
+    lrt_result r;
+    uint32_t j;
+    lrt_perspective(proj, fov_deg * pi / 180.0f, (float)sc->s.width / (float)sc->s.height, near_z, far_z, 0);
+    if ((r = lrt_camera_init(&sc->camera, proj, sc->s.width, sc->s.height, 0)) != LRT_SUCCESS) {
+        snprintf(why, why_size, "camera: %s", lrt_result_string(r));
+        return 1;
+    }
+    memcpy(sc->view_from_world, view_from_world, sizeof sc->view_from_world);
+    sc->pos = (float *)malloc(n * 3 * sizeof(float));
+    sc->nrm = (float *)malloc(n * 3 * sizeof(float));
+    sc->lift = (float *)malloc(n * sizeof(float));
+    if (!sc->pos || !sc->nrm || !sc->lift) {
+        snprintf(why, why_size, "out of memory for the camera of a %ux%u map", sc->s.width, sc->s.height);
+        return 1;
+    }
+    for (j = 0; j < sc->s.height; ++j) camera_positions_row(sc, j);
+    for (j = 0; j < sc->s.height; ++j) camera_normals_row(sc, j);
+    sc->has_camera = 1;
+    return 0;
 }
 
 /* ---- the user's own depth: PNG 8/16-bit, PFM, raw float ----------------------- */
@@ -124,6 +251,7 @@ static int scene_load(scene *sc, const options *o)
     depth_file_image img;
     char why[512];
     int kind = DEPTH_FILE_AUTO;
+    static const float identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     memset(sc, 0, sizeof *sc);
     if (o->format) {
         kind = !strcmp(o->format, "png") ? DEPTH_FILE_PNG : !strcmp(o->format, "pfm") ? DEPTH_FILE_PFM : DEPTH_FILE_RAW;
@@ -134,6 +262,10 @@ static int scene_load(scene *sc, const options *o)
     }
     sc->depth = img.depth;
     scene_finish(sc, "file", img.width, img.height);
+    if (scene_set_camera(sc, o->fov_deg, o->near_z, o->far_z, identity, why, sizeof why)) {
+        fprintf(stderr, "bench: %s: %s\n", o->depth_file, why);
+        return 1;
+    }
     return 0;
 }
 
@@ -181,16 +313,81 @@ static void normal_at(const scene *sc, int i, int j, float n[3])
     n[2] = -1.0f / l; /* towards the camera */
 }
 
+/* ao.c's AO_RADIUS and shadows.c's SHADOW_LENGTH (view-space units), and
+   shadows.c's light (towards it, world space: x right, y up, z towards the eye) */
+#define CAMERA_AO_RADIUS 0.6f
+#define CAMERA_SHADOW_LENGTH 0.6f
+static const float camera_light_world[3] = {0.55f, 0.6f, 0.35f};
+
+/* Texel k's ray of a set, as the examples build it from a camera: a
+   view-space segment from the texel's position, clipped and projected by
+   lrt_camera_segment ([tmin, tmax] = [0, 1]), its origin lifted by the
+   texel's lift. 0 when the texel has none (the sky, no normal, a surface
+   facing away from the light, no part of the segment between the planes):
+   the examples give those an invalid ray; the benchmark leaves them out.
+   - reflection (ssr.c): the view ray reflected about the normal, 1e4 long
+     (the far plane clips it), closest hit;
+   - ao (ao.c): CAMERA_AO_RADIUS long, cosine-weighted over the normal's
+     hemisphere in ao.c's tangent frame, one random ray per texel where
+     ao.c traces 16 in a dithered spiral; any hit;
+   - shadow (shadows.c): CAMERA_SHADOW_LENGTH towards the light, any hit. */
+static int camera_ray(const scene *sc, int kind, size_t k, lrt_ray *ray)
+{
+    const float *p = &sc->pos[3 * k], *n = &sc->nrm[3 * k];
+    float to[3];
+    int c;
+    if (sc->depth[k] >= 1.0f || (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f)) return 0;
+    if (kind == SET_REFLECT) {
+        float v[3] = {p[0], p[1], p[2]}, d;
+        v3_normalize(v); /* the eye is at the origin of view space */
+        d = v3_dot(v, n);
+        for (c = 0; c < 3; ++c) to[c] = p[c] + (v[c] - 2.0f * d * n[c]) * 1e4f;
+    } else if (kind == SET_AO) {
+        float a[3] = {0.0f, 0.0f, 0.0f}, t[3], b[3];
+        float u = rnd01(), r = sqrtf(u), phi = 6.2831853f * rnd01();
+        float e[3];
+        e[0] = r * cosf(phi);
+        e[1] = r * sinf(phi);
+        e[2] = sqrtf(1.0f - u);
+        a[fabsf(n[0]) < 0.6f ? 0 : 1] = 1.0f; /* ao.c's ao__frame */
+        t[0] = a[1] * n[2] - a[2] * n[1];
+        t[1] = a[2] * n[0] - a[0] * n[2];
+        t[2] = a[0] * n[1] - a[1] * n[0];
+        v3_normalize(t);
+        b[0] = n[1] * t[2] - n[2] * t[1];
+        b[1] = n[2] * t[0] - n[0] * t[2];
+        b[2] = n[0] * t[1] - n[1] * t[0];
+        for (c = 0; c < 3; ++c) to[c] = p[c] + CAMERA_AO_RADIUS * (e[0] * t[c] + e[1] * b[c] + e[2] * n[c]);
+    } else { /* SET_SHADOW */
+        const float *m = sc->view_from_world;
+        float l[3];
+        for (c = 0; c < 3; ++c)
+            l[c] = m[3 * c] * camera_light_world[0] + m[3 * c + 1] * camera_light_world[1] + m[3 * c + 2] * camera_light_world[2];
+        v3_normalize(l);
+        if (v3_dot(n, l) <= 0.0f) return 0; /* shadowed by itself */
+        for (c = 0; c < 3; ++c) to[c] = p[c] + CAMERA_SHADOW_LENGTH * l[c];
+    }
+    if (!lrt_camera_segment(&sc->camera, p, to, ray)) return 0;
+    ray->origin[2] -= sc->lift[k];
+    return 1;
+}
+
 static void make_set(ray_set *rs, const scene *sc, int kind, size_t sample)
 {
     const uint32_t w = sc->s.width, h = sc->s.height;
     const size_t n = (size_t)w * h;
     const float k = (float)(w > h ? w : h);
-    size_t q;
+    /* a scene with a camera builds these three as the examples do */
+    const int camera = sc->has_camera && (kind == SET_REFLECT || kind == SET_AO || kind == SET_SHADOW);
+    size_t q, count = n;
     memset(rs, 0, sizeof *rs);
     rs->rays = (lrt_ray *)malloc(sizeof(lrt_ray) * n);
     if (!rs->rays) exit(2);
-    for (q = 0; q < n; ++q) {
+    if (camera) {
+        count = 0;
+        for (q = 0; q < n; ++q) count += (size_t)camera_ray(sc, kind, q, &rs->rays[count]);
+    }
+    for (q = 0; !camera && q < n; ++q) {
         int i = (int)(q % w), j = (int)(q / w);
         float d = sc->depth[q], nrm[3];
         lrt_ray *r = &rs->rays[q];
@@ -233,7 +430,8 @@ static void make_set(ray_set *rs, const scene *sc, int kind, size_t sample)
             r->dir[1] = -0.8f * k;
             r->dir[2] = -0.25f;
         }
-        /* leave the own texel before testing (the examples' policy, MODEL.md) */
+        /* leave the own texel before testing (MODEL.md: the set-up's policy; this
+           screen-space one starts 0.75 texel out, the camera sets lift instead) */
         {
             float m = fabsf(r->dir[0]) > fabsf(r->dir[1]) ? fabsf(r->dir[0]) : fabsf(r->dir[1]);
             r->tmin = m > 0.0f ? 0.75f / m : 0.0f;
@@ -242,10 +440,10 @@ static void make_set(ray_set *rs, const scene *sc, int kind, size_t sample)
     }
     rs->r.name = set_names[kind];
     rs->r.rays = rs->rays;
-    rs->r.count = n;
+    rs->r.count = count;
     rs->r.flags = (kind == SET_AO || kind == SET_SHADOW) ? BENCH_ANY_HIT : 0u;
-    rs->sample_stride = n / sample > 1 ? n / sample : 1;
-    rs->sample_count = (n + rs->sample_stride - 1) / rs->sample_stride;
+    rs->sample_stride = count / sample > 1 ? count / sample : 1;
+    rs->sample_count = (count + rs->sample_stride - 1) / rs->sample_stride;
     rs->ref = (ref_result *)malloc(sizeof(ref_result) * rs->sample_count);
     for (q = 0; q < rs->sample_count; ++q) {
         ref_ray rr = to_ref(&rs->rays[q * rs->sample_stride]);
@@ -313,7 +511,6 @@ typedef struct result {
 #define MAX_RESULTS 4096
 static result g_res[MAX_RESULTS];
 static int g_nres;
-static double g_lowest_point = 100.0; /* the least accurate point of the chart */
 
 static double median(double *v, int n)
 {
@@ -474,6 +671,7 @@ static void gen_random(const scene *sc, lrt_ray *r, size_t q)
 static void stab_scene(scene *sc, const char *name, uint32_t w, uint32_t h, int kind)
 {
     uint32_t i, j;
+    memset(sc, 0, sizeof *sc);
     sc->depth = (float *)malloc(sizeof(float) * w * h);
     for (j = 0; j < h; ++j)
         for (i = 0; i < w; ++i) {
@@ -518,7 +716,7 @@ static const result *find(const char *method, const char *scene_name, const char
 static double mrays(const result *r) { return r && r->trace_ms > 0 ? (double)r->rays / r->trace_ms / 1e3 : 0.0; }
 
 static void write_outputs(const options *o, bench_method *m, int nm, const char *const *why_skipped,
-                          const char *machine, int nstab)
+                          const char *machine, int nstab, const scene *first)
 {
     char path[512];
     FILE *csv, *md, *dat;
@@ -548,7 +746,14 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
     fprintf(md, "Methods skipped here, and why:\n\n");
     for (k = 0; k < nm; ++k)
         if (why_skipped[k]) fprintf(md, "- %s (%s): %s\n", m[k].name, m[k].device, why_skipped[k]);
-    fprintf(md, "\n## Speed and accuracy, scene \"yard\" (%u x %u), per ray set\n\n", o->size, o->size);
+    if (o->depth_file)
+        fprintf(md,
+                "\n## Speed and accuracy, scene \"file\" (%s, %u x %u), per ray set\n\nReflection, ao and shadow rays "
+                "through a perspective camera (fov %g, near %g, far %g), as the examples build them; sky texels and "
+                "surfaces facing away from the light have none.\n\n",
+                o->depth_file, first->s.width, first->s.height, (double)o->fov_deg, (double)o->near_z,
+                (double)o->far_z);
+    else fprintf(md, "\n## Speed and accuracy, scene \"yard\" (%u x %u), per ray set\n\n", o->size, o->size);
     fprintf(md, "| method | device | rays | build ms | update ms | trace ms | M rays/s | bytes/texel | right %% | false hits %% | false misses %% | mean dist (texels) |\n");
     fprintf(md, "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (i = 0; i < g_nres; ++i) {
@@ -573,7 +778,6 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
             right += (double)r->sc.right;
             n += (double)r->sc.n;
         }
-        if (ms > 0 && 100.0 * right / n < g_lowest_point) g_lowest_point = 100.0 * right / n;
         if (ms > 0)
             fprintf(dat, "\"%s\" %s %.4f %.4f %d\n", m[k].name, m[k].device, rays / ms / 1e3, 100.0 * right / n,
                     m[k].exact);
@@ -614,55 +818,171 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
     fclose(dat);
 }
 
-static void chart(const options *o, const char *machine)
+/* ---- the chart: speed against accuracy, one point per method, from DIR/points.dat ---- */
+typedef struct chart_point {
+    char method[64], device[16];
+    double mrays, right;
+    int exact;
+} chart_point;
+
+#define CHART_MAX 64
+
+/* DIR/points.dat ("name" device mrays_per_s right_pct exact): how many, -1 without the file */
+static int chart_read_points(const char *dir, chart_point *p, int max)
 {
+    char path[512], line[256];
+    FILE *f;
+    int n = 0;
+    snprintf(path, sizeof path, "%s/points.dat", dir);
+    if (!(f = fopen(path, "r"))) return -1;
+    while (n < max && fgets(line, sizeof line, f))
+        if (line[0] == '"' && sscanf(line, "\"%63[^\"]\" %15s %lf %lf %d", p[n].method, p[n].device, &p[n].mrays,
+                                     &p[n].right, &p[n].exact) == 5)
+            ++n;
+    fclose(f);
+    return n;
+}
+
+/* A colour per family of methods, so that a family reads as one. */
+static const char *chart_colour(const char *method)
+{
+    static const char *const fam[][2] = {{"linear_rt", "#1f77b4"}, {"embree", "#9467bd"}, {"rq ", "#17becf"},
+                                         {"march", "#d62728"},     {"dda", "#8c564b"},    {"hiz", "#ff7f0e"}};
+    size_t k;
+    for (k = 0; k < sizeof fam / sizeof fam[0]; ++k)
+        if (!strncmp(method, fam[k][0], strlen(fam[k][0]))) return fam[k][1];
+    return "#555555";
+}
+
+/* text inside a gnuplot double-quoted string: \\, \" and \n escaped */
+static void chart_text(FILE *gp, const char *text)
+{
+    for (; *text; ++text) {
+        if (*text == '\n') fputs("\\n", gp);
+        else {
+            if (*text == '"' || *text == '\\') fputc('\\', gp);
+            fputc(*text, gp);
+        }
+    }
+}
+
+static int chart_by_speed_desc(const void *a, const void *b)
+{
+    const chart_point *p = (const chart_point *)a, *q = (const chart_point *)b;
+    if (p->mrays != q->mrays) return p->mrays < q->mrays ? 1 : -1;
+    return p->right < q->right ? 1 : p->right > q->right ? -1 : 0;
+}
+
+/* One panel per device. No labels on the points (near 100% they crowd into
+   each other): a key names every point, with its numbers. Colour says the
+   family, the point type the member; filled small and open large points
+   alternate within a family, so two methods on one spot (linear_rt's 16-
+   and 8-bit nodes often are) show as a dot in a ring. The Pareto front (no
+   faster point of the panel is as accurate) is a dashed line. 0 when drawn. */
+static int chart(const options *o, const char *machine)
+{
+    static const int types[] = {7, 6, 5, 4, 9, 8, 13, 12, 15, 14, 11, 10};
     char cmd[2048];
+    chart_point pts[CHART_MAX], panel[CHART_MAX], front[CHART_MAX];
     FILE *gp;
-    const double lowest = g_lowest_point;
-    int i;
+    double lowest = 100.0;
+    int np, i, k, d;
+    np = chart_read_points(o->out_dir, pts, CHART_MAX);
+    if (np < 0) {
+        printf("chart: skipped: no %s/points.dat\n", o->out_dir);
+        return 1;
+    }
     if (system("command -v gnuplot >/dev/null 2>&1") != 0) {
         printf("chart: skipped: gnuplot is not installed (Debian: gnuplot-nox)\n");
-        return;
+        return 1;
     }
+    for (i = 0; i < np; ++i)
+        if (pts[i].right < lowest) lowest = pts[i].right;
     snprintf(cmd, sizeof cmd, "gnuplot > %s/gnuplot.log 2>&1", o->out_dir);
     gp = popen(cmd, "w");
-    if (!gp) return;
-    fprintf(gp, "set terminal pngcairo size 1600,800 font 'sans,11'\n"
+    if (!gp) return 1;
+    fprintf(gp, "set terminal pngcairo size 1800,850 font 'sans,11'\n"
                 "set output '%s/speed_vs_accuracy.png'\n"
                 "set termoption noenhanced\n"
-                "set multiplot layout 1,2 title \"Screen-space rays: speed against accuracy, reflection rays and random "
-                "segments of every scene\\n%s\"\n"
-                "set xlabel 'trace speed (million rays per second, log scale)'\n"
+                "set multiplot layout 1,2 title \"Screen-space rays: speed against accuracy, reflection rays and "
+                "random segments of every scene\\n",
+            o->out_dir);
+    chart_text(gp, machine);
+    fprintf(gp, "\"\n");
+    fprintf(gp, "set xlabel 'trace speed (million rays per second, log scale)'\n"
                 "set ylabel 'rays answered right, by the exact reference (%%)'\n"
-                "set logscale x\nset grid\nset key bottom left box\nset yrange [%.1f:101]\n"
-                "set offsets graph 0.08, graph 0.35, 0, 0\n"
-                "set style line 1 lc rgb '#1f77b4' pt 7 ps 1.6\n"
-                "set style line 2 lc rgb '#d62728' pt 5 ps 1.4\n"
-                "set style line 3 lc rgb '#2ca02c' lw 2 dt 2 pt 6 ps 3\n",
-            o->out_dir, machine, lowest > 5.0 ? lowest - 5.0 : 0.0);
-    for (i = 0; i < 2; ++i) {
-        const char *dev = i ? "vulkan" : "cpu";
-        /* this device's points; the Pareto front: no faster point is as accurate */
-        fprintf(gp,
-                "pts = \"< awk '$(NF-3) == \\\"%s\\\"' %s/points.dat\"\n"
-                "front = \"< awk '$(NF-3) == \\\"%s\\\" {print $(NF-2), $(NF-1)}' %s/points.dat | sort -g -r | "
-                "awk 'NR == 1 || $2 > best {best = $2; print}' | sort -g\"\n"
-                "set title '%s'\n"
-                "plot pts using 3:($5==1?$4:1/0) with points ls 1 title 'exact methods', \\\n"
-                "     pts using 3:($5==0?$4:1/0) with points ls 2 title 'approximate methods', \\\n"
-                "     pts using 3:4:1 with labels rotate by 20 offset 0.6,0.6 left font 'sans,9' notitle, \\\n"
-                "     front using 1:2 with linespoints ls 3 title 'Pareto front'\n",
-                dev, o->out_dir, dev, o->out_dir, i ? "on Vulkan (lavapipe here: the same CPU cores)" : "on the CPU");
+                "set logscale x\nset grid\nset yrange [%.1f:101]\n"
+                "set offsets graph 0.1, graph 0.1, 0, 0\n"
+                "set key outside right top vertical Left reverse samplen 1 spacing 1.3 width 1 box font 'sans,10'\n",
+            lowest > 5.0 ? lowest - 5.0 : 0.0);
+    for (d = 0; d < 2; ++d) {
+        const char *dev = d ? "vulkan" : "cpu";
+        int n = 0, nf = 0, e;
+        double best = -1.0;
+        /* this device's points, the exact methods first */
+        for (e = 1; e >= 0; --e)
+            for (i = 0; i < np; ++i)
+                if (!strcmp(pts[i].device, dev) && (pts[i].exact != 0) == e) panel[n++] = pts[i];
+        memcpy(front, panel, sizeof(chart_point) * (size_t)n);
+        qsort(front, (size_t)n, sizeof(chart_point), chart_by_speed_desc);
+        for (i = 0, k = 0; i < n; ++i)
+            if (k == 0 || front[i].right > best) {
+                best = front[i].right;
+                front[k++] = front[i];
+            }
+        nf = k;
+        fprintf(gp, "$P%d << EOD\n", d);
+        for (i = 0; i < n; ++i) fprintf(gp, "%.6g %.6g\n", panel[i].mrays, panel[i].right);
+        fprintf(gp, "EOD\n$F%d << EOD\n", d);
+        for (i = nf - 1; i >= 0; --i) fprintf(gp, "%.6g %.6g\n", front[i].mrays, front[i].right);
+        fprintf(gp, "EOD\nset title '%s'\n", d ? "on Vulkan (lavapipe here: the same CPU cores)" : "on the CPU");
+        if (!n) { /* nothing ran on this device: an empty panel that says so */
+            fprintf(gp, "set xrange [0.1:10]\nplot 1/0 lc rgb '#ffffff' title 'no method ran here'\nset autoscale x\n");
+            continue;
+        }
+        fprintf(gp, "plot $F%d using 1:2 with lines lc rgb '#888888' lw 2 dt 2 title 'Pareto front'", d);
+        for (i = 0; i < n; ++i) {
+            int member = 0;
+            if (i == 0 || panel[i].exact != panel[i - 1].exact)
+                fprintf(gp, ", \\\n  keyentry with lines lc rgb '#ffffff' title '%s'",
+                        panel[i].exact ? "exact methods:" : "approximate methods:");
+            for (k = 0; k < i; ++k) member += chart_colour(panel[k].method) == chart_colour(panel[i].method);
+            fprintf(gp, ", \\\n  $P%d every ::%d::%d using 1:2 with points pt %d ps %.1f lc rgb '%s' title \"", d, i,
+                    i, types[member % (int)(sizeof types / sizeof types[0])], member % 2 ? 2.6 : 1.5,
+                    chart_colour(panel[i].method));
+            chart_text(gp, panel[i].method);
+            fprintf(gp, "  (%.2f M/s, %.1f%%)\"", panel[i].mrays, panel[i].right);
+        }
+        fprintf(gp, "\n");
     }
     fprintf(gp, "unset multiplot\n");
-    if (pclose(gp) != 0) printf("chart: gnuplot failed, see %s/gnuplot.log\n", o->out_dir);
-    else printf("chart: %s/speed_vs_accuracy.png\n", o->out_dir);
+    if (pclose(gp) != 0) {
+        printf("chart: gnuplot failed, see %s/gnuplot.log\n", o->out_dir);
+        return 1;
+    }
+    printf("chart: %s/speed_vs_accuracy.png\n", o->out_dir);
+    return 0;
 }
 
 static void usage(void)
 {
     printf("usage: bench [--size N] [--threads T] [--runs R] [--sample S] [--quick] [--only TEXT] [--out DIR]\n"
-           "             [--depth FILE [--format png|pfm|raw] [--width W --height H] [--reversed]]\n");
+           "             [--depth FILE [--format png|pfm|raw] [--width W --height H] [--reversed]\n"
+           "                          [--fov DEG --near N --far F]]\n"
+           "       bench --chart-only [--out DIR]   (redraw DIR/speed_vs_accuracy.png from DIR/points.dat)\n"
+           "  --depth FILE: the file's reflection, ao and shadow rays are built from view-space positions and\n"
+           "  normals through a perspective camera, as the examples build them: vertical field of view DEG\n"
+           "  (default 60), near and far planes N and F (default 0.1 and 60, the examples' defaults)\n");
+}
+
+/* a number in [lo, hi] (strtod's syntax, nothing after it) */
+static int parse_number(const char *s, double lo, double hi, float *out)
+{
+    char *end;
+    double x = strtod(s, &end);
+    if (end == s || *end || !(x >= lo && x <= hi)) return 0;
+    *out = (float)x;
+    return 1;
 }
 
 int main(int argc, char **argv)
@@ -675,7 +995,7 @@ int main(int argc, char **argv)
     ray_set sets[SET_COUNT];
     stab_case stab[STAB_CASES];
     lrt_hit *hits;
-    int nm = 0, ns = 0, k, s, a, nstab;
+    int nm = 0, ns = 0, k, s, a, nstab, nsets;
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
 
     memset(&o, 0, sizeof o);
@@ -684,6 +1004,9 @@ int main(int argc, char **argv)
     o.runs = 5;
     o.sample = 20000;
     o.out_dir = "bench";
+    o.fov_deg = 60.0f; /* examples/example.h's example_default_options */
+    o.near_z = 0.1f;
+    o.far_z = 60.0f;
     for (a = 1; a < argc; ++a) {
         const char *v = a + 1 < argc ? argv[a + 1] : NULL;
         if (!strcmp(argv[a], "--size") && v) o.size = (uint32_t)atoi(argv[++a]);
@@ -691,6 +1014,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[a], "--runs") && v) o.runs = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--sample") && v) o.sample = (size_t)atol(argv[++a]);
         else if (!strcmp(argv[a], "--quick")) o.quick = 1;
+        else if (!strcmp(argv[a], "--chart-only")) o.chart_only = 1;
         else if (!strcmp(argv[a], "--only") && v) o.only = argv[++a];
         else if (!strcmp(argv[a], "--out") && v) o.out_dir = argv[++a];
         else if (!strcmp(argv[a], "--depth") && v) o.depth_file = argv[++a];
@@ -698,10 +1022,44 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[a], "--width") && v) o.file_w = (uint32_t)atoi(argv[++a]);
         else if (!strcmp(argv[a], "--height") && v) o.file_h = (uint32_t)atoi(argv[++a]);
         else if (!strcmp(argv[a], "--reversed")) o.reversed = 1;
-        else {
+        else if ((!strcmp(argv[a], "--fov") || !strcmp(argv[a], "--near") || !strcmp(argv[a], "--far")) && v) {
+            const char *k = argv[a++];
+            int good = !strcmp(k, "--fov")    ? parse_number(v, 1.0, 179.0, &o.fov_deg)
+                       : !strcmp(k, "--near") ? parse_number(v, 1e-6, 1e9, &o.near_z)
+                                              : parse_number(v, 1e-6, 1e12, &o.far_z);
+            if (!good) {
+                fprintf(stderr, "bench: %s: bad value '%s'\n", k, v);
+                return 2;
+            }
+            o.camera_given = 1;
+        } else {
             usage();
             return 2;
         }
+    }
+    if (o.camera_given && !o.depth_file) {
+        fprintf(stderr, "bench: --fov, --near and --far describe a --depth FILE; the embedded scenes have their own\n");
+        return 2;
+    }
+    if (!(o.near_z < o.far_z)) {
+        fprintf(stderr, "bench: --near must be less than --far\n");
+        return 2;
+    }
+    if (o.chart_only) { /* the run's description is results.md's first line of text */
+        char path[512], line[512];
+        FILE *f;
+        snprintf(path, sizeof path, "%s/results.md", o.out_dir);
+        machine[0] = '\0';
+        if ((f = fopen(path, "r")) != NULL) {
+            while (fgets(line, sizeof line, f))
+                if (line[0] != '#' && line[0] != '\n') {
+                    line[strcspn(line, "\n")] = '\0';
+                    snprintf(machine, sizeof machine, "%s", line);
+                    break;
+                }
+            fclose(f);
+        }
+        return chart(&o, machine);
     }
     if (o.quick) {
         o.size = 128;
@@ -712,9 +1070,6 @@ int main(int argc, char **argv)
         usage();
         return 2;
     }
-    snprintf(machine, sizeof machine, "%ld-core machine, %d CPU threads per CPU method, size %u, %d timed runs (median)",
-             cores, o.threads, o.size, o.runs);
-
     nm += bench_add_linear_rt_cpu(m + nm, 64 - nm);
     nm += bench_add_linear_rt_vulkan(m + nm, 64 - nm);
     nm += bench_add_embree(m + nm, 64 - nm);
@@ -728,6 +1083,15 @@ int main(int argc, char **argv)
         for (k = 0; k < (o.quick ? 2 : 4); ++k) scene_make(&scenes[k], k, o.size, o.size);
         ns = o.quick ? 2 : 4;
     }
+    if (o.depth_file)
+        snprintf(machine, sizeof machine,
+                 "%ld-core machine, %d CPU threads per CPU method, %s %ux%u (fov %g, near %g, far %g), %d timed runs "
+                 "(median)",
+                 cores, o.threads, o.depth_file, scenes[0].s.width, scenes[0].s.height, (double)o.fov_deg,
+                 (double)o.near_z, (double)o.far_z, o.runs);
+    else
+        snprintf(machine, sizeof machine, "%ld-core machine, %d CPU threads per CPU method, size %u, %d timed runs (median)",
+                 cores, o.threads, o.size, o.runs);
     printf("linear_rt benchmark: %s\n", machine);
     printf("stability cases and reference answers ...\n");
     fflush(stdout);
@@ -756,13 +1120,25 @@ int main(int argc, char **argv)
         double t0 = bench_now_ms();
         printf("scene %s %ux%u: reference answers ...", scenes[s].s.name, scenes[s].s.width, scenes[s].s.height);
         fflush(stdout);
-        for (k = 0; k < SET_COUNT; ++k) make_set(&sets[k], &scenes[s], k, o.sample);
+        nsets = 0;
+        for (k = 0; k < SET_COUNT; ++k) {
+            make_set(&sets[nsets], &scenes[s], k, o.sample);
+            if (sets[nsets].r.count) ++nsets;
+            else set_free(&sets[nsets]); /* a camera set of a map with no texel for it: nothing to time */
+        }
         printf(" %.1f s\n", (bench_now_ms() - t0) / 1e3);
+        if (scenes[s].has_camera) {
+            size_t texels = (size_t)scenes[s].s.width * scenes[s].s.height;
+            printf("  rays per set (a camera set has none for the sky, nor a shadow ray for a surface facing away):");
+            for (k = 0; k < nsets; ++k)
+                printf(" %s %zu (%.1f%%)", sets[k].r.name, sets[k].r.count, pct(sets[k].r.count, texels));
+            printf("\n");
+        }
         for (k = 0; k < nm; ++k) {
             if (skipped[k]) continue;
             printf("  %-22s", m[k].name);
             fflush(stdout);
-            run_method(&m[k], &scenes[s], sets, SET_COUNT, &o, hits, 1);
+            run_method(&m[k], &scenes[s], sets, nsets, &o, hits, 1);
             {
                 const result *r = find(m[k].name, scenes[s].s.name, "segments");
                 const result *p = find(m[k].name, scenes[s].s.name, "primary");
@@ -772,7 +1148,7 @@ int main(int argc, char **argv)
                 else printf(" failed: %s\n", g_nres ? g_res[g_nres - 1].why : "?");
             }
         }
-        for (k = 0; k < SET_COUNT; ++k) set_free(&sets[k]);
+        for (k = 0; k < nsets; ++k) set_free(&sets[k]);
     }
     printf("stability suite:\n");
     for (a = 0; a < nstab; ++a) {
@@ -790,8 +1166,8 @@ int main(int argc, char **argv)
             printf("\n");
         }
     }
-    write_outputs(&o, m, nm, skipped, machine, nstab);
-    chart(&o, machine);
+    write_outputs(&o, m, nm, skipped, machine, nstab, &scenes[0]);
+    (void)chart(&o, machine); /* says itself why it could not */
     for (k = 0; k < nm; ++k)
         if (!skipped[k] && m[k].close) m[k].close(&m[k]);
     for (s = 0; s < ns; ++s) scene_free(&scenes[s]);
