@@ -67,7 +67,7 @@ $(B):
 
 # ---- demo and examples ----------------------------------------------------------
 # The examples' shared code, and what the demo adds: the benchmark's march.
-EXAMPLE_HDR := examples/example.h examples/depth_file.h $(SCENE) $(LIB)
+EXAMPLE_HDR := examples/example.h examples/depth_file.h examples/surface.h $(SCENE) $(LIB)
 EXAMPLES := minimal ssr ao shadows
 
 $(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c bench/m_march_cpu.c bench/bench.h bench/march_common.h $(EXAMPLE_HDR) $(REF) $(DEMO_VK_DEPS) | deps $(B)
@@ -228,7 +228,7 @@ test-demo: $(B)/demo
 HAVE_EMBREE := $(shell test -f /usr/include/embree3/rtcore.h && echo 1)
 HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
 BENCH_SRC := bench/main.c bench/m_linear_rt.c bench/m_embree.c bench/m_march_cpu.c bench/m_vk_peers.c
-BENCH_HDR := bench/bench.h bench/march_common.h examples/depth_file.h $(LIB) $(REF) $(SCENE)
+BENCH_HDR := bench/bench.h bench/march_common.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
 BENCH_FLAGS := $(STD) $(WARN) $(CFLAGS) -O3
 BENCH_LIBS := $(LDLIBS)
 BENCH_DEPS :=

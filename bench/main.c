@@ -24,6 +24,7 @@
 #include "../tests/reference.h"
 #include "../examples/scene.h"
 #include "../examples/depth_file.h"
+#include "../examples/surface.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -141,78 +142,8 @@ static void scene_free(scene *sc)
 }
 
 /* ---- a scene's camera: the examples' view-space set-up ---------------------------
-   The per-texel code below is examples/example.h's example__positions_row
-   and example__normals_row, on a scene instead of an example_frame: that
-   header also compiles linear_rt's and stb_image_write's implementations
-   (m_linear_rt.c and depth_file.h compile them here), so it cannot be
-   included. Keep the two in step. */
-static float v3_dot(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-static void v3_normalize(float *v)
-{
-    float l = sqrtf(v3_dot(v, v));
-    if (l > 0.0f) {
-        v[0] /= l;
-        v[1] /= l;
-        v[2] /= l;
-    }
-}
-
-/* each texel's view-space position (example__positions_row) */
-static void camera_positions_row(scene *sc, uint32_t j)
-{
-    uint32_t i;
-    for (i = 0; i < sc->s.width; ++i) {
-        size_t k = (size_t)j * sc->s.width + i;
-        float s[3];
-        s[0] = (float)i + 0.5f;
-        s[1] = (float)j + 0.5f;
-        s[2] = sc->depth[k];
-        if (s[2] >= 1.0f || !lrt_camera_unproject(&sc->camera, s, &sc->pos[3 * k]))
-            sc->pos[3 * k] = sc->pos[3 * k + 1] = sc->pos[3 * k + 2] = 0.0f;
-    }
-}
-
-/* each texel's normal and lift (example__normals_row): the normal from the
-   neighbours with the smaller depth step on each axis; the lift is the
-   examples' self-intersection policy (README "Self-intersection"): half
-   the depth steps to those neighbours, plus 1%, towards the eye, and
-   tmin = 0 */
-static void camera_normals_row(scene *sc, uint32_t j)
-{
-    const float *depth = sc->depth, *pos = sc->pos;
-    uint32_t i, w = sc->s.width, h = sc->s.height;
-    for (i = 0; i < w; ++i) {
-        size_t k = (size_t)j * w + i;
-        float d = depth[k], dx = 0.0f, dy = 0.0f, ex[3] = {0, 0, 0}, ey[3] = {0, 0, 0}, *n = &sc->nrm[3 * k];
-        int sx = 0, sy = 0, c;
-        n[0] = n[1] = n[2] = 0.0f;
-        sc->lift[k] = 0.0f;
-        if (d >= 1.0f) continue;
-        if (i + 1 < w && depth[k + 1] < 1.0f) { sx = 1; dx = depth[k + 1] - d; }
-        if (i > 0 && depth[k - 1] < 1.0f && (!sx || fabsf(d - depth[k - 1]) < fabsf(dx))) { sx = -1; dx = d - depth[k - 1]; }
-        if (j + 1 < h && depth[k + w] < 1.0f) { sy = 1; dy = depth[k + w] - d; }
-        if (j > 0 && depth[k - w] < 1.0f && (!sy || fabsf(d - depth[k - w]) < fabsf(dy))) { sy = -1; dy = d - depth[k - w]; }
-        for (c = 0; c < 3; ++c) {
-            if (sx) ex[c] = sx > 0 ? pos[3 * (k + 1) + c] - pos[3 * k + c] : pos[3 * k + c] - pos[3 * (k - 1) + c];
-            if (sy) ey[c] = sy > 0 ? pos[3 * (k + w) + c] - pos[3 * k + c] : pos[3 * k + c] - pos[3 * (k - w) + c];
-        }
-        if (sx && sy) { /* screen x right, y down: ex x ey points away from the eye */
-            n[0] = ey[1] * ex[2] - ey[2] * ex[1];
-            n[1] = ey[2] * ex[0] - ey[0] * ex[2];
-            n[2] = ey[0] * ex[1] - ey[1] * ex[0];
-            v3_normalize(n);
-            if (v3_dot(n, &pos[3 * k]) > 0.0f) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
-        } else { /* a lone texel: face the eye */
-            n[0] = -pos[3 * k];
-            n[1] = -pos[3 * k + 1];
-            n[2] = -pos[3 * k + 2];
-            v3_normalize(n);
-        }
-        sc->lift[k] = 0.5f * (fabsf(dx) + fabsf(dy)) * 1.01f + 1e-7f;
-    }
-}
-
+   Positions, normals and lifts per texel: examples/surface.h, as the
+   examples compute them. */
 /* Gives the scene a perspective camera (example_frame_load's, for a file:
    aspect = width / height, standard Z, reversed input already flipped) and
    its positions, normals and lifts. 0 on success, else a one-line reason. */
@@ -237,8 +168,9 @@ static int scene_set_camera(scene *sc, float fov_deg, float near_z, float far_z,
         snprintf(why, why_size, "out of memory for the camera of a %ux%u map", sc->s.width, sc->s.height);
         return 1;
     }
-    for (j = 0; j < sc->s.height; ++j) camera_positions_row(sc, j);
-    for (j = 0; j < sc->s.height; ++j) camera_normals_row(sc, j);
+    for (j = 0; j < sc->s.height; ++j) surface_positions_row(&sc->camera, sc->depth, sc->s.width, j, sc->pos);
+    for (j = 0; j < sc->s.height; ++j)
+        surface_normals_row(sc->depth, sc->pos, sc->s.width, sc->s.height, j, sc->nrm, sc->lift);
     sc->has_camera = 1;
     return 0;
 }
@@ -339,8 +271,8 @@ static int camera_ray(const scene *sc, int kind, size_t k, lrt_ray *ray)
     if (sc->depth[k] >= 1.0f || (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f)) return 0;
     if (kind == SET_REFLECT) {
         float v[3] = {p[0], p[1], p[2]}, d;
-        v3_normalize(v); /* the eye is at the origin of view space */
-        d = v3_dot(v, n);
+        surface_normalize(v); /* the eye is at the origin of view space */
+        d = surface_dot(v, n);
         for (c = 0; c < 3; ++c) to[c] = p[c] + (v[c] - 2.0f * d * n[c]) * 1e4f;
     } else if (kind == SET_AO) {
         float a[3] = {0.0f, 0.0f, 0.0f}, t[3], b[3];
@@ -353,7 +285,7 @@ static int camera_ray(const scene *sc, int kind, size_t k, lrt_ray *ray)
         t[0] = a[1] * n[2] - a[2] * n[1];
         t[1] = a[2] * n[0] - a[0] * n[2];
         t[2] = a[0] * n[1] - a[1] * n[0];
-        v3_normalize(t);
+        surface_normalize(t);
         b[0] = n[1] * t[2] - n[2] * t[1];
         b[1] = n[2] * t[0] - n[0] * t[2];
         b[2] = n[0] * t[1] - n[1] * t[0];
@@ -363,8 +295,8 @@ static int camera_ray(const scene *sc, int kind, size_t k, lrt_ray *ray)
         float l[3];
         for (c = 0; c < 3; ++c)
             l[c] = m[3 * c] * camera_light_world[0] + m[3 * c + 1] * camera_light_world[1] + m[3 * c + 2] * camera_light_world[2];
-        v3_normalize(l);
-        if (v3_dot(n, l) <= 0.0f) return 0; /* shadowed by itself */
+        surface_normalize(l);
+        if (surface_dot(n, l) <= 0.0f) return 0; /* shadowed by itself */
         for (c = 0; c < 3; ++c) to[c] = p[c] + CAMERA_SHADOW_LENGTH * l[c];
     }
     if (!lrt_camera_segment(&sc->camera, p, to, ray)) return 0;

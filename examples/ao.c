@@ -26,7 +26,7 @@ static void ao__frame(const float n[3], float t[3], float b[3])
     t[0] = a[1] * n[2] - a[2] * n[1];
     t[1] = a[2] * n[0] - a[0] * n[2];
     t[2] = a[0] * n[1] - a[1] * n[0];
-    example__normalize(t);
+    surface_normalize(t);
     b[0] = n[1] * t[2] - n[2] * t[1];
     b[1] = n[2] * t[0] - n[0] * t[2];
     b[2] = n[0] * t[1] - n[1] * t[0];

@@ -19,6 +19,7 @@
 #include "../linear_rt.h"
 #include "depth_file.h"
 #include "scene.h"
+#include "surface.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -198,80 +199,17 @@ EXAMPLE_FN void example_parallel_rows(uint32_t rows, int threads, const char *wh
 }
 
 /* ---- the frame ------------------------------------------------------------------- */
-EXAMPLE_FN float example__dot(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-EXAMPLE_FN void example__normalize(float *v)
-{
-    float l = sqrtf(example__dot(v, v));
-    if (l > 0.0f) {
-        v[0] /= l;
-        v[1] /= l;
-        v[2] /= l;
-    }
-}
-
-/* Per row: each texel's view-space position, then (next pass) its normal
-   and lift. */
+/* examples/surface.h, row by row on the frame (example_parallel_rows) */
 static void example__positions_row(void *ctx, uint32_t j)
 {
     example_frame *f = (example_frame *)ctx;
-    uint32_t i;
-    for (i = 0; i < f->w; ++i) {
-        size_t k = (size_t)j * f->w + i;
-        float s[3];
-        s[0] = (float)i + 0.5f;
-        s[1] = (float)j + 0.5f;
-        s[2] = f->depth[k];
-        if (s[2] >= 1.0f || !lrt_camera_unproject(&f->camera, s, &f->pos[3 * k])) {
-            f->pos[3 * k] = f->pos[3 * k + 1] = f->pos[3 * k + 2] = 0.0f;
-        }
-    }
+    surface_positions_row(&f->camera, f->depth, f->w, j, f->pos);
 }
 
-/* The normal is the cross product of one horizontal and one vertical
-   difference of positions; of the two neighbours on each axis, the one with
-   the smaller depth step is used, so that a silhouette does not bend the
-   normal of the surface in front of it.
-   The lift is the self-intersection policy of the examples (MODEL.md leaves
-   it to the caller): texels are flat-topped boxes, so on a sloped surface
-   the next texel's top stands up to half a texel's slope above the true
-   surface between them; a ray leaving the surface is lifted towards the eye
-   by that much (half the depth steps to the chosen neighbours, plus 1%)
-   and starts at tmin = 0, clear of its own surface's stairs. */
 static void example__normals_row(void *ctx, uint32_t j)
 {
     example_frame *f = (example_frame *)ctx;
-    uint32_t i, w = f->w, h = f->h;
-    for (i = 0; i < w; ++i) {
-        size_t k = (size_t)j * w + i;
-        float d = f->depth[k], dx = 0.0f, dy = 0.0f, ex[3] = {0, 0, 0}, ey[3] = {0, 0, 0}, *n = &f->nrm[3 * k];
-        int sx = 0, sy = 0, c;
-        n[0] = n[1] = n[2] = 0.0f;
-        f->lift[k] = 0.0f;
-        if (d >= 1.0f) continue;
-        if (i + 1 < w && f->depth[k + 1] < 1.0f) { sx = 1; dx = f->depth[k + 1] - d; }
-        if (i > 0 && f->depth[k - 1] < 1.0f && (!sx || fabsf(d - f->depth[k - 1]) < fabsf(dx))) { sx = -1; dx = d - f->depth[k - 1]; }
-        if (j + 1 < h && f->depth[k + w] < 1.0f) { sy = 1; dy = f->depth[k + w] - d; }
-        if (j > 0 && f->depth[k - w] < 1.0f && (!sy || fabsf(d - f->depth[k - w]) < fabsf(dy))) { sy = -1; dy = d - f->depth[k - w]; }
-        for (c = 0; c < 3; ++c) {
-            if (sx) ex[c] = sx > 0 ? f->pos[3 * (k + 1) + c] - f->pos[3 * k + c] : f->pos[3 * k + c] - f->pos[3 * (k - 1) + c];
-            if (sy) ey[c] = sy > 0 ? f->pos[3 * (k + w) + c] - f->pos[3 * k + c] : f->pos[3 * k + c] - f->pos[3 * (k - w) + c];
-        }
-        if (sx && sy) {
-            /* screen x right, y down: ex x ey points away from the eye for a camera-facing surface */
-            n[0] = ey[1] * ex[2] - ey[2] * ex[1];
-            n[1] = ey[2] * ex[0] - ey[0] * ex[2];
-            n[2] = ey[0] * ex[1] - ey[1] * ex[0];
-            example__normalize(n);
-            if (example__dot(n, &f->pos[3 * k]) > 0.0f) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
-        } else { /* a lone texel: face the eye */
-            n[0] = -f->pos[3 * k];
-            n[1] = -f->pos[3 * k + 1];
-            n[2] = -f->pos[3 * k + 2];
-            example__normalize(n);
-        }
-        f->lift[k] = 0.5f * (fabsf(dx) + fabsf(dy)) * 1.01f + 1e-7f;
-    }
+    surface_normals_row(f->depth, f->pos, f->w, f->h, j, f->nrm, f->lift);
 }
 
 EXAMPLE_FN void example_frame_free(example_frame *f)
@@ -438,8 +376,8 @@ EXAMPLE_FN void example_sky(const example_frame *f, const float d_view[3], float
     /* world up in view space is the second row of view_from_world's columns */
     float up[3] = {f->view_from_world[1], f->view_from_world[4], f->view_from_world[7]};
     float d[3] = {d_view[0], d_view[1], d_view[2]}, s;
-    example__normalize(d);
-    s = example__dot(d, up);
+    surface_normalize(d);
+    s = surface_dot(d, up);
     s = s < 0.0f ? 0.0f : s;
     rgb[0] = 0.75f - 0.20f * s;
     rgb[1] = 0.82f - 0.12f * s;

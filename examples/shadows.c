@@ -20,7 +20,7 @@ static void shadows__light(const example_frame *f, float l[3])
     const float *m = f->view_from_world;
     int r;
     for (r = 0; r < 3; ++r) l[r] = m[3 * r] * world[0] + m[3 * r + 1] * world[1] + m[3 * r + 2] * world[2];
-    example__normalize(l);
+    surface_normalize(l);
 }
 
 typedef struct shadows__job {
@@ -41,7 +41,7 @@ static void shadows__rays_row(void *ctx, uint32_t j)
         const float *p = &f->pos[3 * k], *n = &f->nrm[3 * k];
         float to[3];
         /* sky, and surfaces facing away from the light (shadowed by themselves) */
-        if (f->depth[k] >= 1.0f || example__dot(n, l) <= 0.0f) {
+        if (f->depth[k] >= 1.0f || surface_dot(n, l) <= 0.0f) {
             lrt_camera_segment(NULL, NULL, NULL, &job->rays[k]);
             continue;
         }
@@ -75,7 +75,7 @@ EXAMPLE_FN void shadows_shade(const example_frame *f, const lrt_hit *hits, uint8
             memcpy(&out[3 * k], &f->rgb[3 * k], 3);
             continue;
         }
-        c = example__dot(&f->nrm[3 * k], l);
+        c = surface_dot(&f->nrm[3 * k], l);
         lit = 0.35f + 0.9f * (c > 0.0f && hits[k].kind != LRT_HIT ? c : 0.0f);
         for (ch = 0; ch < 3; ++ch) out[3 * k + (size_t)ch] = example_to_byte(lit * (float)f->rgb[3 * k + (size_t)ch] / 255.0f);
     }

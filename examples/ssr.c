@@ -19,10 +19,10 @@
 static float ssr__reflectivity(const example_frame *f, const float n[3], const float view_dir[3])
 {
     float up[3] = {f->view_from_world[1], f->view_from_world[4], f->view_from_world[7]};
-    float c = -example__dot(n, view_dir), m;
+    float c = -surface_dot(n, view_dir), m;
     c = c < 0.0f ? 0.0f : c > 1.0f ? 1.0f : c;
     m = (1.0f - c) * (1.0f - c) * (1.0f - c) * (1.0f - c) * (1.0f - c);
-    if (example__dot(n, up) > 0.95f) return 0.35f + 0.45f * m;
+    if (surface_dot(n, up) > 0.95f) return 0.35f + 0.45f * m;
     return 0.04f + 0.5f * m;
 }
 
@@ -35,8 +35,8 @@ static int ssr__reflect(const example_frame *f, size_t k, float r[3], float v[3]
     v[0] = p[0];
     v[1] = p[1];
     v[2] = p[2];
-    example__normalize(v); /* the eye is at the origin of view space */
-    d = example__dot(v, n);
+    surface_normalize(v); /* the eye is at the origin of view space */
+    d = surface_dot(v, n);
     r[0] = v[0] - 2.0f * d * n[0];
     r[1] = v[1] - 2.0f * d * n[1];
     r[2] = v[2] - 2.0f * d * n[2];

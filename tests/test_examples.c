@@ -145,7 +145,7 @@ static void test_frame(const example_frame *f)
         /* the floor: rows in the bottom quarter are floor in the embedded scene's open middle */
         if (k / f->w > f->h * 7 / 8) {
             ++floor;
-            floor_up += example__dot(&f->nrm[3 * k], up) > 0.99f;
+            floor_up += surface_dot(&f->nrm[3 * k], up) > 0.99f;
         }
     }
     CHECK(err < 1e-2f, "positions project back to texel centres (worst %g texels at %lu)", err, (unsigned long)worst);
