@@ -155,7 +155,30 @@ static lrt_ray make_ray(input *in, const ref_map *m)
    - core-underflowed-*-crossing: (plane - o) * (1/v) underflows to 0 for an
      origin a hair off a plane (a screen edge, a texel top) and a huge
      direction: at t = 0 the ray is taken to be on the screen (a tmax miss
-     for an off-screen one) or in a texel (a false hit). */
+     for an off-screen one) or in a texel (a false hit).
+   - core-restart-loses-small-coordinate: a far-away ray is restarted where
+     it enters the screen box; lrt__crossing scales o and v by the powers of
+     two of their largest components, so a coordinate (or direction
+     component) some 2^120 times smaller underflows to 0: a ray that grazes
+     a screen edge (o.y = 4e-30, v.y = -2e-38 beside o.x = 4e31) is moved
+     onto it and leaves the screen at once (a miss for a hit). */
+static int restart_flushes(const lrt_ray *r, const ref_map *m)
+{
+    float omax = fmaxf(fmaxf((float)m->w, (float)m->h), 1.0f), vmax = 0.0f;
+    int k;
+    if (!(fabsf(r->origin[0]) > 2.0f * m->w + 16.0f || fabsf(r->origin[1]) > 2.0f * m->h + 16.0f ||
+          fabsf(r->origin[2]) > 4.0f))
+        return 0; /* not restarted */
+    for (k = 0; k < 3; ++k) {
+        omax = fmaxf(omax, fabsf(r->origin[k]));
+        vmax = fmaxf(vmax, fabsf(r->dir[k]));
+    }
+    for (k = 0; k < 3; ++k)
+        if ((r->origin[k] != 0.0f && fabsf(r->origin[k]) < omax * 0x1p-120f) ||
+            (r->dir[k] != 0.0f && fabsf(r->dir[k]) < vmax * 0x1p-120f))
+            return 1;
+    return 0;
+}
 static int near_plane(double o, double v, double plane)
 {
     return o != plane && fabs(plane - o) < FLT_MIN * fabs(v);
@@ -177,9 +200,9 @@ static int tiny_crossing(const lrt_ray *r, const ref_map *m)
     return 0;
 }
 
-enum { KNOWN_DENORMAL = 1, KNOWN_RESCALE, KNOWN_UNDERFLOW, KNOWN_COUNT };
+enum { KNOWN_DENORMAL = 1, KNOWN_RESCALE, KNOWN_UNDERFLOW, KNOWN_RESTART, KNOWN_COUNT };
 static const char *known_names[KNOWN_COUNT] = {"", "core-denormal-dir-far-plane", "core-rescaled-tmin-underflow",
-                                               "core-underflowed-*-crossing"};
+                                               "core-underflowed-*-crossing", "core-restart-loses-small-coordinate"};
 static unsigned long g_known[KNOWN_COUNT], g_judged;
 
 /* Which known bug a ray may meet (0: none): judged from the ray alone. */
@@ -198,6 +221,7 @@ static int known_deviation(const lrt_ray *r, const ref_map *m)
     }
     if (vmax != 0.0f && vmax < 1e-30f) return KNOWN_RESCALE;
     if (tiny_crossing(r, m)) return KNOWN_UNDERFLOW;
+    if (restart_flushes(r, m)) return KNOWN_RESTART;
     return 0;
 #endif
 }
