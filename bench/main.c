@@ -102,8 +102,14 @@ static void scene_finish(scene *sc, const char *name, uint32_t w, uint32_t h)
     }
 }
 
-/* kind: 0 yard (the demo's scene), 1 poles (thin features), 2 terraces
-   (8-bit steps facing the camera), 3 noise (the worst case for culling) */
+static int scene_set_camera(scene *sc, float fov_deg, float near_z, float far_z, const float view_from_world[9],
+                            char *why, size_t why_size);
+
+/* kind: 0 yard (the demo's scene, with its camera: reflection, AO and
+   shadow rays built as the examples build them), 1 poles (thin features),
+   2 terraces (8-bit steps facing the camera), 3 noise (the worst case for
+   culling); the last three are maps without a camera, whose secondary rays
+   come from screen-space normals */
 static void scene_make(scene *sc, int kind, uint32_t w, uint32_t h)
 {
     static const char *names[4] = {"yard", "poles", "terraces", "noise"};
@@ -130,6 +136,16 @@ static void scene_make(scene *sc, int kind, uint32_t w, uint32_t h)
             }
     }
     scene_finish(sc, names[kind], w, h);
+    if (kind == 0) { /* the yard has a camera: its reflection, AO and shadow rays are the examples' */
+        scene_camera cam = scene_default_camera();
+        float view_from_world[9];
+        char why[256];
+        scene_view_from_world(&cam, view_from_world);
+        if (scene_set_camera(sc, cam.fov_y_deg, cam.near_z, cam.far_z, view_from_world, why, sizeof why)) {
+            fprintf(stderr, "bench: yard: %s\n", why);
+            exit(2);
+        }
+    }
 }
 
 static void scene_free(scene *sc)
