@@ -1157,9 +1157,15 @@ typedef struct lrt__ray_setup {
    few ulps, well inside MODEL.md's 8-ulp tolerance) before that comparison,
    so a corner the ray touches always counts; the front-to-back walk then
    keeps the first. The product is exact (a power of two), so fused or not,
-   every path computes the same float. */
+   every path computes the same float. An exit that would widen past
+   FLT_MAX (tmax = FLT_MAX is the usual "no limit"), or is infinite, stays
+   as it is: an entry of +inf (a slab never entered) must never pass. */
 #define LRT__WIDEN_EXIT (1.0f / 2097152.0f)
-LRT__INLINE float lrt__widen(float exit) { return exit + fabsf(exit) * LRT__WIDEN_EXIT; }
+LRT__INLINE float lrt__widen(float exit)
+{
+    float w = exit + fabsf(exit) * LRT__WIDEN_EXIT;
+    return w <= 3.40282347e38f ? w : exit;
+}
 
 #if !LRT__SSE
 static int lrt__finite(float f) { return f - f == 0.0f; }
@@ -1589,8 +1595,10 @@ LRT__INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup
             ex = _mm_min_ps(_mm_max_ps(zmask, tz), ex);
             _mm_storeu_ps(enter + 4 * (size_t)k, en);
             _mm_storeu_ps(exit + 4 * (size_t)k, ex);
-            { /* ex + |ex| 2^-21: lrt__widen */
-                const __m128 wide = _mm_add_ps(ex, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), ex), _mm_set1_ps(LRT__WIDEN_EXIT)));
+            { /* lrt__widen: ex + |ex| 2^-21 where that stays finite, else ex */
+                const __m128 w = _mm_add_ps(ex, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), ex), _mm_set1_ps(LRT__WIDEN_EXIT)));
+                const __m128 ok = _mm_cmple_ps(w, _mm_set1_ps(3.40282347e38f));
+                const __m128 wide = _mm_or_ps(_mm_and_ps(ok, w), _mm_andnot_ps(ok, ex));
                 mask |= (uint32_t)_mm_movemask_ps(_mm_cmple_ps(en, wide)) << (4 * k);
             }
         }

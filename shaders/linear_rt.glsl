@@ -410,11 +410,12 @@ uint lrt_start_node(LrtParams p, LrtSetup s, out uint sx, out uint sy)
 
 // exits widened by 2^-21 of their size before en <= ex, as linear_rt.h's
 // lrt__widen: a ray through a texel corner meets it however each plane's t
-// rounds (the product is exact, so fusing changes nothing)
+// rounds (the product is exact, so fusing changes nothing); an exit that
+// would widen past the largest float, or is infinite, stays as it is
 float lrt_widen(float ex)
 {
     precise float w = ex + abs(ex) * (1.0 / 2097152.0);
-    return w;
+    return w <= uintBitsToFloat(0x7f7fffffu) ? w : ex;
 }
 
 // the exact test of a candidate texel against its true depth

@@ -132,6 +132,10 @@ static int found_case(int k, test_map *m, lrt_ray *r)
         /* directions below 2^-128 were rescaled by an infinite t_scale: a hit with t = NaN, or at tmax */
         {1, 1, 3, 0.5f, {-1, -1}, {-1, -1}, {0, 0}, {0.5f, 0.5f, 0.6f}, {1e-39f, 0, 0}, 0, FLT_MAX},
         {1, 1, 3, 0.5f, {-1, -1}, {-1, -1}, {0, 0}, {0.5f, 0.5f, 0.0f}, {0, 0, 2e-39f}, 0, FLT_MAX},
+        /* tmax = FLT_MAX: the widened exit must not overflow into a hit never met */
+        {1, 1, 3, 0.5f, {-1, -1}, {-1, -1}, {0, 0}, {0.5f, 0.5f, 0.0f}, {0, 0, 0}, 0, FLT_MAX},
+        {62, 16, 1, 200, {-1, -1}, {-1, -1}, {0, 0}, {15.25f, 3.75f, 0.0f}, {0, 0, 0}, 0, FLT_MAX},
+        {8, 8, 3, 0.5f, {-1, -1}, {-1, -1}, {0, 0}, {0.5f, 0.5f, 0.0f}, {1, 1, 0}, 0, FLT_MAX},
     };
     size_t n, i, bpp;
     int q;
