@@ -162,13 +162,6 @@ static lrt_ray make_ray(input *in, const ref_map *m)
      component) some 2^120 times smaller underflows to 0: a ray that grazes
      a screen edge (o.y = 4e-30, v.y = -2e-38 beside o.x = 4e31) is moved
      onto it and leaves the screen at once (a miss for a hit). */
-/* - core-widened-exit-overflows (new in cb4ec25): lrt__widen(exit) =
-     exit + |exit| 2^-21 is +inf for an exit within a few ulps of FLT_MAX,
-     so with tmax = FLT_MAX an enter of +inf (a plane never reached, e.g.
-     v = 0) passes enter <= exit: a hit at tmax over a texel the ray never
-     meets. */
-static int widen_overflows(const lrt_ray *r) { return r->tmax >= 0x1.ffffe0p+127f; }
-
 static int restart_flushes(const lrt_ray *r, const ref_map *m)
 {
     float omax = fmaxf(fmaxf((float)m->w, (float)m->h), 1.0f), vmax = 0.0f;
@@ -207,10 +200,9 @@ static int tiny_crossing(const lrt_ray *r, const ref_map *m)
     return 0;
 }
 
-enum { KNOWN_DENORMAL = 1, KNOWN_RESCALE, KNOWN_UNDERFLOW, KNOWN_RESTART, KNOWN_WIDEN, KNOWN_COUNT };
+enum { KNOWN_DENORMAL = 1, KNOWN_RESCALE, KNOWN_UNDERFLOW, KNOWN_RESTART, KNOWN_COUNT };
 static const char *known_names[KNOWN_COUNT] = {"", "core-denormal-dir-far-plane", "core-rescaled-tmin-underflow",
-                                               "core-underflowed-*-crossing", "core-restart-loses-small-coordinate",
-                                               "core-widened-exit-overflows"};
+                                               "core-underflowed-*-crossing", "core-restart-loses-small-coordinate"};
 static unsigned long g_known[KNOWN_COUNT], g_judged;
 
 /* Which known bug a ray may meet (0: none): judged from the ray alone. */
@@ -230,7 +222,6 @@ static int known_deviation(const lrt_ray *r, const ref_map *m)
     if (vmax != 0.0f && vmax < 1e-30f) return KNOWN_RESCALE;
     if (tiny_crossing(r, m)) return KNOWN_UNDERFLOW;
     if (restart_flushes(r, m)) return KNOWN_RESTART;
-    if (widen_overflows(r)) return KNOWN_WIDEN;
     return 0;
 #endif
 }

@@ -484,7 +484,7 @@ static codes dispatch_limit(uint64_t invocations, codes *may)
 }
 
 /* the documented errors of a depth source, against a BVH */
-static codes depth_errors(const lrt_vk_depth *d, const lrt_vk_bvh *bvh, VkDeviceSize *stride_out, codes *may)
+static codes depth_errors(const lrt_vk_depth *d, const lrt_vk_bvh *bvh, VkDeviceSize *stride_out)
 {
     codes e = 0;
     uint32_t bpp = bpp_of(d->format);
@@ -496,14 +496,15 @@ static codes depth_errors(const lrt_vk_depth *d, const lrt_vk_bvh *bvh, VkDevice
     if (d->buffer == VK_NULL_HANDLE && d->view == VK_NULL_HANDLE) e |= CODE(LRT_ERROR_NULL_POINTER);
     if (d->buffer != VK_NULL_HANDLE && d->view != VK_NULL_HANDLE) e |= CODE(LRT_ERROR_INVALID_OPTION);
     if (d->buffer != VK_NULL_HANDLE && bpp && size_ok(d->width, d->height)) {
-        VkDeviceSize row = (VkDeviceSize)d->width * bpp, stride = d->row_stride ? d->row_stride : row;
+        /* one row spans row_bytes, whatever its stride (never used then) */
+        VkDeviceSize row = (VkDeviceSize)d->width * bpp, stride = d->row_stride && d->height > 1 ? d->row_stride : row;
         *stride_out = stride;
         if (stride < row) e |= CODE(LRT_ERROR_INVALID_STRIDE);
         if (d->offset % bpp || stride % bpp) e |= CODE(LRT_ERROR_MISALIGNED);
         /* the bound range: from the aligned offset below, to the word past the last texel */
-        if ((d->offset % align_of() + stride * (d->height - 1) + row + 3) / 4 * 4 > g.limits.maxStorageBufferRange)
+        if (stride > g.limits.maxStorageBufferRange || /* first: the span below could wrap */
+            (d->offset % align_of() + stride * (d->height - 1) + row + 3) / 4 * 4 > g.limits.maxStorageBufferRange)
             e |= CODE(LRT_ERROR_LIMIT_EXCEEDED);
-        if (stride > g.limits.maxStorageBufferRange) *may |= CODE(LRT_ERROR_LIMIT_EXCEEDED); /* one row: unused */
     }
     if (d->buffer == VK_NULL_HANDLE && d->view != VK_NULL_HANDLE) {
         VkImageLayout l = d->layout;
@@ -768,7 +769,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             read_depth(&in, b, &d);
             if (!ctx || !cmd) cmust |= CODE(LRT_ERROR_NULL_POINTER);
             if (!b->created) cmust |= CODE(LRT_ERROR_INVALID_BVH);
-            cmust |= depth_errors(&d, b, &stride, &cmay);
+            cmust |= depth_errors(&d, b, &stride);
             x1 = d.width - 1u;
             y1 = d.height - 1u;
             if ((op & 7) == 5) { /* a dirty rect */
@@ -845,7 +846,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (s & 0x40) hits = VK_NULL_HANDLE;
             if (!ctx || !cmd) cmust |= CODE(LRT_ERROR_NULL_POINTER);
             if (!b->created) cmust |= CODE(LRT_ERROR_INVALID_BVH);
-            cmust |= depth_errors(&d, b, &stride, &cmay);
+            cmust |= depth_errors(&d, b, &stride);
             if (flags & ~(uint32_t)LRT_TRACE_ANY_HIT) cmust |= CODE(LRT_ERROR_INVALID_OPTION);
             if (count > LINEAR_RT_MAX_RAYS_PER_CALL) cmust |= CODE(LRT_ERROR_TOO_MANY_RAYS);
             if (count && (rays == VK_NULL_HANDLE || hits == VK_NULL_HANDLE)) cmust |= CODE(LRT_ERROR_NULL_POINTER);
