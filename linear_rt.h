@@ -1262,11 +1262,15 @@ LRT__INLINE uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t heigh
 static float lrt__crossing(float o_b, float o_a, float v_b, float v_a, float plane, int by_t, float t)
 {
     float terms[6], acc[6], ob, oa, pl, vb, va, x, sum = 0.0f;
-    int eo, ev, n, m = 0, i, j;
+    int eo, ev, n, m = 0, i, j, small_b;
     if (by_t && v_b == 0.0f) return o_b;
     (void)frexpf(lrt__maxf(lrt__maxf(fabsf(o_a), fabsf(o_b)), lrt__maxf(fabsf(plane), 1.0f)), &eo);
     (void)frexpf(by_t ? fabsf(v_b) : lrt__maxf(fabsf(v_a), fabsf(v_b)), &ev);
     ob = ldexpf(o_b, -eo);
+    /* an o_b 2^126 times smaller than the scale would lose its bits (or
+       vanish) in it: it is added after the rest is rounded instead */
+    small_b = o_b != 0.0f && fabsf(ob) < 1.17549435e-38f;
+    if (small_b) ob = 0.0f;
     oa = ldexpf(o_a, -eo);
     pl = ldexpf(plane, -eo);
     vb = ldexpf(v_b, -ev);
@@ -1295,7 +1299,8 @@ static float lrt__crossing(float o_b, float o_a, float v_b, float v_a, float pla
     }
     for (i = 0; i < m; ++i) sum += acc[i]; /* the largest part last: faithful */
     if (!by_t) sum = sum / va;
-    return ldexpf(sum, eo);
+    sum = ldexpf(sum, eo);
+    return small_b ? o_b + sum : sum;
 }
 
 /* Validates and clips one ray; returns 0 with *kind set when nothing is left

@@ -289,6 +289,10 @@ float lrt_crossing(float o_b, float o_a, float v_b, float v_a, float plane, bool
     frexp(max(max(abs(o_a), abs(o_b)), max(abs(plane), 1.0)), eo);
     frexp(by_t ? abs(v_b) : max(abs(v_a), abs(v_b)), ev);
     float ob = ldexp(o_b, -eo), oa = ldexp(o_a, -eo), pl = ldexp(plane, -eo);
+    // an o_b 2^126 times smaller than the scale would lose its bits in it:
+    // added after the rest is rounded instead, as linear_rt.h
+    bool small_b = o_b != 0.0 && abs(ob) < uintBitsToFloat(0x00800000u);
+    if (small_b) ob = 0.0;
     float vb = ldexp(v_b, -ev), va = ldexp(v_a, -ev);
     float terms[6], acc[6];
     int n = 0;
@@ -319,7 +323,9 @@ float lrt_crossing(float o_b, float o_a, float v_b, float v_a, float plane, bool
     precise float sum = 0.0;
     for (int i = 0; i < m; ++i) sum += acc[i];
     if (!by_t) sum = sum / va;
-    return ldexp(sum, eo);
+    precise float r = ldexp(sum, eo);
+    precise float rb = o_b + r;
+    return small_b ? rb : r;
 }
 
 // validates and clips a ray; false with kind set when nothing is left to walk

@@ -136,6 +136,9 @@ static int found_case(int k, test_map *m, lrt_ray *r)
         {1, 1, 3, 0.5f, {-1, -1}, {-1, -1}, {0, 0}, {0.5f, 0.5f, 0.0f}, {0, 0, 0}, 0, FLT_MAX},
         {62, 16, 1, 200, {-1, -1}, {-1, -1}, {0, 0}, {15.25f, 3.75f, 0.0f}, {0, 0, 0}, 0, FLT_MAX},
         {8, 8, 3, 0.5f, {-1, -1}, {-1, -1}, {0, 0}, {0.5f, 0.5f, 0.0f}, {1, 1, 0}, 0, FLT_MAX},
+        /* the restart of a far-away ray dropped a coordinate 2^120 times smaller (y 4.4e-30 above the edge) */
+        {64, 1, 3, 1.0f, {59, -1}, {0, -1}, {0.002f, 0}, {3.97868e31f, 4.36341e-30f, 0.0629892f},
+         {-4.31355e36f, -2.17651e-38f, -0.304688f}, 0, 11.25f},
     };
     size_t n, i, bpp;
     int q;
