@@ -158,25 +158,22 @@ static lrt_ray make_ray(input *in, const ref_map *m)
      for an off-screen one) or in a texel (a false hit).
    - core-restart-loses-small-coordinate: a far-away ray is restarted where
      it enters the screen box; lrt__crossing scales o and v by the powers of
-     two of their largest components, so a coordinate (or direction
-     component) some 2^120 times smaller underflows to 0: a ray that grazes
-     a screen edge (o.y = 4e-30, v.y = -2e-38 beside o.x = 4e31) is moved
-     onto it and leaves the screen at once (a miss for a hit). */
+     two of their largest components, so a direction component some 2^120
+     times smaller underflows to 0 there. (The origin coordinate of the
+     same kind, o.y = 4e-30 beside o.x = 4e31, is fixed: such an o_b is
+     added after the rest is rounded; judged strictly again.) */
 static int restart_flushes(const lrt_ray *r, const ref_map *m)
 {
-    float omax = fmaxf(fmaxf((float)m->w, (float)m->h), 1.0f), vmax = 0.0f;
+    float vmax = 0.0f;
     int k;
     if (!(fabsf(r->origin[0]) > 2.0f * m->w + 16.0f || fabsf(r->origin[1]) > 2.0f * m->h + 16.0f ||
           fabsf(r->origin[2]) > 4.0f))
         return 0; /* not restarted */
     for (k = 0; k < 3; ++k) {
-        omax = fmaxf(omax, fabsf(r->origin[k]));
         vmax = fmaxf(vmax, fabsf(r->dir[k]));
     }
     for (k = 0; k < 3; ++k)
-        if ((r->origin[k] != 0.0f && fabsf(r->origin[k]) < omax * 0x1p-120f) ||
-            (r->dir[k] != 0.0f && fabsf(r->dir[k]) < vmax * 0x1p-120f))
-            return 1;
+        if (r->dir[k] != 0.0f && fabsf(r->dir[k]) < vmax * 0x1p-120f) return 1;
     return 0;
 }
 static int near_plane(double o, double v, double plane)
