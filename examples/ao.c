@@ -137,18 +137,8 @@ int main(int argc, char **argv)
     uint8_t *grey;
     size_t n;
     double t0, t1, t2;
-    int a, rc;
-    example_default_options(&o);
-    for (a = 1; a < argc; ++a) {
-        int p = example_parse_option(&o, argc, argv, &a);
-        if (p == 1) continue;
-        if (p == 0 && !strcmp(argv[a], "--radius") && a + 1 < argc && (radius = (float)atof(argv[a + 1])) > 0.0f) {
-            ++a;
-            continue;
-        }
-        if (p == 0) fprintf(stderr, "usage: %s %s [--radius R]\n", argv[0], example_options_usage());
-        return EXAMPLE_EXIT_BAD_INPUT;
-    }
+    int rc;
+    if ((rc = example_parse_args(&o, argc, argv, "--radius", &radius)) != EXAMPLE_EXIT_OK) return rc;
     if ((rc = example_frame_load(&f, &o)) != EXAMPLE_EXIT_OK) return rc;
     n = (size_t)f.w * f.h;
     rays = (lrt_ray *)malloc(n * AO_RAYS * sizeof *rays);

@@ -137,6 +137,34 @@ EXAMPLE_FN int example_parse_option(example_options *o, int argc, char **argv, i
     return 1;
 }
 
+/* The command line of an example: the shared options, and optionally one
+   positive float of its own (name, e.g. "--radius", into *value). Returns
+   EXAMPLE_EXIT_OK, or EXAMPLE_EXIT_BAD_INPUT after a one-line message. */
+EXAMPLE_FN int example_parse_args(example_options *o, int argc, char **argv, const char *name, float *value)
+{
+    int a;
+    example_default_options(o);
+    for (a = 1; a < argc; ++a) {
+        int p = example_parse_option(o, argc, argv, &a);
+        if (p == 1) continue;
+        if (p == 0 && name && !strcmp(argv[a], name) && a + 1 < argc) {
+            double x;
+            if (!example__number(argv[a + 1], 1e-9, 1e9, &x)) {
+                fprintf(stderr, "%s: bad value '%s'\n", name, argv[a + 1]);
+                return EXAMPLE_EXIT_BAD_INPUT;
+            }
+            *value = (float)x;
+            ++a;
+            continue;
+        }
+        if (p == 0)
+            fprintf(stderr, "usage: %s %s%s%s%s\n", argv[0], example_options_usage(), name ? " [" : "", name ? name : "",
+                    name ? " X]" : "");
+        return EXAMPLE_EXIT_BAD_INPUT;
+    }
+    return EXAMPLE_EXIT_OK;
+}
+
 /* ---- rows in parallel, with a progress line past one second ------------------- */
 typedef void (*example_rows_fn)(void *ctx, uint32_t row);
 

@@ -92,18 +92,8 @@ int main(int argc, char **argv)
     float length = SHADOW_LENGTH;
     size_t n, k, shadowed = 0;
     double t0, t1, t2;
-    int a, rc;
-    example_default_options(&o);
-    for (a = 1; a < argc; ++a) {
-        int p = example_parse_option(&o, argc, argv, &a);
-        if (p == 1) continue;
-        if (p == 0 && !strcmp(argv[a], "--length") && a + 1 < argc && (length = (float)atof(argv[a + 1])) > 0.0f) {
-            ++a;
-            continue;
-        }
-        if (p == 0) fprintf(stderr, "usage: %s %s [--length L]\n", argv[0], example_options_usage());
-        return EXAMPLE_EXIT_BAD_INPUT;
-    }
+    int rc;
+    if ((rc = example_parse_args(&o, argc, argv, "--length", &length)) != EXAMPLE_EXIT_OK) return rc;
     if ((rc = example_frame_load(&f, &o)) != EXAMPLE_EXIT_OK) return rc;
     n = (size_t)f.w * f.h;
     rays = (lrt_ray *)malloc(n * sizeof *rays);
