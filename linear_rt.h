@@ -1601,9 +1601,9 @@ LRT__INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup
             _mm_storeu_ps(enter + 4 * (size_t)k, en);
             _mm_storeu_ps(exit + 4 * (size_t)k, ex);
             { /* lrt__widen: ex + |ex| 2^-21 where that stays finite, else ex */
-                const __m128 w = _mm_add_ps(ex, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), ex), _mm_set1_ps(LRT__WIDEN_EXIT)));
-                const __m128 ok = _mm_cmple_ps(w, _mm_set1_ps(3.40282347e38f));
-                const __m128 wide = _mm_or_ps(_mm_and_ps(ok, w), _mm_andnot_ps(ok, ex));
+                const __m128 grown = _mm_add_ps(ex, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), ex), _mm_set1_ps(LRT__WIDEN_EXIT)));
+                const __m128 ok = _mm_cmple_ps(grown, _mm_set1_ps(3.40282347e38f));
+                const __m128 wide = _mm_or_ps(_mm_and_ps(ok, grown), _mm_andnot_ps(ok, ex));
                 mask |= (uint32_t)_mm_movemask_ps(_mm_cmple_ps(en, wide)) << (4 * k);
             }
         }
