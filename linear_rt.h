@@ -2665,14 +2665,12 @@ static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, int pipeline,
 }
 
 /* One refit dispatch over texels [x0,x1] x [y0,y1]: one invocation per
-   level-1 node of the rectangle above them (shaders/README.md). */
+   level-2 node above them (8x8 texels; shaders/README.md). */
 static lrt_result lrt__vk_refit(lrt_vk_context *c, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
                                 const lrt_vk_depth *depth, const lrt__vk_source *src, uint32_t x0, uint32_t y0,
                                 uint32_t x1, uint32_t y1, int build)
 {
-    const lrt_level *l1 = &bvh->layout.levels[1];
-    const uint32_t cols = (x1 >> l1->span_w_log2) - (x0 >> l1->span_w_log2) + 1u;
-    const uint32_t rows = (y1 >> l1->span_h_log2) - (y0 >> l1->span_h_log2) + 1u;
+    const uint32_t cols = (x1 >> 3) - (x0 >> 3) + 1u, rows = (y1 >> 3) - (y0 >> 3) + 1u;
     const uint32_t binding = LRT__VK_BIND_COUNTERS;
     VkDescriptorBufferInfo counters;
     lrt__vk_push pc;

@@ -2,13 +2,17 @@
 #extension GL_GOOGLE_include_directive : require
 // lrt_refit.comp - BuildBVH and UpdateBVH of the design in one dispatch.
 //
-// Invocation i refits one level-1 node above the texel rectangle, then
+// Invocation i refits one level-2 node above the texel rectangle (8x8
+// texels): its 8 level-1 children from the texels, then itself. It then
 // climbs: after its node is written (and a buffer barrier), it counts itself
 // in at its parent; the invocation that completes the parent's count of
 // children inside the rectangle resets the counter, reads all 8 children and
 // writes the parent, and so on to the root. Nobody waits for anybody, so the
-// one dispatch is correct on any GPU. Heights may fall as well as rise: a
-// parent is recomputed from its children, never max-ed with its old value.
+// one dispatch is correct on any GPU (and has no workgroup barrier, which
+// CPU implementations such as lavapipe pay dearly for). Heights may fall as
+// well as rise: a parent is recomputed from its children, never max-ed with
+// its old value. Children outside the rectangle keep their codes (their
+// heights are read back); padding children are written (as 0) on a build.
 #include "lrt_common.glsl"
 
 layout(set = 0, binding = 3, std430) coherent buffer LrtCounters { uint c[]; } lrt_counters;
@@ -33,32 +37,68 @@ uint lrt_node_max(uint slot0)
     return m;
 }
 
+// max of 8 codes: the height of their node
+uint lrt_codes_max(uint codes[8])
+{
+    uint m = 0u;
+    for (uint k = 0u; k < 8u; ++k) m = max(m, codes[k]);
+    return m;
+}
+
 void main()
 {
     LrtParams p = lrt_params();
-    // the level-1 rectangle above the texel rectangle (real nodes only)
+    // the rectangle at level 1 and at level 2 (one level-2 node: 2x4 level-1 nodes, 8x8 texels)
     uint x0 = pc.rect_x0 >> 2, x1 = pc.rect_x1 >> 2, y0 = pc.rect_y0 >> 1, y1 = pc.rect_y1 >> 1;
-    uint cols = x1 - x0 + 1u, idx = lrt_invocation();
-    if (idx >= cols * (y1 - y0 + 1u)) return;
-    uint nx = x0 + idx % cols, ny = y0 + idx / cols;
-    uint codes[8];
-    for (uint s = 0u; s < 8u; ++s) {
-        uint tx = nx * 4u + (s & 3u), ty = ny * 2u + (s >> 2);
-        codes[s] = (tx < p.width && ty < p.height) ? lrt_texel_code(p, tx, ty) : 0u;
+    uint cols = (x1 >> 1) - (x0 >> 1) + 1u, idx = lrt_invocation();
+    if (idx >= cols * ((y1 >> 2) - (y0 >> 2) + 1u)) return;
+    uint nx = (x0 >> 1) + idx % cols, ny = (y0 >> 2) + idx / cols;
+    uint w1 = (p.width + 3u) >> 2, h1 = (p.height + 1u) >> 1, codes[8], heights[8];
+    if (p.level_count == 1u) { // the one level-1 node is the root
+        for (uint s = 0u; s < 8u; ++s) {
+            uint tx = s & 3u, ty = s >> 2;
+            codes[s] = (tx < p.width && ty < p.height) ? lrt_texel_code(p, tx, ty) : 0u;
+        }
+        lrt_store_node(0u, codes);
+        return;
     }
-    // level 1 starts the node array; its parents' grid is w2 wide (2x4 blocks)
-    uint w2 = (((p.width + 3u) >> 2) + 1u) >> 1;
-    uint first = pc.level_count == 1u ? 0u : (((ny >> 2) * w2 + (nx >> 1)) * 8u + (((ny & 3u) << 1) | (nx & 1u))) * 8u;
-    lrt_store_node(first, codes);
-    if (pc.level_count == 1u) return;
+    // level 1 starts the node array; node (nx, ny) of level 2 has its 8
+    // children (2x4) at block nx + ny * w2 of it
+    uint w2 = (w1 + 1u) >> 1;
+    uint block = (ny * w2 + nx) * 64u;
+    for (uint c = 0u; c < 8u; ++c) {
+        uint cx = nx * 2u + (c & 1u), cy = ny * 4u + (c >> 1), slot0 = block + c * 8u;
+        if (cx >= w1 || cy >= h1) { // a padding child: height 0, its node 0 on a build
+            heights[c] = 0u;
+            if (pc.build != 0u) {
+                uint zero[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+                lrt_store_node(slot0, zero);
+            }
+        } else if (cx < x0 || cx > x1 || cy < y0 || cy > y1) { // outside the rectangle: as it is
+            heights[c] = lrt_node_max(slot0);
+        } else {
+            for (uint s = 0u; s < 8u; ++s) {
+                uint tx = cx * 4u + (s & 3u), ty = cy * 2u + (s >> 2);
+                codes[s] = (tx < p.width && ty < p.height) ? lrt_texel_code(p, tx, ty) : 0u;
+            }
+            lrt_store_node(slot0, codes);
+            heights[c] = lrt_codes_max(codes);
+        }
+    }
+    LrtLayout L = lrt_layout(p.width, p.height);
+    lrt_store_node(lrt_node_slot(L, 2u, nx, ny), heights);
+    if (L.count == 2u) return;
 
     // climb: count in at the parent; its counter is indexed by the parent's
-    // block of children, (py * w[lv+1] + px) * 8 nodes into level lv
-    uint counter = (ny >> 2) * w2 + (nx >> 1);           // level 1: offset 0
-    LrtLayout L;
-    for (uint lv = 1u; lv < p.level_count; ++lv) {
+    // block of children, level lv's first node of that block
+    x0 >>= 1;
+    x1 >>= 1;
+    y0 >>= 2;
+    y1 >>= 2;
+    for (uint lv = 2u; lv < L.count; ++lv) {
         uint bwl = lrt_bw_log2(lv), bhl = lrt_bh_log2(lv);
         uint px = nx >> bwl, py = ny >> bhl;
+        uint counter = L.offset[lv] + (py * L.w[lv + 1u] + px) * 8u;
         // the parent's children inside this level's rectangle: how many arrive
         uint cx0 = max(px << bwl, x0), cx1 = min(((px + 1u) << bwl) - 1u, x1);
         uint cy0 = max(py << bhl, y0), cy1 = min(((py + 1u) << bhl) - 1u, y1);
@@ -67,9 +107,8 @@ void main()
         if (atomicAdd(lrt_counters.c[counter], 1u) + 1u != expected) return;
         atomicExchange(lrt_counters.c[counter], 0u); // ready for the next dispatch
         memoryBarrierBuffer(); // the siblings' nodes after their arrivals
-        if (lv == 1u) L = lrt_layout(p.width, p.height); // only climbers need the whole layout
         // children of (px, py) are contiguous: level lv's block of the parent
-        uint first_child = (L.offset[lv] + (py * L.w[lv + 1u] + px) * 8u) * 8u;
+        uint first_child = counter * 8u;
         for (uint s = 0u; s < 8u; ++s) {
             uint cx = (px << bwl) + (bwl == 2u ? (s & 3u) : (s & 1u));
             uint cy = (py << bhl) + (bwl == 2u ? (s >> 2) : (s >> 1));
@@ -90,7 +129,5 @@ void main()
         x1 >>= bwl;
         y0 >>= bhl;
         y1 >>= bhl;
-        if (lv + 1u < p.level_count) // the next parent's counter
-            counter = L.offset[lv + 1u] + ((ny >> lrt_bh_log2(lv + 1u)) * L.w[lv + 2u] + (nx >> lrt_bw_log2(lv + 1u))) * 8u;
     }
 }

@@ -921,7 +921,7 @@ static void test_device_limits(void)
     VkCommandBuffer cmd;
 
     make_map(&m, 64, 64, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 0);
-    make_map(&wide, 128, 64, SHAPE_TERRACES, LRT_FORMAT_FLOAT32, 0, 0);
+    make_map(&wide, 520, 64, SHAPE_TERRACES, LRT_FORMAT_FLOAT32, 0, 0);
     lrt_bvh_build(&cpu, &m.depth, NULL, NULL);
     lrt_bvh_build(&cpu_wide, &wide.depth, NULL, NULL);
     lrt_vk_bvh_buffer_sizes(64, 64, LRT_FORMAT_FLOAT32, NULL, &nodes_bytes, &counters_bytes);
@@ -945,7 +945,7 @@ static void test_device_limits(void)
         gpu_depth_create(&m.depth, SRC_PACKED, VK_FORMAT_UNDEFINED, &buf) ||
         gpu_depth_create(&m.depth, SRC_IMAGE, image_format, &img) ||
         gpu_depth_create(&wide.depth, SRC_PACKED, VK_FORMAT_UNDEFINED, &wbuf) ||
-        gpu_build(&m.depth, 0, &buf, &bvh, "limits 64x64") || gpu_build(&wide.depth, 0, &wbuf, &bvh_wide, "limits 128x64") ||
+        gpu_build(&m.depth, 0, &buf, &bvh, "limits 64x64") || gpu_build(&wide.depth, 0, &wbuf, &bvh_wide, "limits 520x64") ||
         vkt_buffer_create(&g_t, NRAYS * sizeof(lrt_ray), &rb) || vkt_buffer_create(&g_t, NRAYS * sizeof(lrt_hit), &hb)) {
         CHECK(0, "device limits: set-up failed");
         goto done;
@@ -992,8 +992,8 @@ static void test_device_limits(void)
                  "trace: rays past the range");
     EXPECT_LIMIT(lrt_vk_cmd_trace(group_ctx, cmd, &bvh, &buf.depth, rb.buffer, 0, hb.buffer, 0, 8u * 64u + 1u, 0),
                  "trace: 513 rays, 9 groups past 4x2");
-    EXPECT_LIMIT(lrt_vk_cmd_build(group_ctx, cmd, &bvh_wide, &wbuf.depth), "build: 128x64, 16 groups past 4x2");
-    EXPECT_LIMIT(lrt_vk_cmd_update(group_ctx, cmd, &bvh_wide, &wbuf.depth, NULL), "update: 128x64, 16 groups past 4x2");
+    EXPECT_LIMIT(lrt_vk_cmd_build(group_ctx, cmd, &bvh_wide, &wbuf.depth), "build: 520x64, 9 groups past 4x2");
+    EXPECT_LIMIT(lrt_vk_cmd_update(group_ctx, cmd, &bvh_wide, &wbuf.depth, NULL), "update: 520x64, 9 groups past 4x2");
     EXPECT_LIMIT(lrt_vk_cmd_build(image_ctx, cmd, &bvh, &img.depth), "build: 64x64 image past 32");
     EXPECT_LIMIT(lrt_vk_cmd_update(image_ctx, cmd, &bvh, &img.depth, &rect), "update: 64x64 image past 32");
     EXPECT_LIMIT(lrt_vk_cmd_trace(image_ctx, cmd, &bvh, &img.depth, rb.buffer, 0, hb.buffer, 0, 1, 0),
@@ -1016,8 +1016,8 @@ static void test_device_limits(void)
     limits_trace(span_ctx, &bvh, &img.depth, &rb, &hb, cpu_hits, span_rays, "trace of as many rays as the range holds");
     limits_refit(group_ctx, &bvh, &buf.depth, NULL, &cpu, "build in 4x2 groups");
     limits_trace(group_ctx, &bvh, &buf.depth, &rb, &hb, cpu_hits, 8u * 64u, "trace of 512 rays in 4x2 groups");
-    limits_refit(g_ctx, &bvh_wide, &wbuf.depth, NULL, &cpu_wide, "build 128x64");
-    rect.x = 64; rect.y = 0; rect.width = 64; rect.height = 64; /* 512 level-1 nodes: 4x2 groups */
+    limits_refit(g_ctx, &bvh_wide, &wbuf.depth, NULL, &cpu_wide, "build 520x64");
+    rect.x = 8; rect.y = 0; rect.width = 512; rect.height = 64; /* 512 level-2 nodes (8x8 texels each): 4x2 groups */
     limits_refit(group_ctx, &bvh_wide, &wbuf.depth, &rect, &cpu_wide, "update of 64x64 texels in 4x2 groups");
     limits_refit(image_ctx, &bvh, &buf.depth, NULL, &cpu, "build from a buffer, images up to 32");
     limits_trace(image_ctx, &bvh, &buf.depth, &rb, &hb, cpu_hits, NRAYS, "trace from a buffer, images up to 32");
