@@ -29,6 +29,13 @@ void lrt_store_node(uint slot0, uint codes[8])
     }
 }
 
+// a padding node: all codes 0 (written on a build only)
+void lrt_store_zero_node(uint slot0)
+{
+    uint zero[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+    lrt_store_node(slot0, zero);
+}
+
 // the largest of node `slot0`'s 8 codes: that node's own height
 uint lrt_node_max(uint slot0)
 {
@@ -70,10 +77,7 @@ void main()
         uint cx = nx * 2u + (c & 1u), cy = ny * 4u + (c >> 1), slot0 = block + c * 8u;
         if (cx >= w1 || cy >= h1) { // a padding child: height 0, its node 0 on a build
             heights[c] = 0u;
-            if (pc.build != 0u) {
-                uint zero[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-                lrt_store_node(slot0, zero);
-            }
+            if (pc.build != 0u) lrt_store_zero_node(slot0);
         } else if (cx < x0 || cx > x1 || cy < y0 || cy > y1) { // outside the rectangle: as it is
             heights[c] = lrt_node_max(slot0);
         } else {
@@ -116,10 +120,7 @@ void main()
                 codes[s] = lrt_node_max(first_child + s * 8u);
             } else { // a padding child: height 0, and on a build its node is 0 too
                 codes[s] = 0u;
-                if (pc.build != 0u) {
-                    uint zero[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-                    lrt_store_node(first_child + s * 8u, zero);
-                }
+                if (pc.build != 0u) lrt_store_zero_node(first_child + s * 8u);
             }
         }
         lrt_store_node(lrt_node_slot(L, lv + 1u, px, py), codes);
