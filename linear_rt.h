@@ -1186,12 +1186,12 @@ LRT__INLINE void lrt__slab(float lo, float hi, float o, float iv, uint32_t neg, 
     *exit = LRT__MIN_KEEP(neg ? a : b, *exit);
 }
 
-static float lrt__maxf(float a, float b) { return a > b ? a : b; }
-
 /* Error-free sum (Knuth) and product of floats: a + b = *s + *e and
    a * b = *p + *e exactly. The product's error is exact in double (a float
    product has 48 bits), so no fma is needed and contraction changes nothing;
-   the kernels get the same floats from Dekker's split. */
+   the kernels get the same floats from Dekker's split. Both are exact where
+   nothing overflows and the product's error is no subnormal: every caller
+   keeps its operands so. */
 static void lrt__two_sum(float a, float b, float *s, float *e)
 {
     float ss = a + b, bb = ss - a;
@@ -1203,6 +1203,81 @@ static void lrt__two_prod(float a, float b, float *p, float *e)
 {
     *p = a * b;
     *e = (float)((double)a * (double)b - (double)*p);
+}
+
+/* ---- arithmetic at the edge of float range (lrt__crossing).
+   Integers and powers of two from the bits, products scaled into range
+   first: the kernels (shaders/linear_rt.glsl) compute the same floats. ---- */
+
+/* floor(log2 |f|) of a finite nonzero float, subnormals included */
+static int lrt__ilogb(float f)
+{
+    uint32_t u;
+    int e = -150;
+    memcpy(&u, &f, 4);
+    u &= 0x7fffffffu;
+    if (u >= 0x00800000u) return (int)(u >> 23) - 127;
+    while (u) {
+        u >>= 1;
+        ++e;
+    }
+    return e;
+}
+
+/* 2^k exactly, k in [-149, 127] */
+static float lrt__pow2(int k)
+{
+    uint32_t u = k >= -126 ? (uint32_t)(k + 127) << 23 : 1u << (k + 149);
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+
+/* f 2^-ilogb(f): the significand of a finite nonzero float, in [1, 2), exactly */
+static float lrt__signif(float f) { return ldexpf(f, -lrt__ilogb(f)); }
+
+/* Adds x to the expansion acc[0..*m) (Shewchuk's grow-expansion): the sum
+   stays exact, its parts grow in size and do not overlap. */
+static void lrt__grow(float *acc, int *m, float x)
+{
+    int j;
+    for (j = 0; j < *m; ++j) {
+        float hi, lo;
+        lrt__two_sum(acc[j], x, &hi, &lo);
+        acc[j] = lo;
+        x = hi;
+    }
+    acc[(*m)++] = x;
+}
+
+/* The sign of an expansion: that of its largest nonzero part. */
+static int lrt__expansion_sign(const float *acc, int m)
+{
+    while (m-- > 0)
+        if (acc[m] != 0.0f) return acc[m] > 0.0f ? 1 : -1;
+    return 0;
+}
+
+/* Appends a b 2^(extra - scale) to an expansion as an exact pair; the
+   caller keeps sh = ilogb(a) + ilogb(b) + extra - scale in [-73, 122], so
+   that both parts are normal floats and their sums cannot overflow. */
+static void lrt__grow_prod(float *acc, int *m, float a, float b, int extra, int scale)
+{
+    float p, e, f;
+    if (a == 0.0f || b == 0.0f) return;
+    f = lrt__pow2(lrt__ilogb(a) + lrt__ilogb(b) + extra - scale);
+    lrt__two_prod(lrt__signif(a), lrt__signif(b), &p, &e); /* in [1, 4): exact */
+    lrt__grow(acc, m, p * f);
+    lrt__grow(acc, m, e * f);
+}
+
+/* An expansion's value, the largest part last: faithful. */
+static float lrt__expansion_value(const float *acc, int m)
+{
+    float sum = 0.0f;
+    int i;
+    for (i = 0; i < m; ++i) sum += acc[i];
+    return sum;
 }
 
 /* The t where the ray's z meets the depth plane of a raw depth. A unorm v
@@ -1254,53 +1329,62 @@ LRT__INLINE uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t heigh
 
 
 
-/* A coordinate of the restart point of a far-away ray, from an exact float
-   expansion rounded once: o_b + (plane - o_a) v_b / v_a where the ray enters
-   through plane on axis a, or o_b + t v_b (by_t). Everything is first scaled
-   by powers of two so that no product overflows. The kernels compute the
-   very same floats (shaders/linear_rt.glsl, lrt_crossing). */
-static float lrt__crossing(float o_b, float o_a, float v_b, float v_a, float plane, int by_t, float t)
+/* The restart of a far-away ray (below): (b1 + b2) + (plane - o_a) v_b / v_a,
+   or (b1 + b2) + t v_b 2^vexp (by_t), as an exact float expansion acc[0..m)
+   times 2^scale (times 1 / v_a unless by_t). The products come in two
+   groups, (b1 + b2) v_a and (s + e) v_b with plane - o_a = s + e exactly
+   (or t v_b); within a group the second is below 2^-24 of the first and
+   above 2^-166 of it, so one scale holds all its bits; a group 2^30 or more
+   below the other is left out: no cancellation can make it matter beyond
+   2^-29 of the sum. The largest product lands in [2^122, 2^124). */
+static void lrt__crossing_sum(float b1, float b2, float o_a, float v_b, float v_a, float plane, int by_t, float t,
+                              int vexp, float *acc, int *m, int *scale)
 {
-    float terms[6], acc[6], ob, oa, pl, vb, va, x, sum = 0.0f;
-    int eo, ev, n, m = 0, i, j, small_b;
-    if (by_t && v_b == 0.0f) return o_b;
-    (void)frexpf(lrt__maxf(lrt__maxf(fabsf(o_a), fabsf(o_b)), lrt__maxf(fabsf(plane), 1.0f)), &eo);
-    (void)frexpf(by_t ? fabsf(v_b) : lrt__maxf(fabsf(v_a), fabsf(v_b)), &ev);
-    ob = ldexpf(o_b, -eo);
-    /* an o_b 2^126 times smaller than the scale would lose its bits (or
-       vanish) in it: it is added after the rest is rounded instead */
-    small_b = o_b != 0.0f && fabsf(ob) < 1.17549435e-38f;
-    if (small_b) ob = 0.0f;
-    oa = ldexpf(o_a, -eo);
-    pl = ldexpf(plane, -eo);
-    vb = ldexpf(v_b, -ev);
-    va = ldexpf(v_a, -ev);
-    if (by_t) { /* t v_b 2^-eo = (t 2^(ev - eo)) vb */
-        lrt__two_prod(ldexpf(t, ev - eo), vb, &terms[0], &terms[1]);
-        terms[2] = ob;
-        n = 3;
-    } else {
-        float s, e;
-        lrt__two_sum(pl, -oa, &s, &e); /* plane - o_a = s + e */
-        lrt__two_prod(ob, va, &terms[0], &terms[1]);
-        lrt__two_prod(s, vb, &terms[2], &terms[3]);
-        lrt__two_prod(e, vb, &terms[4], &terms[5]);
-        n = 6;
+    float s = t, e = 0.0f, va = v_a;
+    int lb = -10000, ls = -10000, top;
+    *m = 0;
+    if (by_t) va = 1.0f; /* (b1 + b2) 1 + t v_b 2^vexp */
+    else lrt__two_sum(plane, -o_a, &s, &e);
+    if (b1 != 0.0f) lb = lrt__ilogb(b1) + lrt__ilogb(va);
+    if (s != 0.0f && v_b != 0.0f) ls = lrt__ilogb(s) + lrt__ilogb(v_b) + (by_t ? vexp : 0);
+    top = lb > ls ? lb : ls;
+    *scale = top - 122;
+    if (top == -10000) return; /* 0 */
+    if (lb >= top - 30) {
+        lrt__grow_prod(acc, m, b1, va, 0, *scale);
+        lrt__grow_prod(acc, m, b2, va, 0, *scale);
     }
-    for (i = 0; i < n; ++i) { /* grow an exact expansion */
-        x = terms[i];
-        for (j = 0; j < m; ++j) {
-            float hi, lo;
-            lrt__two_sum(acc[j], x, &hi, &lo);
-            acc[j] = lo;
-            x = hi;
-        }
-        acc[m++] = x;
+    if (ls >= top - 30) {
+        lrt__grow_prod(acc, m, s, v_b, by_t ? vexp : 0, *scale);
+        lrt__grow_prod(acc, m, e, v_b, 0, *scale);
     }
-    for (i = 0; i < m; ++i) sum += acc[i]; /* the largest part last: faithful */
-    if (!by_t) sum = sum / va;
-    sum = ldexpf(sum, eo);
-    return small_b ? o_b + sum : sum;
+}
+
+/* A coordinate of the restart point of a far-away ray, from that exact
+   expansion rounded (faithfully): o_b + (plane - o_a) v_b / v_a where the
+   ray enters through plane on axis a, or o_b + t v_b 2^vexp (by_t). No
+   product overflows and none of o_b, v_b, v_a is flushed however far apart
+   their sizes (fuzz 6b: a v_b 2^120 times smaller than v_a was). far_z: a z
+   that rounds to 1, the far plane, while the exact one is not 1 becomes the
+   float next to 1 on the exact side: on the far plane the ray would meet
+   the flat boxes of far texels, which neither side of it does. The kernels
+   compute the very same floats (shaders/linear_rt.glsl, lrt_crossing). */
+static float lrt__crossing(float o_b, float o_a, float v_b, float v_a, float plane, int by_t, float t, int vexp,
+                           int far_z)
+{
+    float acc[8], r, d1, d2;
+    int m, scale, side;
+    if (v_b == 0.0f || (by_t && t == 0.0f)) return o_b;
+    lrt__crossing_sum(o_b, 0.0f, o_a, v_b, v_a, plane, by_t, t, vexp, acc, &m, &scale);
+    if (m == 0) return 0.0f;
+    if (by_t) r = ldexpf(lrt__expansion_value(acc, m), scale);
+    else r = ldexpf(lrt__expansion_value(acc, m) / lrt__signif(v_a), scale - lrt__ilogb(v_a));
+    if (!far_z || r != 1.0f) return r;
+    /* the sign of the exact coordinate minus 1: the same sum from o_b - 1 */
+    lrt__two_sum(o_b, -1.0f, &d1, &d2);
+    lrt__crossing_sum(d1, d2, o_a, v_b, v_a, plane, by_t, t, vexp, acc, &m, &scale);
+    side = lrt__expansion_sign(acc, m) * (!by_t && v_a < 0.0f ? -1 : 1);
+    return side > 0 ? 1.00000012f : side < 0 ? 0.99999994f : 1.0f;
 }
 
 /* Validates and clips one ray; returns 0 with *kind set when nothing is left
@@ -1405,9 +1489,9 @@ LRT__INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t heig
             }
         }
         for (k = 0; k < 3; ++k) {
-            if (axis < 0) n[k] = lrt__crossing(s->o[k], 0.0f, v[k], 1.0f, 0.0f, 1, te);
+            if (axis < 0) n[k] = lrt__crossing(s->o[k], 0.0f, v[k], 1.0f, 0.0f, 1, te, 0, k == 2);
             else if (k == axis) n[k] = plane;
-            else n[k] = lrt__crossing(s->o[k], s->o[axis], v[k], v[axis], plane, 0, 0.0f);
+            else n[k] = lrt__crossing(s->o[k], s->o[axis], v[k], v[axis], plane, 0, 0.0f, 0, k == 2);
         }
         for (k = 0; k < 3; ++k) s->o[k] = n[k];
         s->t_base = te;

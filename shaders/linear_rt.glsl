@@ -218,6 +218,88 @@ void lrt_two_prod(float a, float b, out float p, out float e)
     e = ee;
 }
 
+// ---- arithmetic at the edge of float range (lrt_crossing),
+// as linear_rt.h: exponents and powers of two from the bits, products scaled
+// into range first, ldexp rounded once. They need subnormal floats kept
+// (lavapipe keeps them); a GPU that flushes them (shaderDenormPreserveFloat32
+// false) answers the rare rays that need them within float rounding of
+// 2^-126, not bit for bit (shaders/README.md). ----
+
+// floor(log2 |f|) of a finite nonzero float, subnormals included
+int lrt_ilogb(float f)
+{
+    uint u = floatBitsToUint(f) & 0x7fffffffu;
+    return u >= 0x00800000u ? int(u >> 23) - 127 : findMSB(u) - 149;
+}
+
+// 2^k exactly, k in [-149, 127]
+float lrt_pow2(int k)
+{
+    return uintBitsToFloat(k >= -126 ? uint(k + 127) << 23 : 1u << uint(k + 149));
+}
+
+// f 2^-ilogb(f), in [1, 2) with f's sign, exactly
+float lrt_signif(float f)
+{
+    uint b = floatBitsToUint(f), m = b & 0x007fffffu;
+    if ((b & 0x7f800000u) == 0u) m = (m << uint(23 - findMSB(m))) & 0x007fffffu; // subnormal
+    return uintBitsToFloat((b & 0x80000000u) | 0x3f800000u | m);
+}
+
+// x 2^k rounded once, as C's ldexpf (GLSL's ldexp may flush or round twice)
+float lrt_ldexp(float x, int k)
+{
+    if (x == 0.0 || k == 0) return x;
+    float y = lrt_signif(x), zero = uintBitsToFloat(floatBitsToUint(x) & 0x80000000u);
+    int j = lrt_ilogb(x) + k; // the exponent of the result
+    if (j > 127) return y * lrt_pow2(127) * 2.0; // +-inf
+    if (j >= -149) {
+        precise float r = y * lrt_pow2(j);
+        return r;
+    }
+    if (j == -150) return abs(y) > 1.0 ? uintBitsToFloat(floatBitsToUint(zero) | 1u) : zero; // to nearest, ties to even
+    return zero;
+}
+
+// adds x to the expansion acc[0..m) (Shewchuk's grow-expansion)
+void lrt_grow(inout float acc[8], inout int m, float x)
+{
+    for (int j = 0; j < m; ++j) {
+        float hi, lo;
+        lrt_two_sum(acc[j], x, hi, lo);
+        acc[j] = lo;
+        x = hi;
+    }
+    acc[m++] = x;
+}
+
+int lrt_expansion_sign(float acc[8], int m)
+{
+    for (int i = m - 1; i >= 0; --i)
+        if (acc[i] != 0.0) return acc[i] > 0.0 ? 1 : -1;
+    return 0;
+}
+
+// an expansion's value, the largest part last: faithful
+float lrt_expansion_value(float acc[8], int m)
+{
+    precise float sum = 0.0;
+    for (int i = 0; i < m; ++i) sum += acc[i];
+    return sum;
+}
+
+// appends a b 2^(extra - scale) as an exact pair (the caller keeps the
+// product's exponent within [-73, 122] of the scale)
+void lrt_grow_prod(inout float acc[8], inout int m, float a, float b, int extra, int scale)
+{
+    if (a == 0.0 || b == 0.0) return;
+    float f = lrt_pow2(lrt_ilogb(a) + lrt_ilogb(b) + extra - scale), p, e;
+    lrt_two_prod(lrt_signif(a), lrt_signif(b), p, e);
+    precise float pf = p * f, ef = e * f;
+    lrt_grow(acc, m, pf);
+    lrt_grow(acc, m, ef);
+}
+
 // the t where the ray's z reaches the depth plane of a raw depth (see
 // lrt_depth_raw); for a z that does not change, the box [d, 1] holds the
 // ray wholly (-inf as an entry, +inf as an exit) or not at all
@@ -279,53 +361,57 @@ uint lrt_clip(inout LrtSetup s, LrtParams p, float tmin, float tmax)
 
 bool lrt_finite(float f) { return (floatBitsToUint(f) & 0x7f800000u) != 0x7f800000u; }
 
-// o_b + (plane - o_a) v_b / v_a (or o_b + t v_b when the start is tmin),
-// from an exact float expansion after scaling by powers of two (so no
-// product overflows), rounded once: as linear_rt.h's lrt__crossing
-float lrt_crossing(float o_b, float o_a, float v_b, float v_a, float plane, bool by_t, float t)
+// The restart of a far-away ray, as linear_rt.h's lrt__crossing_sum:
+// (b1 + b2) + (plane - o_a) v_b / v_a, or (b1 + b2) + t v_b 2^vexp (by_t),
+// as an exact expansion acc[0..m) times 2^scale (times 1 / v_a unless by_t),
+// the largest product in [2^122, 2^124), a group 2^30 below the other left out
+void lrt_crossing_sum(float b1, float b2, float o_a, float v_b, float v_a, float plane, bool by_t, float t, int vexp,
+                      out float acc[8], out int m, out int scale)
 {
-    if (by_t && v_b == 0.0) return o_b;
-    int eo, ev;
-    frexp(max(max(abs(o_a), abs(o_b)), max(abs(plane), 1.0)), eo);
-    frexp(by_t ? abs(v_b) : max(abs(v_a), abs(v_b)), ev);
-    float ob = ldexp(o_b, -eo), oa = ldexp(o_a, -eo), pl = ldexp(plane, -eo);
-    // an o_b 2^126 times smaller than the scale would lose its bits in it:
-    // added after the rest is rounded instead, as linear_rt.h
-    bool small_b = o_b != 0.0 && abs(ob) < uintBitsToFloat(0x00800000u);
-    if (small_b) ob = 0.0;
-    float vb = ldexp(v_b, -ev), va = ldexp(v_a, -ev);
-    float terms[6], acc[6];
-    int n = 0;
-    if (by_t) { // t v_b 2^-eo = (t 2^(ev - eo)) vb
-        float tt = ldexp(t, ev - eo);
-        lrt_two_prod(tt, vb, terms[0], terms[1]);
-        terms[2] = ob;
-        n = 3;
+    float s = t, e = 0.0, va = v_a;
+    int lb = -10000, ls = -10000;
+    m = 0;
+    for (int i = 0; i < 8; ++i) acc[i] = 0.0;
+    if (by_t) va = 1.0;
+    else lrt_two_sum(plane, -o_a, s, e);
+    if (b1 != 0.0) lb = lrt_ilogb(b1) + lrt_ilogb(va);
+    if (s != 0.0 && v_b != 0.0) ls = lrt_ilogb(s) + lrt_ilogb(v_b) + (by_t ? vexp : 0);
+    int top = max(lb, ls);
+    scale = top - 122;
+    if (top == -10000) return;
+    if (lb >= top - 30) {
+        lrt_grow_prod(acc, m, b1, va, 0, scale);
+        lrt_grow_prod(acc, m, b2, va, 0, scale);
+    }
+    if (ls >= top - 30) {
+        lrt_grow_prod(acc, m, s, v_b, by_t ? vexp : 0, scale);
+        lrt_grow_prod(acc, m, e, v_b, 0, scale);
+    }
+}
+
+// a coordinate of the restart point: o_b + (plane - o_a) v_b / v_a (or
+// o_b + t v_b 2^vexp), rounded faithfully; far_z: a z that rounds to 1
+// but is not 1 becomes the float next to 1 on its side, as linear_rt.h's
+// lrt__crossing
+float lrt_crossing(float o_b, float o_a, float v_b, float v_a, float plane, bool by_t, float t, int vexp, bool far_z)
+{
+    if (v_b == 0.0 || (by_t && t == 0.0)) return o_b;
+    float acc[8], r;
+    int m, scale;
+    lrt_crossing_sum(o_b, 0.0, o_a, v_b, v_a, plane, by_t, t, vexp, acc, m, scale);
+    if (m == 0) return 0.0;
+    if (by_t) {
+        r = lrt_ldexp(lrt_expansion_value(acc, m), scale);
     } else {
-        float s, e;
-        lrt_two_sum(pl, -oa, s, e);
-        lrt_two_prod(ob, va, terms[0], terms[1]);
-        lrt_two_prod(s, vb, terms[2], terms[3]);
-        lrt_two_prod(e, vb, terms[4], terms[5]);
-        n = 6;
+        precise float q = lrt_expansion_value(acc, m) / lrt_signif(v_a);
+        r = lrt_ldexp(q, scale - lrt_ilogb(v_a));
     }
-    int m = 0;
-    for (int i = 0; i < n; ++i) {
-        float x = terms[i];
-        for (int j = 0; j < m; ++j) {
-            float hi, lo;
-            lrt_two_sum(acc[j], x, hi, lo);
-            acc[j] = lo;
-            x = hi;
-        }
-        acc[m++] = x;
-    }
-    precise float sum = 0.0;
-    for (int i = 0; i < m; ++i) sum += acc[i];
-    if (!by_t) sum = sum / va;
-    precise float r = ldexp(sum, eo);
-    precise float rb = o_b + r;
-    return small_b ? rb : r;
+    if (!far_z || r != 1.0) return r;
+    float d1, d2;
+    lrt_two_sum(o_b, -1.0, d1, d2);
+    lrt_crossing_sum(d1, d2, o_a, v_b, v_a, plane, by_t, t, vexp, acc, m, scale);
+    int side = lrt_expansion_sign(acc, m) * (!by_t && v_a < 0.0 ? -1 : 1);
+    return side > 0 ? uintBitsToFloat(0x3f800001u) : side < 0 ? uintBitsToFloat(0x3f7fffffu) : 1.0;
 }
 
 // validates and clips a ray; false with kind set when nothing is left to walk
@@ -373,9 +459,9 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
         }
         float n3[3];
         for (int k = 0; k < 3; ++k) {
-            if (axis < 0) n3[k] = lrt_crossing(o3[k], 0.0, v3[k], 1.0, 0.0, true, te);
+            if (axis < 0) n3[k] = lrt_crossing(o3[k], 0.0, v3[k], 1.0, 0.0, true, te, 0, k == 2);
             else if (k == axis) n3[k] = plane;
-            else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane, false, 0.0);
+            else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane, false, 0.0, 0, k == 2);
         }
         s.o = vec3(n3[0], n3[1], n3[2]);
         s.t_base = te;

@@ -139,6 +139,11 @@ static int found_case(int k, test_map *m, lrt_ray *r)
         /* the restart of a far-away ray dropped a coordinate 2^120 times smaller (y 4.4e-30 above the edge) */
         {64, 1, 3, 1.0f, {59, -1}, {0, -1}, {0.002f, 0}, {3.97868e31f, 4.36341e-30f, 0.0629892f},
          {-4.31355e36f, -2.17651e-38f, -0.304688f}, 0, 11.25f},
+        /* ... and a direction component 2^120 times smaller than the largest (y enters the screen at 1e-43) */
+        {64, 1, 3, 1.0f, {59, -1}, {0, -1}, {0.002f, 0}, {3.97868e31f, -1e-43f, 0.0629892f},
+         {-4.31355e36f, 2.17651e-38f, -0.304688f}, 0, 11.25f},
+        /* the restart of a ray from far left on the far plane, going up by 8e-17: rounded onto the far plane, it hit (0,0) */
+        {18, 1, 1, 255, {7, -1}, {0, -1}, {0, 0}, {-378.72f, 0.5f, 1.0f}, {4.125f, 0, -8.67361738e-19f}, 0, 200},
     };
     size_t n, i, bpp;
     int q;
