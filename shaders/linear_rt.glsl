@@ -221,10 +221,10 @@ void lrt_two_prod(float a, float b, out float p, out float e)
 
 // ---- arithmetic at the edge of float range (lrt_crossing, lrt_setup_rare),
 // as linear_rt.h: exponents and powers of two from the bits, products scaled
-// into range first, ldexp rounded once. They need subnormal floats kept
-// (lavapipe keeps them); a GPU that flushes them (shaderDenormPreserveFloat32
-// false) answers the rare rays that need them within float rounding of
-// 2^-126, not bit for bit (shaders/README.md). ----
+// into range first, ldexp rounded once. They need subnormal floats kept, as
+// lavapipe keeps them; on a GPU that flushes them (these kernels do not ask
+// for denorm preservation) the rare rays that need them may be answered
+// otherwise than on the CPU (shaders/README.md). ----
 
 // floor(log2 |f|) of a finite nonzero float, subnormals included
 int lrt_ilogb(float f)
