@@ -1133,6 +1133,9 @@ LINEAR_RT_DEF lrt_result lrt_bvh_update(lrt_bvh *bvh, const lrt_depth *depth, co
       hit the final texel test would find. A 0 direction component gives
       infinite inverses and NaN exactly on a plane; NaN is dropped by the
       max/min accumulations, which makes such slabs closed, as the model says.
+      Rays at the edge of float range (a component below 2^-100 or above
+      2^16) are set up apart (lrt__setup_rare), so that these same floats
+      stay exact for them: ordinary rays pay one test on their bits.
    ========================================================================== */
 
 typedef struct lrt__ray_setup {
@@ -1140,6 +1143,7 @@ typedef struct lrt__ray_setup {
     uint32_t neg_x, neg_y, neg_z; /* sign bits of the direction (-0 counts) */
     float t_lo, t_hi;             /* the ray clipped to the screen and to z <= 1 */
     float t_base;                 /* t of the origin used here on the caller's ray */
+    int zk;                       /* 0, or z (o.z, v.z and every depth plane) is scaled by 2^zk (lrt__setup_rare) */
     uint32_t flip[2];             /* front-to-back slot order of wide (4x2) and tall (2x4) nodes */
 #if LRT__SSE
     __m128 vo[3], viv[3], vt_lo, vt_hi, vzmask; /* the same, broadcast once for every node test */
@@ -1167,9 +1171,7 @@ LRT__INLINE float lrt__widen(float exit)
     return w <= 3.40282347e38f ? w : exit;
 }
 
-#if !LRT__SSE
 static int lrt__finite(float f) { return f - f == 0.0f; }
-#endif
 
 LRT__INLINE uint32_t lrt__sign_bit(float f)
 {
@@ -1191,7 +1193,9 @@ static float lrt__maxf(float a, float b) { return a > b ? a : b; }
 /* Error-free sum (Knuth) and product of floats: a + b = *s + *e and
    a * b = *p + *e exactly. The product's error is exact in double (a float
    product has 48 bits), so no fma is needed and contraction changes nothing;
-   the kernels get the same floats from Dekker's split. */
+   the kernels get the same floats from Dekker's split. Both are exact where
+   nothing overflows and the product's error is no subnormal: every caller
+   keeps its operands so. */
 static void lrt__two_sum(float a, float b, float *s, float *e)
 {
     float ss = a + b, bb = ss - a;
@@ -1205,16 +1209,108 @@ static void lrt__two_prod(float a, float b, float *p, float *e)
     *e = (float)((double)a * (double)b - (double)*p);
 }
 
+/* ---- arithmetic at the edge of float range (lrt__crossing, lrt__setup_rare).
+   Integers and powers of two from the bits, products scaled into range
+   first: the kernels (shaders/linear_rt.glsl) compute the same floats. ---- */
+
+/* floor(log2 |f|) of a finite nonzero float, subnormals included */
+static int lrt__ilogb(float f)
+{
+    uint32_t u;
+    int e = -150;
+    memcpy(&u, &f, 4);
+    u &= 0x7fffffffu;
+    if (u >= 0x00800000u) return (int)(u >> 23) - 127;
+    while (u) {
+        u >>= 1;
+        ++e;
+    }
+    return e;
+}
+
+/* 2^k exactly, k in [-149, 127] */
+static float lrt__pow2(int k)
+{
+    uint32_t u = k >= -126 ? (uint32_t)(k + 127) << 23 : 1u << (k + 149);
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+
+/* f 2^-ilogb(f): the significand of a finite nonzero float, in [1, 2), exactly */
+static float lrt__signif(float f) { return ldexpf(f, -lrt__ilogb(f)); }
+
+/* Adds x to the expansion acc[0..*m) (Shewchuk's grow-expansion): the sum
+   stays exact, its parts grow in size and do not overlap. */
+static void lrt__grow(float *acc, int *m, float x)
+{
+    int j;
+    for (j = 0; j < *m; ++j) {
+        float hi, lo;
+        lrt__two_sum(acc[j], x, &hi, &lo);
+        acc[j] = lo;
+        x = hi;
+    }
+    acc[(*m)++] = x;
+}
+
+/* The sign of an expansion: that of its largest nonzero part. */
+static int lrt__expansion_sign(const float *acc, int m)
+{
+    while (m-- > 0)
+        if (acc[m] != 0.0f) return acc[m] > 0.0f ? 1 : -1;
+    return 0;
+}
+
+/* Appends a b 2^(extra - scale) to an expansion as an exact pair; the
+   caller keeps sh = ilogb(a) + ilogb(b) + extra - scale in [-73, 122], so
+   that both parts are normal floats and their sums cannot overflow. */
+static void lrt__grow_prod(float *acc, int *m, float a, float b, int extra, int scale)
+{
+    float p, e, f;
+    if (a == 0.0f || b == 0.0f) return;
+    f = lrt__pow2(lrt__ilogb(a) + lrt__ilogb(b) + extra - scale);
+    lrt__two_prod(lrt__signif(a), lrt__signif(b), &p, &e); /* in [1, 4): exact */
+    lrt__grow(acc, m, p * f);
+    lrt__grow(acc, m, e * f);
+}
+
+/* An expansion's value, the largest part last: faithful. */
+static float lrt__expansion_value(const float *acc, int m)
+{
+    float sum = 0.0f;
+    int i;
+    for (i = 0; i < m; ++i) sum += acc[i];
+    return sum;
+}
+
 /* The t where the ray's z meets the depth plane of a raw depth. A unorm v
    is no float: v/max - o.z is taken as (v - o.z max)/max with o.z max split
    exactly, else its rounding, divided by a grazing ray's tiny v.z, would move
    the hit along the texel top by far more than float rounding of t. v = max
    is depth 1, the far plane, computed as the clip computes it. The kernels
-   compute the same floats (lrt_depth_plane). */
+   compute the same floats (lrt_depth_plane). A ray whose z is scaled by
+   2^zk (lrt__setup_rare: a v.z too small to invert beside the other
+   components) scales the depth by 2^zk too, exactly. */
+static float lrt__depth_plane_scaled(const lrt__ray_setup *s, lrt_format format, uint32_t raw)
+{
+    const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
+    float p, e, n;
+    if (format == LRT_FORMAT_FLOAT32 || raw == vmax) {
+        float d = 1.0f;
+        if (format == LRT_FORMAT_FLOAT32) memcpy(&d, &raw, 4);
+        return (ldexpf(d, s->zk) - s->o[2]) * s->iv[2];
+    }
+    lrt__two_prod(s->o[2], (float)vmax, &p, &e);
+    n = (ldexpf((float)raw, s->zk) - p) - e;
+    return (n * (vmax == 255u ? 1.0f / 255.0f : 1.0f / 65535.0f)) * s->iv[2];
+}
+
 LRT__INLINE float lrt__depth_plane(const lrt__ray_setup *s, lrt_format format, uint32_t raw)
 {
     const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
     float p, e, n;
+    if (s->zk) return lrt__depth_plane_scaled(s, format, raw); /* rare */
     if (format == LRT_FORMAT_FLOAT32 || raw == vmax) {
         float d = 1.0f;
         if (format == LRT_FORMAT_FLOAT32) memcpy(&d, &raw, 4);
@@ -1252,110 +1348,317 @@ LRT__INLINE uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t heigh
     return kind;
 }
 
-
-
-/* A coordinate of the restart point of a far-away ray, from an exact float
-   expansion rounded once: o_b + (plane - o_a) v_b / v_a where the ray enters
-   through plane on axis a, or o_b + t v_b (by_t). Everything is first scaled
-   by powers of two so that no product overflows. The kernels compute the
-   very same floats (shaders/linear_rt.glsl, lrt_crossing). */
-static float lrt__crossing(float o_b, float o_a, float v_b, float v_a, float plane, int by_t, float t)
+/* The restart of a far-away ray (below): (b1 + b2) + (plane - o_a) v_b / v_a,
+   or (b1 + b2) + t v_b 2^vexp (by_t), as an exact float expansion acc[0..m)
+   times 2^scale (times 1 / v_a unless by_t). The products come in two
+   groups, (b1 + b2) v_a and (s + e) v_b with plane - o_a = s + e exactly
+   (or t v_b); within a group the second is below 2^-24 of the first and
+   above 2^-166 of it, so one scale holds all its bits; a group 2^30 or more
+   below the other is left out: no cancellation can make it matter beyond
+   2^-29 of the sum. The largest product lands in [2^122, 2^124). */
+static void lrt__crossing_sum(float b1, float b2, float o_a, float v_b, float v_a, float plane, int by_t, float t,
+                              int vexp, float *acc, int *m, int *scale)
 {
-    float terms[6], acc[6], ob, oa, pl, vb, va, x, sum = 0.0f;
-    int eo, ev, n, m = 0, i, j, small_b;
-    if (by_t && v_b == 0.0f) return o_b;
-    (void)frexpf(lrt__maxf(lrt__maxf(fabsf(o_a), fabsf(o_b)), lrt__maxf(fabsf(plane), 1.0f)), &eo);
-    (void)frexpf(by_t ? fabsf(v_b) : lrt__maxf(fabsf(v_a), fabsf(v_b)), &ev);
-    ob = ldexpf(o_b, -eo);
-    /* an o_b 2^126 times smaller than the scale would lose its bits (or
-       vanish) in it: it is added after the rest is rounded instead */
-    small_b = o_b != 0.0f && fabsf(ob) < 1.17549435e-38f;
-    if (small_b) ob = 0.0f;
-    oa = ldexpf(o_a, -eo);
-    pl = ldexpf(plane, -eo);
-    vb = ldexpf(v_b, -ev);
-    va = ldexpf(v_a, -ev);
-    if (by_t) { /* t v_b 2^-eo = (t 2^(ev - eo)) vb */
-        lrt__two_prod(ldexpf(t, ev - eo), vb, &terms[0], &terms[1]);
-        terms[2] = ob;
-        n = 3;
-    } else {
-        float s, e;
-        lrt__two_sum(pl, -oa, &s, &e); /* plane - o_a = s + e */
-        lrt__two_prod(ob, va, &terms[0], &terms[1]);
-        lrt__two_prod(s, vb, &terms[2], &terms[3]);
-        lrt__two_prod(e, vb, &terms[4], &terms[5]);
-        n = 6;
+    float s = t, e = 0.0f, va = v_a;
+    int lb = -10000, ls = -10000, top;
+    *m = 0;
+    if (by_t) va = 1.0f; /* (b1 + b2) 1 + t v_b 2^vexp */
+    else lrt__two_sum(plane, -o_a, &s, &e);
+    if (b1 != 0.0f) lb = lrt__ilogb(b1) + lrt__ilogb(va);
+    if (s != 0.0f && v_b != 0.0f) ls = lrt__ilogb(s) + lrt__ilogb(v_b) + (by_t ? vexp : 0);
+    top = lb > ls ? lb : ls;
+    *scale = top - 122;
+    if (top == -10000) return; /* 0 */
+    if (lb >= top - 30) {
+        lrt__grow_prod(acc, m, b1, va, 0, *scale);
+        lrt__grow_prod(acc, m, b2, va, 0, *scale);
     }
-    for (i = 0; i < n; ++i) { /* grow an exact expansion */
-        x = terms[i];
-        for (j = 0; j < m; ++j) {
-            float hi, lo;
-            lrt__two_sum(acc[j], x, &hi, &lo);
-            acc[j] = lo;
-            x = hi;
-        }
-        acc[m++] = x;
+    if (ls >= top - 30) {
+        lrt__grow_prod(acc, m, s, v_b, by_t ? vexp : 0, *scale);
+        lrt__grow_prod(acc, m, e, v_b, 0, *scale);
     }
-    for (i = 0; i < m; ++i) sum += acc[i]; /* the largest part last: faithful */
-    if (!by_t) sum = sum / va;
-    sum = ldexpf(sum, eo);
-    return small_b ? o_b + sum : sum;
 }
 
-/* Validates and clips one ray; returns 0 with *kind set when nothing is left
-   to walk. A direction whose components are all tiny is rescaled by a power
-   of two (exact) so that 1/v stays finite where the ray really moves. */
-LRT__INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t height, lrt__ray_setup *s, float *t_scale,
-                          uint32_t *kind)
+/* A coordinate of the restart point of a far-away ray, from that exact
+   expansion rounded (faithfully): o_b + (plane - o_a) v_b / v_a where the
+   ray enters through plane on axis a, or o_b + t v_b 2^vexp (by_t). No
+   product overflows and none of o_b, v_b, v_a is flushed however far apart
+   their sizes (fuzz 6b: a v_b 2^120 times smaller than v_a was). far_z: a z
+   that rounds to 1, the far plane, while the exact one is not 1 becomes the
+   float next to 1 on the exact side: on the far plane the ray would meet
+   the flat boxes of far texels, which neither side of it does. The kernels
+   compute the very same floats (shaders/linear_rt.glsl, lrt_crossing). */
+static float lrt__crossing(float o_b, float o_a, float v_b, float v_a, float plane, int by_t, float t, int vexp,
+                           int far_z)
 {
-    float v[3], tmin = ray->tmin, tmax = ray->tmax, m;
-    int k;
-    *t_scale = 1.0f;
-#if LRT__SSE
-    { /* the ray is 8 floats: origin, tmin, dir, tmax */
-        float f[8];
-        __m128 a, b, zero = _mm_setzero_ps();
-        memcpy(f, ray, sizeof f); /* one copy: no partial-store stall */
-        a = _mm_loadu_ps(f);
-        b = _mm_loadu_ps(f + 4);
-        /* x - x == 0 exactly when x is finite */
-        if (_mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(_mm_sub_ps(a, a), zero), _mm_cmpeq_ps(_mm_sub_ps(b, b), zero))) != 15 ||
-            !(tmin >= 0.0f) || !(tmin <= tmax)) {
-            *kind = LRT_MISS_INVALID_RAY;
-            return 0;
-        }
+    float acc[8], r, d1, d2;
+    int m, scale, side;
+    if (v_b == 0.0f || (by_t && t == 0.0f)) return o_b;
+    lrt__crossing_sum(o_b, 0.0f, o_a, v_b, v_a, plane, by_t, t, vexp, acc, &m, &scale);
+    if (m == 0) return 0.0f;
+    if (by_t) r = ldexpf(lrt__expansion_value(acc, m), scale);
+    else r = ldexpf(lrt__expansion_value(acc, m) / lrt__signif(v_a), scale - lrt__ilogb(v_a));
+    if (!far_z || r != 1.0f) return r;
+    /* the sign of the exact coordinate minus 1: the same sum from o_b - 1 */
+    lrt__two_sum(o_b, -1.0f, &d1, &d2);
+    lrt__crossing_sum(d1, d2, o_a, v_b, v_a, plane, by_t, t, vexp, acc, &m, &scale);
+    side = lrt__expansion_sign(acc, m) * (!by_t && v_a < 0.0f ? -1 : 1);
+    return side > 0 ? 1.00000012f : side < 0 ? 0.99999994f : 1.0f;
+}
+
+/* A ray at the edge of float range (lrt__setup_rare) is judged off the
+   screen or not at tmax exactly: the sign of o + t v - c, t >= 0, c the
+   screen's edge, from an exact expansion where t v and c - o are of a size,
+   else from the larger alone. */
+static int lrt__side(float o, float v, float t, float c)
+{
+    float d1, d2, acc[8];
+    int m = 0, e, ed, sign;
+    lrt__two_sum(c, -o, &d1, &d2); /* c - o = d1 + d2 */
+    if (v == 0.0f || t == 0.0f) return d1 > 0.0f ? -1 : d1 < 0.0f ? 1 : 0;
+    if (d1 == 0.0f) return v > 0.0f ? 1 : -1;
+    e = lrt__ilogb(t) + lrt__ilogb(v); /* 2^e <= |t v| < 2^(e+2) */
+    ed = lrt__ilogb(d1);               /* 2^ed <= |d1| < 2^(ed+1), |d2| <= 2^(ed-24) */
+    if (e >= ed + 2) return v > 0.0f ? 1 : -1;
+    if (e + 3 <= ed) return d1 > 0.0f ? -1 : 1;
+    lrt__grow_prod(acc, &m, t, v, 0, e);
+    lrt__grow(acc, &m, -ldexpf(d1, -e));
+    if (d2 != 0.0f && lrt__ilogb(d2) - e >= -100) {
+        lrt__grow(acc, &m, -ldexpf(d2, -e));
+        return lrt__expansion_sign(acc, m);
     }
+    /* a d2 below 2^-100 of the scale decides only a tie of the rest (whose
+       parts are multiples of 2^-48 of it) */
+    sign = lrt__expansion_sign(acc, m);
+    return sign ? sign : d2 > 0.0f ? -1 : d2 < 0.0f ? 1 : 0;
+}
+
+/* Is o + t v on the screen rectangle (closed) at t = tmax? exactly */
+static int lrt__on_screen_at_tmax(const lrt_ray *ray, uint32_t width, uint32_t height)
+{
+    return lrt__side(ray->origin[0], ray->dir[0], ray->tmax, 0.0f) >= 0 &&
+           lrt__side(ray->origin[0], ray->dir[0], ray->tmax, (float)width) <= 0 &&
+           lrt__side(ray->origin[1], ray->dir[1], ray->tmax, 0.0f) >= 0 &&
+           lrt__side(ray->origin[1], ray->dir[1], ray->tmax, (float)height) <= 0;
+}
+
+/* t 2^e, a positive t kept positive and every t finite (a scaled tmin or
+   tmax that underflowed to 0 made [tmin, tmax] start on the origin: fuzz 3) */
+static float lrt__scale_t(float t, int e)
+{
+    float r = ldexpf(t, e);
+    if (r == 0.0f && t > 0.0f) return 1.40129846e-45f; /* the least float */
+    return r <= 3.40282347e38f ? r : 3.40282347e38f;
+}
+
+/* (p - o) / (v 2^-e), each step rounded once; +-inf past the float range */
+static float lrt__plane_t(float p, float o, float v, int e)
+{
+    float n = p - o;
+    if (n == 0.0f) return 0.0f;
+    return ldexpf(lrt__signif(n) / lrt__signif(v), lrt__ilogb(n) - lrt__ilogb(v) + e);
+}
+
+/* 2^-77 */
+#define LRT__TINY_O 6.61744490e-24f
+/* the bits of 2^-100 and 2^16 (lrt__setup_ray's test for rare rays) */
+#define LRT__RARE_TINY 0x0d800000u
+#define LRT__RARE_HUGE 0x47800000u
+
+#if defined(__GNUC__) || defined(__clang__)
+#define LRT__NOINLINE __attribute__((noinline))
+#define LRT__UNLIKELY(x) __builtin_expect(!!(x), 0)
 #else
+#define LRT__NOINLINE
+#define LRT__UNLIKELY(x) (x)
+#endif
+
+/* The set-up of a ray at the edge of float range (lrt__setup_ray says which:
+   a component of o or v below 2^-100, a v_k of 2^16 or more, ...; fuzz 3,
+   4, 5). The same steps as lrt__setup_ray, on the ray rescaled to max |v|
+   in [1, 2) (t counted in units where the ray crosses the screen box within
+   |t| <= 2^17, after a restart or from an origin near the screen), so that
+   - a plane crossing too close to the origin for float, say
+     (plane - o) / 3e23 = 3e-62, is no longer rounded to 0 (fuzz 5);
+   - tmin and tmax are scaled by 2^e, a positive one kept positive (fuzz 3);
+   - a component v_k below 2^-126 after the rescale (beside the largest:
+     its 1/v_k may be +-inf, and (plane - o) * inf is NaN on a plane: fuzz 4)
+     moves o_k by less than 2^-109 while the ray is on the screen, so it can
+     cross no plane but one through o_k itself, the plane 0 when o_k is
+     within 2^-77 of it (x, y), or a depth plane near o.z. Such an x or y
+     keeps o_k and takes 1/v_k = +-FLT_MAX (exact on a plane through o_k,
+     past 2^17 for every plane 2^-100 or more away); an o_k within 2^-77 of
+     0 is scaled with its v_k by a power of two (only the plane 0 is near:
+     the scaled ray crosses it exactly when the true one does, the plane 1
+     stays far), or moved to +-2^-77 when it leaves or enters past 2^29. A z
+     is scaled by 2^zk, its depth planes with it (lrt__depth_plane), so that
+     1/v.z is finite: exact for texels, and the nodes' unscaled bounds stay
+     below every texel's scaled depth, so their culling stays conservative.
+   The kind of a miss is decided exactly: is the caller's ray on the screen
+   at tmax (MODEL.md). Returns as lrt__setup_ray. */
+static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *ray, uint32_t width, uint32_t height, lrt__ray_setup *s,
+                                         float *t_scale, uint32_t *kind)
+{
+    const float hi[3] = {(float)width, (float)height, 1.0f};
+    float m = 0.0f, tmin = ray->tmin, tmax = ray->tmax;
+    int e, k, ev[3] = {0, 0, 0};
+    uint32_t deg = 0;
     for (k = 0; k < 3; ++k) {
         if (!lrt__finite(ray->origin[k]) || !lrt__finite(ray->dir[k])) {
             *kind = LRT_MISS_INVALID_RAY;
             return 0;
         }
+        m = lrt__maxf(m, fabsf(ray->dir[k]));
     }
     if (!lrt__finite(tmin) || !lrt__finite(tmax) || !(tmin >= 0.0f) || !(tmin <= tmax)) {
         *kind = LRT_MISS_INVALID_RAY;
         return 0;
     }
+    *kind = lrt__on_screen_at_tmax(ray, width, height) ? LRT_MISS_TMAX : LRT_MISS_OFF_SCREEN;
+    e = m != 0.0f ? lrt__ilogb(m) : 0; /* v = 0 comes here for a tiny o */
+    e = e < -127 ? -127 : e;           /* so that t_scale = 2^-e is a float */
+    tmin = lrt__scale_t(tmin, e);
+    tmax = lrt__scale_t(tmax, e);
+    *t_scale = lrt__pow2(-e);
+    for (k = 0; k < 3; ++k) {
+        s->o[k] = ray->origin[k];
+        s->v[k] = ray->dir[k] * lrt__pow2(-e); /* exact unless below 2^-126 */
+        if (ray->dir[k] != 0.0f) {
+            ev[k] = lrt__ilogb(ray->dir[k]) - e;
+            if (ev[k] < -126) deg |= 1u << k;
+        }
+    }
+    s->t_base = 0.0f;
+    s->zk = 0;
+    /* a far-away origin: restart where the ray enters the screen box, as
+       lrt__setup_ray, with crossings that take every size */
+    if (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
+        fabsf(s->o[2]) > 4.0f) {
+        float te = tmin, plane = 0.0f, n[3];
+        int axis = -1;
+        for (k = 0; k < 3; ++k) {
+            float p, en;
+            if (ray->dir[k] == 0.0f) continue;
+            p = lrt__sign_bit(ray->dir[k]) ? hi[k] : 0.0f;
+            en = lrt__plane_t(p, s->o[k], ray->dir[k], e);
+            if (en > te) {
+                te = en;
+                axis = k;
+                plane = p;
+            }
+        }
+        if (!(te <= tmax)) return 0; /* enters past tmax, or never */
+        for (k = 0; k < 3; ++k) {
+            if (axis < 0) n[k] = lrt__crossing(s->o[k], 0.0f, ray->dir[k], 1.0f, 0.0f, 1, te, -e, k == 2);
+            else if (k == axis) n[k] = plane;
+            else n[k] = lrt__crossing(s->o[k], s->o[axis], ray->dir[k], ray->dir[axis], plane, 0, 0.0f, 0, k == 2);
+            if (!lrt__finite(n[k])) return 0; /* beyond the float range there */
+        }
+        for (k = 0; k < 3; ++k) s->o[k] = n[k];
+        s->t_base = te;
+        tmin = 0.0f;
+        tmax = tmax - te;
+    }
+    for (k = 0; k < 3; ++k) s->iv[k] = 1.0f / s->v[k];
+    for (k = 0; k < 2; ++k) { /* an x or y too slow to invert */
+        const float big = lrt__sign_bit(ray->dir[k]) ? -3.40282347e38f : 3.40282347e38f;
+        float o = s->o[k];
+        if (!(deg >> k & 1u)) continue;
+        s->iv[k] = big;
+        if (o != 0.0f && fabsf(o) < LRT__TINY_O) {
+            if (lrt__ilogb(o) - ev[k] >= 30) { /* |(0 - o) / v| > 2^29: leaves or enters long after */
+                s->o[k] = o < 0.0f ? -LRT__TINY_O : LRT__TINY_O;
+            } else { /* scale o_k and v_k alike: v_k in [2^-126, 2^-125) */
+                const int kb = -126 - ev[k];
+                s->v[k] = ldexpf(ray->dir[k], -126 - lrt__ilogb(ray->dir[k]));
+                s->o[k] = ldexpf(o, kb);
+                s->iv[k] = 1.0f / s->v[k];
+            }
+        }
+    }
+    if (deg & 4u) { /* a z too slow to invert: scale z */
+        const int kz = -126 - ev[2] < 100 ? -126 - ev[2] : 100;
+        s->v[2] = ldexpf(ray->dir[2], kz - e);
+        s->o[2] = ldexpf(s->o[2], kz);
+        s->zk = kz;
+        s->iv[2] = 1.0f / s->v[2];
+        if (!lrt__finite(s->iv[2])) s->iv[2] = lrt__sign_bit(ray->dir[2]) ? -3.40282347e38f : 3.40282347e38f;
+    }
+    s->neg_x = lrt__sign_bit(s->v[0]);
+    s->neg_y = lrt__sign_bit(s->v[1]);
+    s->neg_z = lrt__sign_bit(s->v[2]);
+    (void)lrt__clip(s, width, height, tmin, tmax);
+    return s->t_lo <= s->t_hi;
+}
+
+/* Validates and clips one ray; returns 0 with *kind set when nothing is left
+   to walk. Directions at the edge of float range take lrt__setup_rare. */
+LRT__INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t height, lrt__ray_setup *s, float *t_scale,
+                          uint32_t *kind)
+{
+    float v[3], tmin = ray->tmin, tmax = ray->tmax;
+    int k, rare;
+    *t_scale = 1.0f;
+    /* One test on the bits of the 8 floats: each is 0, or its size (the bits
+       without the sign) lies in [low, high), where low is 2^-100 for o and
+       v (0 for tmin and tmax) and high is inf, or 2^16 for v. Anything else
+       takes lrt__setup_rare, which validates the ray first: NaN or inf, a
+       component of o or v below 2^-100 but not 0 (a subnormal v_k has no
+       finite 1/v_k; a plane near such an o_k is crossed at a t that may
+       round to 0), a v_k of 2^16 or more (the same with plane - o_k below
+       2^-110); also |v.z| >= 16 from o.z = 0 (a float depth as small as
+       2^-146 is met at such a t). The unsigned test x - low < high - low is
+       a signed one after both sides are moved by 2^31. */
+#if LRT__SSE
+    {
+        const __m128i abs_bits = _mm_set1_epi32(0x7fffffff), bias = _mm_set1_epi32((int)0x80000000u);
+        const __m128i low = _mm_set_epi32(0, (int)LRT__RARE_TINY, (int)LRT__RARE_TINY, (int)LRT__RARE_TINY);
+        const __m128i span_o = _mm_set_epi32((int)(0x7f800000u ^ 0x80000000u), (int)((0x7f800000u - LRT__RARE_TINY) ^ 0x80000000u),
+                                             (int)((0x7f800000u - LRT__RARE_TINY) ^ 0x80000000u),
+                                             (int)((0x7f800000u - LRT__RARE_TINY) ^ 0x80000000u));
+        const __m128i span_v = _mm_set_epi32((int)(0x7f800000u ^ 0x80000000u), (int)((LRT__RARE_HUGE - LRT__RARE_TINY) ^ 0x80000000u),
+                                             (int)((LRT__RARE_HUGE - LRT__RARE_TINY) ^ 0x80000000u),
+                                             (int)((LRT__RARE_HUGE - LRT__RARE_TINY) ^ 0x80000000u));
+        float f[8];
+        __m128i a, b;
+        memcpy(f, ray, sizeof f); /* the ray is 8 floats: origin, tmin, dir, tmax; one copy: no partial-store stall */
+        a = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)f), abs_bits);
+        b = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)(f + 4)), abs_bits);
+        a = _mm_or_si128(_mm_cmpeq_epi32(a, _mm_setzero_si128()), _mm_cmplt_epi32(_mm_xor_si128(_mm_sub_epi32(a, low), bias), span_o));
+        b = _mm_or_si128(_mm_cmpeq_epi32(b, _mm_setzero_si128()), _mm_cmplt_epi32(_mm_xor_si128(_mm_sub_epi32(b, low), bias), span_v));
+        rare = (_mm_movemask_ps(_mm_castsi128_ps(_mm_and_si128(a, b))) != 15) | ((f[2] == 0.0f) & (fabsf(f[6]) >= 16.0f));
+    }
+#else
+    {
+        uint32_t u[8];
+        memcpy(u, ray, sizeof u);
+        rare = (ray->origin[2] == 0.0f) & (fabsf(ray->dir[2]) >= 16.0f);
+        for (k = 0; k < 8; ++k) {
+            const uint32_t x = u[k] & 0x7fffffffu, low = (k & 3) == 3 ? 0u : LRT__RARE_TINY;
+            const uint32_t high = (k & 3) == 3 || k < 3 ? 0x7f800000u : LRT__RARE_HUGE;
+            rare |= x != 0u && !(x - low < high - low);
+        }
+    }
 #endif
+    if (LRT__UNLIKELY(rare)) { /* through a copy, so that *s stays the caller's own (kept in registers) */
+        lrt__ray_setup r;
+        float ts = 1.0f;
+        uint32_t kd = 0;
+        k = lrt__setup_rare(ray, width, height, &r, &ts, &kd);
+        *s = r;
+        *t_scale = ts;
+        *kind = kd;
+        return k;
+    }
+    if (!(tmin >= 0.0f) || !(tmin <= tmax)) {
+        *kind = LRT_MISS_INVALID_RAY;
+        return 0;
+    }
     for (k = 0; k < 3; ++k) {
         s->o[k] = ray->origin[k];
         v[k] = ray->dir[k];
     }
-    m = fabsf(v[0]) > fabsf(v[1]) ? fabsf(v[0]) : fabsf(v[1]);
-    m = fabsf(v[2]) > m ? fabsf(v[2]) : m;
-    if (m != 0.0f && m < 1e-30f) { /* rare: rescale so that max |v| is about 1 */
-        int e;
-        (void)frexpf(m, &e);
-        /* at most by 2^126, so that t_scale = 2^-e stays finite (a reported
-           t of 0 stays 0, never 0 * inf); even the least subnormal then
-           becomes a normal float */
-        e = e < -126 ? -126 : e;
-        for (k = 0; k < 3; ++k) v[k] = ldexpf(v[k], -e);
-        tmin = ldexpf(tmin, e); /* may underflow to 0: tmin is reported as given */
-        tmax = ldexpf(tmax, e);
-        *t_scale = ldexpf(1.0f, -e);
-    }
+    s->zk = 0;
 #if LRT__SSE
     {
         const __m128 vv = _mm_set_ps(1.0f, v[2], v[1], v[0]);
@@ -1405,9 +1708,9 @@ LRT__INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t heig
             }
         }
         for (k = 0; k < 3; ++k) {
-            if (axis < 0) n[k] = lrt__crossing(s->o[k], 0.0f, v[k], 1.0f, 0.0f, 1, te);
+            if (axis < 0) n[k] = lrt__crossing(s->o[k], 0.0f, v[k], 1.0f, 0.0f, 1, te, 0, k == 2);
             else if (k == axis) n[k] = plane;
-            else n[k] = lrt__crossing(s->o[k], s->o[axis], v[k], v[axis], plane, 0, 0.0f);
+            else n[k] = lrt__crossing(s->o[k], s->o[axis], v[k], v[axis], plane, 0, 0.0f, 0, k == 2);
         }
         for (k = 0; k < 3; ++k) s->o[k] = n[k];
         s->t_base = te;

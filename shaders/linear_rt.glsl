@@ -181,6 +181,7 @@ struct LrtSetup {
     uvec3 neg;      // sign bits of the direction (-0 counts)
     bvec3 zero;     // the direction component is 0: a closed slab, no planes
     float t_lo, t_hi, t_base;
+    int zk;         // 0, or z (o.z, v.z and every depth plane) is scaled by 2^zk (lrt_setup_rare)
 };
 
 // entering / leaving t of the slab [lo, hi] along one axis, as linear_rt.h's
@@ -218,9 +219,92 @@ void lrt_two_prod(float a, float b, out float p, out float e)
     e = ee;
 }
 
+// ---- arithmetic at the edge of float range (lrt_crossing, lrt_setup_rare),
+// as linear_rt.h: exponents and powers of two from the bits, products scaled
+// into range first, ldexp rounded once. They need subnormal floats kept, as
+// lavapipe keeps them; on a GPU that flushes them (these kernels do not ask
+// for denorm preservation) the rare rays that need them may be answered
+// otherwise than on the CPU (shaders/README.md). ----
+
+// floor(log2 |f|) of a finite nonzero float, subnormals included
+int lrt_ilogb(float f)
+{
+    uint u = floatBitsToUint(f) & 0x7fffffffu;
+    return u >= 0x00800000u ? int(u >> 23) - 127 : findMSB(u) - 149;
+}
+
+// 2^k exactly, k in [-149, 127]
+float lrt_pow2(int k)
+{
+    return uintBitsToFloat(k >= -126 ? uint(k + 127) << 23 : 1u << uint(k + 149));
+}
+
+// f 2^-ilogb(f), in [1, 2) with f's sign, exactly
+float lrt_signif(float f)
+{
+    uint b = floatBitsToUint(f), m = b & 0x007fffffu;
+    if ((b & 0x7f800000u) == 0u) m = (m << uint(23 - findMSB(m))) & 0x007fffffu; // subnormal
+    return uintBitsToFloat((b & 0x80000000u) | 0x3f800000u | m);
+}
+
+// x 2^k rounded once, as C's ldexpf (GLSL's ldexp may flush or round twice)
+float lrt_ldexp(float x, int k)
+{
+    if (x == 0.0 || k == 0) return x;
+    float y = lrt_signif(x), zero = uintBitsToFloat(floatBitsToUint(x) & 0x80000000u);
+    int j = lrt_ilogb(x) + k; // the exponent of the result
+    if (j > 127) return y * lrt_pow2(127) * 2.0; // +-inf
+    if (j >= -149) {
+        precise float r = y * lrt_pow2(j);
+        return r;
+    }
+    if (j == -150) return abs(y) > 1.0 ? uintBitsToFloat(floatBitsToUint(zero) | 1u) : zero; // to nearest, ties to even
+    return zero;
+}
+
+// adds x to the expansion acc[0..m) (Shewchuk's grow-expansion)
+void lrt_grow(inout float acc[8], inout int m, float x)
+{
+    for (int j = 0; j < m; ++j) {
+        float hi, lo;
+        lrt_two_sum(acc[j], x, hi, lo);
+        acc[j] = lo;
+        x = hi;
+    }
+    acc[m++] = x;
+}
+
+int lrt_expansion_sign(float acc[8], int m)
+{
+    for (int i = m - 1; i >= 0; --i)
+        if (acc[i] != 0.0) return acc[i] > 0.0 ? 1 : -1;
+    return 0;
+}
+
+// an expansion's value, the largest part last: faithful
+float lrt_expansion_value(float acc[8], int m)
+{
+    precise float sum = 0.0;
+    for (int i = 0; i < m; ++i) sum += acc[i];
+    return sum;
+}
+
+// appends a b 2^(extra - scale) as an exact pair (the caller keeps the
+// product's exponent within [-73, 122] of the scale)
+void lrt_grow_prod(inout float acc[8], inout int m, float a, float b, int extra, int scale)
+{
+    if (a == 0.0 || b == 0.0) return;
+    float f = lrt_pow2(lrt_ilogb(a) + lrt_ilogb(b) + extra - scale), p, e;
+    lrt_two_prod(lrt_signif(a), lrt_signif(b), p, e);
+    precise float pf = p * f, ef = e * f;
+    lrt_grow(acc, m, pf);
+    lrt_grow(acc, m, ef);
+}
+
 // the t where the ray's z reaches the depth plane of a raw depth (see
 // lrt_depth_raw); for a z that does not change, the box [d, 1] holds the
-// ray wholly (-inf as an entry, +inf as an exit) or not at all
+// ray wholly (-inf as an entry, +inf as an exit) or not at all. A ray whose
+// z is scaled by 2^zk (lrt_setup_rare) scales the depth too, exactly.
 float lrt_depth_plane(LrtSetup s, uint format, uint raw)
 {
     bool unorm = format != 3u && raw != (format == 1u ? 255u : 65535u); // v = max is d = 1 exactly
@@ -236,13 +320,15 @@ float lrt_depth_plane(LrtSetup s, uint format, uint raw)
         return (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
     }
     if (!unorm) {
+        if (s.zk != 0) d = lrt_ldexp(d, s.zk);
         precise float t = (d - s.o.z) * s.iv.z;
         return t;
     }
     // v/max - o.z = (v - o.z * max) / max, with o.z * max = p + e exactly
-    float qm = format == 1u ? 255.0 : 65535.0, p, e;
+    float qm = format == 1u ? 255.0 : 65535.0, p, e, v = float(raw);
+    if (s.zk != 0) v = lrt_ldexp(v, s.zk);
     lrt_two_prod(s.o.z, qm, p, e);
-    precise float n = (float(raw) - p) - e;
+    precise float n = (v - p) - e;
     // 1.0f/255.0f and 1.0f/65535.0f as linear_rt.h rounds them
     float inv_qm = format == 1u ? uintBitsToFloat(0x3b808081u) : uintBitsToFloat(0x37800080u);
     precise float t = (n * inv_qm) * s.iv.z;
@@ -279,75 +365,219 @@ uint lrt_clip(inout LrtSetup s, LrtParams p, float tmin, float tmax)
 
 bool lrt_finite(float f) { return (floatBitsToUint(f) & 0x7f800000u) != 0x7f800000u; }
 
-// o_b + (plane - o_a) v_b / v_a (or o_b + t v_b when the start is tmin),
-// from an exact float expansion after scaling by powers of two (so no
-// product overflows), rounded once: as linear_rt.h's lrt__crossing
-float lrt_crossing(float o_b, float o_a, float v_b, float v_a, float plane, bool by_t, float t)
+// The restart of a far-away ray, as linear_rt.h's lrt__crossing_sum:
+// (b1 + b2) + (plane - o_a) v_b / v_a, or (b1 + b2) + t v_b 2^vexp (by_t),
+// as an exact expansion acc[0..m) times 2^scale (times 1 / v_a unless by_t),
+// the largest product in [2^122, 2^124), a group 2^30 below the other left out
+void lrt_crossing_sum(float b1, float b2, float o_a, float v_b, float v_a, float plane, bool by_t, float t, int vexp,
+                      out float acc[8], out int m, out int scale)
 {
-    if (by_t && v_b == 0.0) return o_b;
-    int eo, ev;
-    frexp(max(max(abs(o_a), abs(o_b)), max(abs(plane), 1.0)), eo);
-    frexp(by_t ? abs(v_b) : max(abs(v_a), abs(v_b)), ev);
-    float ob = ldexp(o_b, -eo), oa = ldexp(o_a, -eo), pl = ldexp(plane, -eo);
-    // an o_b 2^126 times smaller than the scale would lose its bits in it:
-    // added after the rest is rounded instead, as linear_rt.h
-    bool small_b = o_b != 0.0 && abs(ob) < uintBitsToFloat(0x00800000u);
-    if (small_b) ob = 0.0;
-    float vb = ldexp(v_b, -ev), va = ldexp(v_a, -ev);
-    float terms[6], acc[6];
-    int n = 0;
-    if (by_t) { // t v_b 2^-eo = (t 2^(ev - eo)) vb
-        float tt = ldexp(t, ev - eo);
-        lrt_two_prod(tt, vb, terms[0], terms[1]);
-        terms[2] = ob;
-        n = 3;
-    } else {
-        float s, e;
-        lrt_two_sum(pl, -oa, s, e);
-        lrt_two_prod(ob, va, terms[0], terms[1]);
-        lrt_two_prod(s, vb, terms[2], terms[3]);
-        lrt_two_prod(e, vb, terms[4], terms[5]);
-        n = 6;
+    float s = t, e = 0.0, va = v_a;
+    int lb = -10000, ls = -10000;
+    m = 0;
+    for (int i = 0; i < 8; ++i) acc[i] = 0.0;
+    if (by_t) va = 1.0;
+    else lrt_two_sum(plane, -o_a, s, e);
+    if (b1 != 0.0) lb = lrt_ilogb(b1) + lrt_ilogb(va);
+    if (s != 0.0 && v_b != 0.0) ls = lrt_ilogb(s) + lrt_ilogb(v_b) + (by_t ? vexp : 0);
+    int top = max(lb, ls);
+    scale = top - 122;
+    if (top == -10000) return;
+    if (lb >= top - 30) {
+        lrt_grow_prod(acc, m, b1, va, 0, scale);
+        lrt_grow_prod(acc, m, b2, va, 0, scale);
     }
-    int m = 0;
-    for (int i = 0; i < n; ++i) {
-        float x = terms[i];
-        for (int j = 0; j < m; ++j) {
-            float hi, lo;
-            lrt_two_sum(acc[j], x, hi, lo);
-            acc[j] = lo;
-            x = hi;
-        }
-        acc[m++] = x;
+    if (ls >= top - 30) {
+        lrt_grow_prod(acc, m, s, v_b, by_t ? vexp : 0, scale);
+        lrt_grow_prod(acc, m, e, v_b, 0, scale);
     }
-    precise float sum = 0.0;
-    for (int i = 0; i < m; ++i) sum += acc[i];
-    if (!by_t) sum = sum / va;
-    precise float r = ldexp(sum, eo);
-    precise float rb = o_b + r;
-    return small_b ? rb : r;
 }
 
-// validates and clips a ray; false with kind set when nothing is left to walk
-bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out float t_scale, out uint kind)
+// a coordinate of the restart point: o_b + (plane - o_a) v_b / v_a (or
+// o_b + t v_b 2^vexp), rounded faithfully; far_z: a z that rounds to 1
+// but is not 1 becomes the float next to 1 on its side, as linear_rt.h's
+// lrt__crossing
+float lrt_crossing(float o_b, float o_a, float v_b, float v_a, float plane, bool by_t, float t, int vexp, bool far_z)
 {
-    t_scale = 1.0;
+    if (v_b == 0.0 || (by_t && t == 0.0)) return o_b;
+    float acc[8], r;
+    int m, scale;
+    lrt_crossing_sum(o_b, 0.0, o_a, v_b, v_a, plane, by_t, t, vexp, acc, m, scale);
+    if (m == 0) return 0.0;
+    if (by_t) {
+        r = lrt_ldexp(lrt_expansion_value(acc, m), scale);
+    } else {
+        precise float q = lrt_expansion_value(acc, m) / lrt_signif(v_a);
+        r = lrt_ldexp(q, scale - lrt_ilogb(v_a));
+    }
+    if (!far_z || r != 1.0) return r;
+    float d1, d2;
+    lrt_two_sum(o_b, -1.0, d1, d2);
+    lrt_crossing_sum(d1, d2, o_a, v_b, v_a, plane, by_t, t, vexp, acc, m, scale);
+    int side = lrt_expansion_sign(acc, m) * (!by_t && v_a < 0.0 ? -1 : 1);
+    return side > 0 ? uintBitsToFloat(0x3f800001u) : side < 0 ? uintBitsToFloat(0x3f7fffffu) : 1.0;
+}
+
+// the sign of o + t v - c, exactly (t >= 0), as linear_rt.h's lrt__side
+int lrt_side(float o, float v, float t, float c)
+{
+    float d1, d2, acc[8];
+    int m = 0;
+    for (int i = 0; i < 8; ++i) acc[i] = 0.0;
+    lrt_two_sum(c, -o, d1, d2);
+    if (v == 0.0 || t == 0.0) return d1 > 0.0 ? -1 : d1 < 0.0 ? 1 : 0;
+    if (d1 == 0.0) return v > 0.0 ? 1 : -1;
+    int e = lrt_ilogb(t) + lrt_ilogb(v), ed = lrt_ilogb(d1);
+    if (e >= ed + 2) return v > 0.0 ? 1 : -1;
+    if (e + 3 <= ed) return d1 > 0.0 ? -1 : 1;
+    lrt_grow_prod(acc, m, t, v, 0, e);
+    lrt_grow(acc, m, -lrt_ldexp(d1, -e));
+    if (d2 != 0.0 && lrt_ilogb(d2) - e >= -100) {
+        lrt_grow(acc, m, -lrt_ldexp(d2, -e));
+        return lrt_expansion_sign(acc, m);
+    }
+    int sign = lrt_expansion_sign(acc, m);
+    return sign != 0 ? sign : d2 > 0.0 ? -1 : d2 < 0.0 ? 1 : 0;
+}
+
+// t 2^e, a positive t kept positive and every t finite
+float lrt_scale_t(float t, int e)
+{
+    float r = lrt_ldexp(t, e);
+    if (r == 0.0 && t > 0.0) return uintBitsToFloat(1u);
+    return r <= uintBitsToFloat(0x7f7fffffu) ? r : uintBitsToFloat(0x7f7fffffu);
+}
+
+// (p - o) / (v 2^-e), each step rounded once
+float lrt_plane_t(float p, float o, float v, int e)
+{
+    precise float n = p - o;
+    if (n == 0.0) return 0.0;
+    precise float q = lrt_signif(n) / lrt_signif(v);
+    return lrt_ldexp(q, lrt_ilogb(n) - lrt_ilogb(v) + e);
+}
+
+// The set-up of a ray at the edge of float range, as linear_rt.h's
+// lrt__setup_rare (read its comment): rescaled to max |v| in [1, 2), a
+// component too slow to invert beside the largest kept exact by a scale of
+// its axis, the kind of a miss decided exactly.
+bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out float t_scale, out uint kind)
+{
+    const float FLT_MAX = uintBitsToFloat(0x7f7fffffu), TINY_O = uintBitsToFloat(0x1a000000u); // 2^-77
+    float hi3[3] = float[3](float(p.width), float(p.height), 1.0);
+    float o3[3] = float[3](o.x, o.y, o.z), v3[3] = float[3](v.x, v.y, v.z), sv[3], iv[3];
     s.o = o;
+    s.v = v;
+    s.iv = vec3(0.0);
+    s.neg = uvec3(0u);
+    s.zero = bvec3(false);
+    s.t_lo = 0.0;
+    s.t_hi = -1.0;
     s.t_base = 0.0;
+    s.zk = 0;
+    t_scale = 1.0;
     if (!lrt_finite(o.x) || !lrt_finite(o.y) || !lrt_finite(o.z) || !lrt_finite(v.x) || !lrt_finite(v.y) ||
         !lrt_finite(v.z) || !lrt_finite(tmin) || !lrt_finite(tmax) || !(tmin >= 0.0) || !(tmin <= tmax)) {
         kind = LRT_MISS_INVALID_RAY;
         return false;
     }
+    kind = lrt_side(o.x, v.x, tmax, 0.0) >= 0 && lrt_side(o.x, v.x, tmax, float(p.width)) <= 0 &&
+                   lrt_side(o.y, v.y, tmax, 0.0) >= 0 && lrt_side(o.y, v.y, tmax, float(p.height)) <= 0
+               ? LRT_MISS_TMAX
+               : LRT_MISS_OFF_SCREEN;
     float m = max(max(abs(v.x), abs(v.y)), abs(v.z));
-    if (m != 0.0 && m < 1e-30) { // rare: rescale so that max |v| is about 1
-        int e;
-        frexp(m, e);
-        e = max(e, -126); // at most by 2^126: t_scale = 2^-e stays finite, as linear_rt.h
-        v = vec3(ldexp(v.x, -e), ldexp(v.y, -e), ldexp(v.z, -e));
-        tmin = ldexp(tmin, e);
-        tmax = ldexp(tmax, e);
-        t_scale = ldexp(1.0, -e);
+    int e = m != 0.0 ? max(lrt_ilogb(m), -127) : 0, ev[3] = int[3](0, 0, 0);
+    uint deg = 0u;
+    tmin = lrt_scale_t(tmin, e);
+    tmax = lrt_scale_t(tmax, e);
+    t_scale = lrt_pow2(-e);
+    for (int k = 0; k < 3; ++k) {
+        precise float sc = v3[k] * lrt_pow2(-e);
+        sv[k] = sc;
+        if (v3[k] != 0.0) {
+            ev[k] = lrt_ilogb(v3[k]) - e;
+            if (ev[k] < -126) deg |= 1u << uint(k);
+        }
+    }
+    if (abs(o.x) > 2.0 * float(p.width) + 16.0 || abs(o.y) > 2.0 * float(p.height) + 16.0 || abs(o.z) > 4.0) {
+        float te = tmin, plane = 0.0, n3[3];
+        int axis = -1;
+        for (int k = 0; k < 3; ++k) {
+            if (v3[k] == 0.0) continue;
+            float pl = (floatBitsToUint(v3[k]) >> 31) != 0u ? hi3[k] : 0.0;
+            float en = lrt_plane_t(pl, o3[k], v3[k], e);
+            if (en > te) {
+                te = en;
+                axis = k;
+                plane = pl;
+            }
+        }
+        if (!(te <= tmax)) return false;
+        for (int k = 0; k < 3; ++k) {
+            if (axis < 0) n3[k] = lrt_crossing(o3[k], 0.0, v3[k], 1.0, 0.0, true, te, -e, k == 2);
+            else if (k == axis) n3[k] = plane;
+            else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane, false, 0.0, 0, k == 2);
+            if (!lrt_finite(n3[k])) return false;
+        }
+        o3 = n3;
+        s.t_base = te;
+        tmin = 0.0;
+        precise float rest = tmax - te;
+        tmax = rest;
+    }
+    for (int k = 0; k < 3; ++k) iv[k] = sv[k] == 0.0 ? 0.0 : 1.0 / sv[k];
+    for (int k = 0; k < 2; ++k) { // an x or y too slow to invert
+        if ((deg & (1u << uint(k))) == 0u) continue;
+        float oo = o3[k];
+        iv[k] = (floatBitsToUint(v3[k]) >> 31) != 0u ? -FLT_MAX : FLT_MAX;
+        if (oo != 0.0 && abs(oo) < TINY_O) {
+            if (lrt_ilogb(oo) - ev[k] >= 30) {
+                o3[k] = oo < 0.0 ? -TINY_O : TINY_O;
+            } else {
+                sv[k] = lrt_ldexp(v3[k], -126 - lrt_ilogb(v3[k]));
+                o3[k] = lrt_ldexp(oo, -126 - ev[k]);
+                iv[k] = 1.0 / sv[k];
+            }
+        }
+    }
+    if ((deg & 4u) != 0u) { // a z too slow to invert: scale z
+        int kz = min(-126 - ev[2], 100);
+        sv[2] = lrt_ldexp(v3[2], kz - e);
+        o3[2] = lrt_ldexp(o3[2], kz);
+        s.zk = kz;
+        iv[2] = 1.0 / sv[2];
+        if (sv[2] == 0.0 || !lrt_finite(iv[2])) iv[2] = (floatBitsToUint(v3[2]) >> 31) != 0u ? -FLT_MAX : FLT_MAX;
+    }
+    s.o = vec3(o3[0], o3[1], o3[2]);
+    s.v = vec3(sv[0], sv[1], sv[2]);
+    s.iv = vec3(iv[0], iv[1], iv[2]);
+    s.neg = uvec3(floatBitsToUint(sv[0]) >> 31, floatBitsToUint(sv[1]) >> 31, floatBitsToUint(sv[2]) >> 31);
+    s.zero = bvec3(v.x == 0.0, v.y == 0.0, v.z == 0.0);
+    lrt_clip(s, p, tmin, tmax);
+    return s.t_lo <= s.t_hi;
+}
+
+// validates and clips a ray; false with kind set when nothing is left to
+// walk. The rays that linear_rt.h takes through lrt__setup_rare (the same
+// test on the bits) take lrt_setup_rare.
+bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out float t_scale, out uint kind)
+{
+    uvec3 ao = floatBitsToUint(o) & 0x7fffffffu, av = floatBitsToUint(v) & 0x7fffffffu;
+    const uint TINY = 0x0d800000u, HUGE = 0x47800000u; // 2^-100, 2^16
+    bool rare = (o.z == 0.0 && abs(v.z) >= 16.0) || (floatBitsToUint(tmin) & 0x7fffffffu) >= 0x7f800000u ||
+                (floatBitsToUint(tmax) & 0x7fffffffu) >= 0x7f800000u;
+    for (int k = 0; k < 3; ++k) {
+        rare = rare || (ao[k] != 0u && !(ao[k] - TINY < 0x7f800000u - TINY));
+        rare = rare || (av[k] != 0u && !(av[k] - TINY < HUGE - TINY));
+    }
+    if (rare) return lrt_setup_rare(p, o, tmin, v, tmax, s, t_scale, kind);
+    t_scale = 1.0;
+    s.o = o;
+    s.t_base = 0.0;
+    s.zk = 0;
+    if (!(tmin >= 0.0) || !(tmin <= tmax)) {
+        kind = LRT_MISS_INVALID_RAY;
+        return false;
     }
     s.v = v;
     s.neg = uvec3(floatBitsToUint(v.x) >> 31, floatBitsToUint(v.y) >> 31, floatBitsToUint(v.z) >> 31);
@@ -373,9 +603,9 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
         }
         float n3[3];
         for (int k = 0; k < 3; ++k) {
-            if (axis < 0) n3[k] = lrt_crossing(o3[k], 0.0, v3[k], 1.0, 0.0, true, te);
+            if (axis < 0) n3[k] = lrt_crossing(o3[k], 0.0, v3[k], 1.0, 0.0, true, te, 0, k == 2);
             else if (k == axis) n3[k] = plane;
-            else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane, false, 0.0);
+            else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane, false, 0.0, 0, k == 2);
         }
         s.o = vec3(n3[0], n3[1], n3[2]);
         s.t_base = te;

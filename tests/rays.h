@@ -139,6 +139,31 @@ static int found_case(int k, test_map *m, lrt_ray *r)
         /* the restart of a far-away ray dropped a coordinate 2^120 times smaller (y 4.4e-30 above the edge) */
         {64, 1, 3, 1.0f, {59, -1}, {0, -1}, {0.002f, 0}, {3.97868e31f, 4.36341e-30f, 0.0629892f},
          {-4.31355e36f, -2.17651e-38f, -0.304688f}, 0, 11.25f},
+        /* ... and a direction component 2^120 times smaller than the largest (y enters the screen at 1e-43) */
+        {64, 1, 3, 1.0f, {59, -1}, {0, -1}, {0.002f, 0}, {3.97868e31f, -1e-43f, 0.0629892f},
+         {-4.31355e36f, 2.17651e-38f, -0.304688f}, 0, 11.25f},
+        /* the restart of a ray from far left on the far plane, going up by 8e-17: rounded onto the far plane, it hit (0,0) */
+        {18, 1, 1, 255, {7, -1}, {0, -1}, {0, 0}, {-378.72f, 0.5f, 1.0f}, {4.125f, 0, -8.67361738e-19f}, 0, 200},
+        /* a tiny direction rescaled: tmin = tmax = 2.4e-38 became [0, 0], on the far plane (a hit; exact: behind it) */
+        {1, 1, 3, 1.0f, {-1, -1}, {-1, -1}, {0, 0}, {1.4387588e-33f, 4.83930017e-38f, 1.0f},
+         {2.36942783e-38f, 2.36942783e-38f, 2.36942783e-38f}, 2.36942783e-38f, 2.36942783e-38f},
+        /* a subnormal v.z beside a normal v.x: 1/v.z = inf, the far plane's (1 - 1) * inf = NaN was dropped (a hit) */
+        {18, 18, 3, 1.0f, {-1, -1}, {-1, -1}, {0, 0}, {6.5f, 0.25f, 1.0f}, {1.875f, -2.9891144e-20f, 5.3809861e-42f},
+         0.234375f, 0.234375f},
+        /* ... the same kind of v.y next to an origin 2^-130 above the screen's edge: it leaves the screen at t = 32, after
+           (10,0) and before (40,0) (an inverse of +-FLT_MAX would leave at once, one of inf never) */
+        {64, 1, 3, 1.0f, {10, -1}, {0, -1}, {0, 0}, {0.5f, 7.34683969e-40f, 0.5f}, {1, -2.2958874e-41f, 0}, 0, 100},
+        {64, 1, 3, 1.0f, {40, -1}, {0, -1}, {0, 0}, {0.5f, 7.34683969e-40f, 0.5f}, {1, -2.2958874e-41f, 0}, 0, 100},
+        /* ... and a v.z of 2^-140 from z = 0 over depths of 2^-130: met at t = 1024, not at once nor never */
+        {2048, 1, 3, 7.34683969e-40f, {-1, -1}, {-1, -1}, {0, 0}, {0.5f, 0.5f, 0}, {1, 0, 7.17464814e-43f}, 0, 4000},
+        /* crossings below 2^-149 rounded to 0: off the screen by 1e-38 at t = 0 (a tmax miss), in front of a texel top
+           by 1e-38 at t = 0 (a hit), leaving the screen at t = -2e-46 (a hit at t = 0), a depth of 2^-140 met at
+           t = 2^-150 from z = 0 (a hit at t = 0) */
+        {35, 1, 1, 0, {-1, -1}, {-1, -1}, {0, 0}, {5, -1.18010406e-38f, -1.18010406e-38f}, {-16, 2.26832694e+23f, 0}, 0, 0},
+        {192, 164, 3, 0.0f, {-1, -1}, {-1, -1}, {0, 0}, {147.5f, 82, -1.18010406e-38f}, {-16, -16, 2.47903617e+38f}, 0, 0},
+        {5, 5, 3, 1.0f, {-1, -1}, {-1, -1}, {0, 0}, {-3.64337601e-44f, 6.39020126e-41f, 1.0f},
+         {-82.7632828f, 4.03814645e-38f, 7.81393798e-37f}, 0, FLT_MAX},
+        {1, 1, 3, 7.17464814e-43f, {-1, -1}, {-1, -1}, {0, 0}, {0.5f, 0.5f, 0}, {0, 0, 1024}, 0, 0},
     };
     size_t n, i, bpp;
     int q;
