@@ -671,6 +671,18 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
 #define LINEAR_RT_DEF
 #endif
 #define LRT__INLINE static inline /* C99 and C++: the hot path's small helpers */
+#if LRT__SSE
+#define LRT__PREFETCH(p) _mm_prefetch((const char *)(p), _MM_HINT_T0)
+#elif defined(__GNUC__) || defined(__clang__)
+#define LRT__PREFETCH(p) __builtin_prefetch(p)
+#else
+#define LRT__PREFETCH(p) ((void)(p))
+#endif
+#if defined(__GNUC__) || defined(__clang__)
+#define LRT__FORCE_INLINE static inline __attribute__((always_inline)) /* specialised on a constant argument */
+#else
+#define LRT__FORCE_INLINE static inline
+#endif
 
 #ifdef __cplusplus
 extern "C" {
@@ -1147,6 +1159,8 @@ typedef struct lrt__ray_setup {
     uint32_t flip[2];             /* front-to-back slot order of wide (4x2) and tall (2x4) nodes */
 #if LRT__SSE
     __m128 vo[3], viv[3], vt_lo, vt_hi, vzmask; /* the same, broadcast once for every node test */
+    __m128 k_enter[2], k_exit[2]; /* entering / leaving plane of 4 columns (x) or rows (y), in spans */
+    __m128 k_rows2, k_cols2;      /* 2 rows (columns): enter, leave of the 1st, of the 2nd (cols: enters, then leaves) */
 #endif
 } lrt__ray_setup;
 
@@ -1719,48 +1733,14 @@ LRT__INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t heig
     return s->t_lo <= s->t_hi;
 }
 
-/* Lowest level whose single node holds every texel the clipped segment can
-   touch: the walk starts there instead of at the root, and a segment inside
-   one texel (a camera ray, say) is level 0: one exact box test. The texel
-   box is widened by a margin far above float rounding, so it is
-   conservative. */
-LRT__INLINE uint32_t lrt__start_node(const lrt_layout *L, const lrt__ray_setup *s, uint32_t *sx, uint32_t *sy)
-{
-    uint32_t i0[2], i1[2], lv;
-    int k;
-    for (k = 0; k < 2; ++k) {
-        const float lim = (float)((k ? L->height : L->width) - 1u);
-        float a = s->o[k] + s->t_lo * s->v[k], b = s->o[k] + s->t_hi * s->v[k];
-        float mg = 1e-3f + 1e-5f * (fabsf(s->o[k]) + fabsf(a - s->o[k]) + fabsf(b - s->o[k]));
-        float lo = (a < b ? a : b) - mg, hi = (a < b ? b : a) + mg;
-        /* clamp, then convert; a NaN (from overflow) clamps to the whole map */
-        lo = lo > 0.0f ? lo : 0.0f;
-        lo = lo < lim ? lo : lim;
-        hi = hi < lim ? hi : lim;
-        hi = hi > 0.0f ? hi : 0.0f;
-        i0[k] = (uint32_t)(int32_t)lo;
-        i1[k] = (uint32_t)(int32_t)hi;
-    }
-    for (lv = 0; lv < L->level_count; ++lv) {
-        const lrt_level *v = &L->levels[lv];
-        if ((i0[0] >> v->span_w_log2) == (i1[0] >> v->span_w_log2) &&
-            (i0[1] >> v->span_h_log2) == (i1[1] >> v->span_h_log2))
-            break;
-    }
-    *sx = i0[0] >> L->levels[lv].span_w_log2;
-    *sy = i0[1] >> L->levels[lv].span_h_log2;
-    if (lv == L->level_count) *sx = *sy = 0;
-    return lv;
-}
-
-/* Per-level constants of the walk, so the hot loop does shifts and adds. */
+/* Per-level constants of the walk, so the hot loop does shifts and adds.
+   Level lv's children come in 2x4 blocks when lv is even, 4x2 when odd
+   (lrt_layout_compute), so a node's shape is a bit of its level. */
 typedef struct lrt__walk_level {
-    size_t offset;          /* first node slot of the level */
-    uint32_t parent_width;  /* blocks per row in the level above (Morton index) */
-    uint32_t bw_log2, bh_log2; /* this level's grouping into its parent: 2,1 or 1,2 */
-    uint32_t tall;          /* this level's CHILDREN come in 2x4 blocks */
-    float child_span_w, child_span_h; /* texels per child, as float */
-    uint32_t child_span_w_log2, child_span_h_log2;
+    size_t offset;                     /* first node slot of the level */
+    uint32_t width;                    /* nodes per row: the block row of the level below */
+    uint32_t span_w_log2, span_h_log2; /* texels per node of this level */
+    float child_span_w, child_span_h;  /* texels per child, as float */
 } lrt__walk_level;
 
 typedef struct lrt__walk {
@@ -1772,12 +1752,13 @@ typedef struct lrt__walk {
     float decode_scale; /* just below 1/qmax: decoded bounds never exceed the true ones */
     int exact_codes;    /* the level-1 codes are the input depth itself */
     lrt__walk_level lv[LINEAR_RT_MAX_LEVELS + 1];
+    uint8_t start_level[2][33]; /* lowest level whose nodes span 2^b texels along x / y */
 } lrt__walk;
 
 static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *depth, size_t stride)
 {
     const lrt_layout *L = &bvh->layout;
-    uint32_t i;
+    uint32_t i, b;
     memset(w, 0, sizeof *w);
     w->L = L;
     w->nodes = bvh->nodes;
@@ -1792,43 +1773,110 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
     w->exact_codes = depth->format != LRT_FORMAT_FLOAT32 && lrt__format_bytes(depth->format) * 8u <= L->node_bits;
     for (i = 1; i <= L->level_count; ++i) {
         lrt__walk_level *v = &w->lv[i];
-        const lrt_level *c = &L->levels[i - 1], *me = &L->levels[i];
-        v->offset = me->offset;
-        v->parent_width = i < L->level_count ? L->levels[i + 1].width : 0u;
-        v->bw_log2 = me->block_w == 4 ? 2u : 1u;
-        v->bh_log2 = me->block_h == 4 ? 2u : 1u;
-        v->tall = c->block_w == 2;
-        v->child_span_w_log2 = c->span_w_log2;
-        v->child_span_h_log2 = c->span_h_log2;
-        v->child_span_w = (float)(1u << c->span_w_log2);
-        v->child_span_h = (float)(1u << c->span_h_log2);
+        v->offset = L->levels[i].offset;
+        v->width = L->levels[i].width;
+        v->span_w_log2 = L->levels[i].span_w_log2;
+        v->span_h_log2 = L->levels[i].span_h_log2;
+        v->child_span_w = (float)(1u << L->levels[i - 1].span_w_log2);
+        v->child_span_h = (float)(1u << L->levels[i - 1].span_h_log2);
+    }
+    for (b = 0; b <= 32u; ++b) {
+        uint32_t lx = 0, ly = 0;
+        while (lx < L->level_count && L->levels[lx].span_w_log2 < b) ++lx;
+        while (ly < L->level_count && L->levels[ly].span_h_log2 < b) ++ly;
+        w->start_level[0][b] = (uint8_t)lx;
+        w->start_level[1][b] = (uint8_t)ly;
     }
 }
 
-/* First code of node (x, y) of level lv in the node array (slot units). */
+LRT__INLINE uint32_t lrt__lowest_bit(uint32_t m)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return (uint32_t)__builtin_ctz(m);
+#else
+    uint32_t k = 0;
+    while (!((m >> k) & 1u)) ++k;
+    return k;
+#endif
+}
+
+/* Bits needed to write m: 0 for 0. */
+LRT__INLINE uint32_t lrt__bit_length(uint32_t m)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return m ? 32u - (uint32_t)__builtin_clz(m) : 0u;
+#else
+    uint32_t k = 0;
+    while (m >> k) ++k;
+    return k;
+#endif
+}
+
+/* Lowest level whose single node holds every texel the clipped segment can
+   touch: the walk starts there instead of at the root, and a segment inside
+   one texel (a camera ray, say) is level 0: one exact box test. The texel
+   box is widened by a margin far above float rounding, so it is
+   conservative. Two texel indices share a node of a level exactly when
+   their highest differing bit is below the level's span, so the level is a
+   table lookup per axis. */
+LRT__INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_setup *s, uint32_t *sx, uint32_t *sy)
+{
+    const lrt_layout *L = w->L;
+    uint32_t i0[2], i1[2], lv, ly;
+    int k;
+    for (k = 0; k < 2; ++k) {
+        const float lim = (float)((k ? L->height : L->width) - 1u);
+        float a = s->o[k] + s->t_lo * s->v[k], b = s->o[k] + s->t_hi * s->v[k];
+        float mg = 1e-3f + 1e-5f * (fabsf(s->o[k]) + fabsf(a - s->o[k]) + fabsf(b - s->o[k]));
+        float lo = (a < b ? a : b) - mg, hi = (a < b ? b : a) + mg;
+        /* clamp, then convert; a NaN (from overflow) clamps to the whole map */
+        lo = lo > 0.0f ? lo : 0.0f;
+        lo = lo < lim ? lo : lim;
+        hi = hi < lim ? hi : lim;
+        hi = hi > 0.0f ? hi : 0.0f;
+        i0[k] = (uint32_t)(int32_t)lo;
+        i1[k] = (uint32_t)(int32_t)hi;
+    }
+    lv = w->start_level[0][lrt__bit_length(i0[0] ^ i1[0])];
+    ly = w->start_level[1][lrt__bit_length(i0[1] ^ i1[1])];
+    lv = lv > ly ? lv : ly;
+    *sx = i0[0] >> L->levels[lv].span_w_log2;
+    *sy = i0[1] >> L->levels[lv].span_h_log2;
+    if (lv == L->level_count) *sx = *sy = 0;
+    return lv;
+}
+
+/* First code of node (x, y) of level lv in the node array (code units):
+   the row-major block of its parent, then its slot in the block. */
 LRT__INLINE size_t lrt__node_slot(const lrt__walk *w, uint32_t lv, uint32_t x, uint32_t y)
 {
-    const lrt__walk_level *v = &w->lv[lv];
     size_t index = 0;
-    if (v->parent_width) {
-        size_t block = (size_t)(y >> v->bh_log2) * v->parent_width + (x >> v->bw_log2);
-        uint32_t slot = v->bw_log2 == 2 ? ((y & 1u) << 2) | (x & 3u) : ((y & 3u) << 1) | (x & 1u);
-        index = block * 8u + slot;
+    if (lv < w->L->level_count) {
+        const uint32_t bw_log2 = (lv & 1u) ? 1u : 2u, bh_log2 = 3u - bw_log2;
+        const size_t block = (size_t)(y >> bh_log2) * w->lv[lv + 1].width + (x >> bw_log2);
+        index = block * 8u + (((y & ((1u << bh_log2) - 1u)) << bw_log2) | (x & ((1u << bw_log2) - 1u)));
     }
-    return (v->offset + index) * 8u;
+    return (w->lv[lv].offset + index) * 8u;
+}
+
+/* First code of the children of node (x, y) of level lv >= 2: the nodes of
+   level lv - 1 in its block, whose first codes follow 8 apart. */
+LRT__INLINE size_t lrt__children_slot(const lrt__walk *w, uint32_t lv, uint32_t x, uint32_t y)
+{
+    return (w->lv[lv - 1].offset + ((size_t)y * w->lv[lv].width + x) * 8u) * 8u;
 }
 
 /* Children of node (nx, ny) at level lv whose boxes the ray meets, as a bit
    mask over slots; enter[s] / exit[s] bound the ray inside child s.
    Lane k of a wide (4x2) node is column k&3, row k>>2; of a tall (2x4) node
    column k&1, row k>>1. Each plane's t is computed once, the same way at
-   every level, which keeps the culling monotone. */
-LRT__INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
-                                   size_t slot0, float enter[8], float exit[8])
+   every level, which keeps the culling monotone. tall is a constant where
+   this is inlined, so each shape gets its own straight code. */
+LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
+                                   size_t slot0, float enter[8], float exit[8], uint32_t tall)
 {
     const lrt__walk_level *v = &w->lv[lv];
-    const uint32_t tall = v->tall, bw = tall ? 2u : 4u, bh = tall ? 4u : 2u;
-    const float x0 = (float)((nx * bw) << v->child_span_w_log2), y0 = (float)((ny * bh) << v->child_span_h_log2);
+    const float x0 = (float)(nx << v->span_w_log2), y0 = (float)(ny << v->span_h_log2);
     uint32_t k, mask = 0;
 #if LRT__SSE
     __m128 dz[2];
@@ -1846,48 +1894,27 @@ LRT__INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup
         dz[0] = _mm_sub_ps(qmax, _mm_cvtepi32_ps(_mm_unpacklo_epi16(c16, zero)));
         dz[1] = _mm_sub_ps(qmax, _mm_cvtepi32_ps(_mm_unpackhi_epi16(c16, zero)));
     }
-#else
-    float dz[8];
-    if (w->wide_codes) {
-        const uint16_t *codes = (const uint16_t *)w->nodes + slot0;
-        for (k = 0; k < 8; ++k) dz[k] = (float)(65535 - (int)codes[k]);
-    } else {
-        const uint8_t *codes = (const uint8_t *)w->nodes + slot0;
-        for (k = 0; k < 8; ++k) dz[k] = (float)(255 - (int)codes[k]);
-    }
-#endif
-#if LRT__SSE
     {
-        /* the planes: 0..3 in one vector ("a"), 1..4 in another ("b"), along
-           x for a wide node (4 columns) and along y for a tall one (4 rows);
-           the other axis' 3 planes from the same 4 lanes */
-        const __m128 k0123 = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f);
+        /* Every plane is x0 + k * span with k a small integer (exact): the
+           ray's direction signs, set once per ray (lrt__walk_setup), pick
+           which k enters and which leaves, so no per-node selects. */
+        const __m128 X0 = _mm_set1_ps(x0), Y0 = _mm_set1_ps(y0);
         const __m128 sw = _mm_set1_ps(v->child_span_w), sh = _mm_set1_ps(v->child_span_h);
-        const __m128 X = _mm_add_ps(_mm_set1_ps(x0), _mm_mul_ps(k0123, sw));
-        const __m128 Y = _mm_add_ps(_mm_set1_ps(y0), _mm_mul_ps(k0123, sh));
-        const __m128 xa = _mm_mul_ps(_mm_sub_ps(X, s->vo[0]), s->viv[0]);
-        const __m128 ya = _mm_mul_ps(_mm_sub_ps(Y, s->vo[1]), s->viv[1]);
         __m128 xe[2], xx[2], ye[2], yx[2];
         if (!tall) { /* 4 columns, 2 rows */
-            const __m128 xb = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X, sw), s->vo[0]), s->viv[0]);
-            /* rows: y planes 0, 1, 2 are lanes 0, 1, 2 of ya */
-            const __m128 y0p = _mm_shuffle_ps(ya, ya, _MM_SHUFFLE(0, 0, 0, 0));
-            const __m128 y1p = _mm_shuffle_ps(ya, ya, _MM_SHUFFLE(1, 1, 1, 1));
-            const __m128 y2p = _mm_shuffle_ps(ya, ya, _MM_SHUFFLE(2, 2, 2, 2));
-            xe[0] = xe[1] = s->neg_x ? xb : xa;
-            xx[0] = xx[1] = s->neg_x ? xa : xb;
-            ye[0] = s->neg_y ? y1p : y0p;
-            yx[0] = s->neg_y ? y0p : y1p;
-            ye[1] = s->neg_y ? y2p : y1p;
-            yx[1] = s->neg_y ? y1p : y2p;
-        } else {     /* 2 columns, 4 rows */
-            const __m128 yb = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y, sh), s->vo[1]), s->viv[1]);
-            const __m128 re = s->neg_y ? yb : ya, rx = s->neg_y ? ya : yb;
-            /* columns: x planes 0, 1, 2 are lanes 0, 1, 2 of xa; lanes alternate columns 0, 1 */
-            const __m128 c01 = _mm_shuffle_ps(xa, xa, _MM_SHUFFLE(1, 0, 1, 0)); /* planes 0 1 0 1 */
-            const __m128 c12 = _mm_shuffle_ps(xa, xa, _MM_SHUFFLE(2, 1, 2, 1)); /* planes 1 2 1 2 */
-            xe[0] = xe[1] = s->neg_x ? c12 : c01;
-            xx[0] = xx[1] = s->neg_x ? c01 : c12;
+            const __m128 r = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_rows2, sh)), s->vo[1]), s->viv[1]);
+            xe[0] = xe[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_enter[0], sw)), s->vo[0]), s->viv[0]);
+            xx[0] = xx[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_exit[0], sw)), s->vo[0]), s->viv[0]);
+            ye[0] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(0, 0, 0, 0)); /* r: row 0 enter, exit, row 1 enter, exit */
+            yx[0] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(1, 1, 1, 1));
+            ye[1] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(2, 2, 2, 2));
+            yx[1] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(3, 3, 3, 3));
+        } else {     /* 2 columns, 4 rows; lanes alternate columns 0, 1 */
+            const __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_cols2, sw)), s->vo[0]), s->viv[0]);
+            const __m128 re = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_enter[1], sh)), s->vo[1]), s->viv[1]);
+            const __m128 rx = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_exit[1], sh)), s->vo[1]), s->viv[1]);
+            xe[0] = xe[1] = _mm_shuffle_ps(c, c, _MM_SHUFFLE(1, 0, 1, 0)); /* c: column 0, 1 enter, column 0, 1 exit */
+            xx[0] = xx[1] = _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 2, 3, 2));
             ye[0] = _mm_unpacklo_ps(re, re);
             ye[1] = _mm_unpackhi_ps(re, re);
             yx[0] = _mm_unpacklo_ps(rx, rx);
@@ -1913,7 +1940,15 @@ LRT__INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup
     }
 #else
     {
-        float px[5], py[5];
+        const uint32_t bw = tall ? 2u : 4u, bh = tall ? 4u : 2u;
+        float dz[8], px[5], py[5];
+        if (w->wide_codes) {
+            const uint16_t *codes = (const uint16_t *)w->nodes + slot0;
+            for (k = 0; k < 8; ++k) dz[k] = (float)(65535 - (int)codes[k]);
+        } else {
+            const uint8_t *codes = (const uint8_t *)w->nodes + slot0;
+            for (k = 0; k < 8; ++k) dz[k] = (float)(255 - (int)codes[k]);
+        }
         for (k = 0; k <= bw; ++k) px[k] = ((x0 + (float)k * v->child_span_w) - s->o[0]) * s->iv[0];
         for (k = 0; k <= bh; ++k) py[k] = ((y0 + (float)k * v->child_span_h) - s->o[1]) * s->iv[1];
         for (k = 0; k < 8; ++k) {
@@ -1966,28 +2001,6 @@ LRT__INLINE uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
     return m;
 }
 
-LRT__INLINE uint32_t lrt__lowest_bit(uint32_t m)
-{
-#if defined(__GNUC__) || defined(__clang__)
-    return (uint32_t)__builtin_ctz(m);
-#else
-    uint32_t k = 0;
-    while (!((m >> k) & 1u)) ++k;
-    return k;
-#endif
-}
-
-LRT__INLINE uint32_t lrt__highest_bit(uint32_t m)
-{
-#if defined(__GNUC__) || defined(__clang__)
-    return 31u - (uint32_t)__builtin_clz(m);
-#else
-    uint32_t k = 31;
-    while (!((m >> k) & 1u)) --k;
-    return k;
-#endif
-}
-
 LRT__INLINE uint32_t lrt__code(const lrt__walk *w, size_t slot)
 {
     return w->wide_codes ? ((const uint16_t *)w->nodes)[slot] : ((const uint8_t *)w->nodes)[slot];
@@ -2005,7 +2018,77 @@ LRT__INLINE void lrt__report_hit(const lrt_ray *ray, const lrt__ray_setup *s, fl
     hit->kind = LRT_HIT;
 }
 
-#define LRT__STACK (LINEAR_RT_MAX_LEVELS * 7u + 1u)
+/* Per-ray constants of every node test, set once a ray is walked. */
+LRT__INLINE void lrt__walk_setup(lrt__ray_setup *s)
+{
+    s->flip[0] = (s->neg_x ? 3u : 0u) | (s->neg_y ? 4u : 0u);
+    s->flip[1] = (s->neg_x ? 1u : 0u) | (s->neg_y ? 6u : 0u);
+#if LRT__SSE
+    {
+        const __m128 k0123 = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f), k1234 = _mm_set_ps(4.0f, 3.0f, 2.0f, 1.0f);
+        const __m128 nx = _mm_set1_ps((float)s->neg_x), ny = _mm_set1_ps((float)s->neg_y);
+        int axis;
+        for (axis = 0; axis < 3; ++axis) {
+            s->vo[axis] = _mm_set1_ps(s->o[axis]);
+            s->viv[axis] = _mm_set1_ps(s->iv[axis]);
+        }
+        s->vt_lo = _mm_set1_ps(s->t_lo);
+        s->vt_hi = _mm_set1_ps(s->t_hi);
+        /* the z plane enters (v.z >= 0) or leaves (v.z < 0); the unused side is
+           masked with an infinity placed so that a NaN tz still drops out */
+        s->vzmask = _mm_set1_ps(s->neg_z ? -INFINITY : INFINITY);
+        /* plane k of column (row) c: enters at c + neg, leaves at c + 1 - neg */
+        s->k_enter[0] = _mm_add_ps(k0123, nx);
+        s->k_exit[0] = _mm_sub_ps(k1234, nx);
+        s->k_enter[1] = _mm_add_ps(k0123, ny);
+        s->k_exit[1] = _mm_sub_ps(k1234, ny);
+        s->k_rows2 = _mm_set_ps(2.0f - (float)s->neg_y, 1.0f + (float)s->neg_y, 1.0f - (float)s->neg_y, (float)s->neg_y);
+        s->k_cols2 = _mm_set_ps(2.0f - (float)s->neg_x, 1.0f - (float)s->neg_x, 1.0f + (float)s->neg_x, (float)s->neg_x);
+    }
+#endif
+}
+
+/* The walk is a chain of dependent loads: start the loads of every child
+   it may visit (their codes: 1 or 2 cache lines; above the texels, the
+   depth rows the exact test reads) while the first child is worked on.
+   Forced inline: gcc 12 takes a function that only prefetches for one
+   without effects and drops its calls. */
+LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, uint32_t lv, uint32_t nx, uint32_t ny, size_t children,
+                                        uint32_t ordered, uint32_t flip)
+{
+    const unsigned char *codes = (const unsigned char *)w->nodes + children * (w->wide_codes ? 2u : 1u);
+    LRT__PREFETCH(codes);
+    LRT__PREFETCH(codes + 64); /* 16-bit codes; else likely the next node's */
+    if (lv == 2 && !w->exact_codes) {
+        /* level 2 is tall: child slot 2r + c is row r, column c, 4x2 texels each */
+        const uint32_t bytes = lrt__format_bytes(w->depth->format);
+        const uint32_t rows = lrt__order_mask(ordered, flip), tx = nx * 8u;
+        const unsigned char *base = (const unsigned char *)w->depth->data + (size_t)tx * bytes;
+        uint32_t r;
+        for (r = 0; r < 4u; ++r) {
+            if ((rows >> (2u * r)) & 3u) {
+                const uint32_t ty = (ny * 4u + r) * 2u;
+                if (ty < w->L->height && tx < w->L->width) {
+                    LRT__PREFETCH(base + w->stride * ty);
+                    if (ty + 1u < w->L->height) LRT__PREFETCH(base + w->stride * (ty + 1u));
+                }
+            }
+        }
+    }
+}
+
+/* A node whose children are not all visited yet: the walk goes into its
+   first child at once and keeps the others here, as a mask in front-to-back
+   bit order, so a ray that stops early never spends anything on the rest. */
+typedef struct lrt__pending {
+    size_t children;   /* lrt__children_slot of the node */
+    uint32_t x, y;     /* the node */
+    uint32_t lv_bits;  /* level << 8 | children still to visit, in visiting order */
+} lrt__pending;
+
+/* at most one pending node per level: a pending node's subtree only pushes
+   nodes of lower levels */
+#define LRT__STACK (LINEAR_RT_MAX_LEVELS + 1u)
 
 static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
 {
@@ -2013,24 +2096,22 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
     lrt__ray_setup s;
     float t_scale;
     uint32_t kind, lv, nx, ny, sp = 0;
-    uint32_t stack[LRT__STACK]; /* level << 28 | x << 14 | y */
-#if LRT__SSE
-    int axis;
-#endif
+    size_t slot0;
+    lrt__pending stack[LRT__STACK];
     hit->t = 0.0f;
     hit->x = hit->y = 0;
     if (!lrt__setup_ray(ray, L->width, L->height, &s, &t_scale, &kind)) {
         hit->kind = kind;
         return;
     }
-    lv = lrt__start_node(L, &s, &nx, &ny);
+    lv = lrt__start_node(w, &s, &nx, &ny);
     if (lv == 0) { /* one texel: its box alone decides */
         const float x0 = (float)nx, y0 = (float)ny;
         const float ax = (x0 - s.o[0]) * s.iv[0], bx = ((x0 + 1.0f) - s.o[0]) * s.iv[0];
         const float ay = (y0 - s.o[1]) * s.iv[1], by = ((y0 + 1.0f) - s.o[1]) * s.iv[1];
-        const size_t slot0 = lrt__node_slot(w, 1, nx >> 2, ny >> 1);
         const uint32_t slot = ((ny & 1u) << 2) | (nx & 3u);
         float en = s.t_lo, ex = s.t_hi, t;
+        slot0 = lrt__node_slot(w, 1, nx >> 2, ny >> 1);
         en = LRT__MAX_KEEP(s.neg_x ? bx : ax, en);
         en = LRT__MAX_KEEP(s.neg_y ? by : ay, en);
         ex = LRT__MIN_KEEP(s.neg_x ? ax : bx, ex);
@@ -2042,27 +2123,16 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
         hit->kind = kind;
         return;
     }
-    /* past here the tree is walked: per-ray constants of every node test */
-    s.flip[0] = (s.neg_x ? 3u : 0u) | (s.neg_y ? 4u : 0u);
-    s.flip[1] = (s.neg_x ? 1u : 0u) | (s.neg_y ? 6u : 0u);
-#if LRT__SSE
-    for (axis = 0; axis < 3; ++axis) {
-        s.vo[axis] = _mm_set1_ps(s.o[axis]);
-        s.viv[axis] = _mm_set1_ps(s.iv[axis]);
-    }
-    s.vt_lo = _mm_set1_ps(s.t_lo);
-    s.vt_hi = _mm_set1_ps(s.t_hi);
-    /* the z plane enters (v.z >= 0) or leaves (v.z < 0); the unused side is
-       masked with an infinity placed so that a NaN tz still drops out */
-    s.vzmask = _mm_set1_ps(s.neg_z ? -INFINITY : INFINITY);
-#endif
+    lrt__walk_setup(&s);
+    slot0 = lrt__node_slot(w, lv, nx, ny);
     for (;;) {
-        const uint32_t tall = w->lv[lv].tall;
+        const uint32_t tall = (lv & 1u) ^ 1u;
         /* front-to-back order: flip the bits of each axis that runs backwards */
         const uint32_t flip = s.flip[tall];
-        const size_t slot0 = lrt__node_slot(w, lv, nx, ny);
         float enter[8], exit[8];
-        uint32_t mask = lrt__order_mask(lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit), flip);
+        uint32_t mask = tall ? lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 1u)
+                             : lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 0u);
+        mask = lrt__order_mask(mask, flip);
         if (lv == 1) {
             while (mask) { /* texels: the exact test, front to back */
                 uint32_t slot = lrt__lowest_bit(mask) ^ flip;
@@ -2075,25 +2145,36 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
                     return;
                 }
             }
-        } else if (mask) {
-            /* push the children after the first, last first; descend into the first */
-            const uint32_t bw_log2 = tall ? 1u : 2u, cm = tall ? 1u : 3u;
-            uint32_t first = lrt__lowest_bit(mask) ^ flip, rest = mask & (mask - 1u);
-            while (rest) {
-                uint32_t hi = lrt__highest_bit(rest), slot = hi ^ flip;
-                rest &= ~(1u << hi);
-                stack[sp++] = ((lv - 1) << 28) | (((nx << bw_log2) + (slot & cm)) << 14) | ((ny << (3u - bw_log2)) + (slot >> bw_log2));
+        } else if (mask) { /* into the first child; the others wait */
+            const uint32_t first = lrt__lowest_bit(mask) ^ flip, rest = mask & (mask - 1u);
+            const uint32_t bw_log2 = tall ? 1u : 2u;
+            const size_t children = lrt__children_slot(w, lv, nx, ny);
+            lrt__prefetch_children(w, lv, nx, ny, children, mask, flip);
+            if (rest) {
+                stack[sp].children = children;
+                stack[sp].x = nx;
+                stack[sp].y = ny;
+                stack[sp].lv_bits = (lv << 8) | rest;
+                ++sp;
             }
-            nx = (nx << bw_log2) + (first & cm);
+            nx = (nx << bw_log2) + (first & ((1u << bw_log2) - 1u));
             ny = (ny << (3u - bw_log2)) + (first >> bw_log2);
+            slot0 = children + first * 8u;
             lv -= 1;
             continue;
         }
         if (sp == 0) break;
-        --sp;
-        lv = stack[sp] >> 28;
-        nx = (stack[sp] >> 14) & 0x3fffu;
-        ny = stack[sp] & 0x3fffu;
+        { /* the next child of the last pending node */
+            lrt__pending *p = &stack[sp - 1];
+            const uint32_t plv = p->lv_bits >> 8, ptall = (plv & 1u) ^ 1u, bw_log2 = ptall ? 1u : 2u;
+            const uint32_t slot = lrt__lowest_bit(p->lv_bits & 0xffu) ^ s.flip[ptall];
+            nx = (p->x << bw_log2) + (slot & ((1u << bw_log2) - 1u));
+            ny = (p->y << (3u - bw_log2)) + (slot >> bw_log2);
+            slot0 = p->children + slot * 8u;
+            lv = plv - 1;
+            p->lv_bits &= p->lv_bits - 1u;
+            if (!(p->lv_bits & 0xffu)) --sp;
+        }
     }
     hit->kind = kind;
 }
