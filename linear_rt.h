@@ -115,8 +115,10 @@
                                    default allocator when lrt_bvh_build gets no
                                    lrt_allocator (default: malloc / free); define
                                    both or neither
-       LINEAR_RT_NO_SIMD           plain C instead of the SSE2 child test (the
-                                   answers are the same bit for bit)
+       LINEAR_RT_NO_SIMD           plain C instead of the SSE2 / AVX2 child test
+                                   (the answers are the same bit for bit)
+       LINEAR_RT_NO_AVX            SSE2 even when compiled for AVX2 (-mavx2,
+                                   -march=native: then 8 children in one register)
        LINEAR_RT_VULKAN            the lrt_vk_* API and its implementation
                                    (define it for the API in every file that
                                    uses it, as for the implementation)
@@ -646,6 +648,14 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
 #else
 #define LRT__SSE 0
 #endif
+/* With AVX2 (-mavx2, -march=native) a node's 8 children are tested in one
+   register; the floats are the same as the SSE2 and scalar paths'. */
+#if LRT__SSE && defined(__AVX2__) && !defined(LINEAR_RT_NO_AVX)
+#include <immintrin.h>
+#define LRT__AVX 1
+#else
+#define LRT__AVX 0
+#endif
 
 #ifndef LINEAR_RT_ASSERT
 #include <assert.h>
@@ -1161,6 +1171,10 @@ typedef struct lrt__ray_setup {
     __m128 vo[3], viv[3], vt_lo, vt_hi, vzmask; /* the same, broadcast once for every node test */
     __m128 k_enter[2], k_exit[2]; /* entering / leaving plane of 4 columns (x) or rows (y), in spans */
     __m128 k_rows2, k_cols2;      /* 2 rows (columns): enter, leave of the 1st, of the 2nd (cols: enters, then leaves) */
+#endif
+#if LRT__AVX
+    __m256 wo_z, wiv_z, wt_lo, wt_hi, wzmask; /* 8 lanes of the same */
+    __m256i order[2];                         /* lane k: k ^ flip[tall] */
 #endif
 } lrt__ray_setup;
 
@@ -1866,8 +1880,20 @@ LRT__INLINE size_t lrt__children_slot(const lrt__walk *w, uint32_t lv, uint32_t 
     return (w->lv[lv - 1].offset + ((size_t)y * w->lv[lv].width + x) * 8u) * 8u;
 }
 
+/* Reorders a slot mask so that bit k is slot k ^ flip: then walking bits from
+   the lowest is walking the children front to back. XOR by 4, 2, 1 swaps
+   nibbles, bit pairs, neighbours. */
+LRT__INLINE uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
+{
+    if (flip & 4u) m = ((m & 0x0fu) << 4) | ((m >> 4) & 0x0fu);
+    if (flip & 2u) m = ((m & 0x33u) << 2) | ((m >> 2) & 0x33u);
+    if (flip & 1u) m = ((m & 0x55u) << 1) | ((m >> 1) & 0x55u);
+    return m;
+}
+
 /* Children of node (nx, ny) at level lv whose boxes the ray meets, as a bit
-   mask over slots; enter[s] / exit[s] bound the ray inside child s.
+   mask in visiting order (bit k is slot k ^ flip, lrt__order_mask);
+   enter[s] / exit[s] bound the ray inside child s.
    Lane k of a wide (4x2) node is column k&3, row k>>2; of a tall (2x4) node
    column k&1, row k>>1. Each plane's t is computed once, the same way at
    every level, which keeps the culling monotone. tall is a constant where
@@ -1877,8 +1903,53 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
 {
     const lrt__walk_level *v = &w->lv[lv];
     const float x0 = (float)(nx << v->span_w_log2), y0 = (float)(ny << v->span_h_log2);
-    uint32_t k, mask = 0;
-#if LRT__SSE
+    uint32_t mask = 0;
+#if LRT__AVX
+    __m256 dz, xe, xx, ye, yx;
+    { /* the 8 codes to (qmax - code) in float, exact */
+        const __m128i c16 = w->wide_codes ? _mm_loadu_si128((const __m128i *)(const void *)((const uint16_t *)w->nodes + slot0))
+                                          : _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)((const uint8_t *)w->nodes + slot0)),
+                                                              _mm_setzero_si128());
+        dz = _mm256_sub_ps(_mm256_set1_ps(w->wide_codes ? 65535.0f : 255.0f), _mm256_cvtepi32_ps(_mm256_cvtepu16_epi32(c16)));
+    }
+    { /* the planes as in the SSE2 path below, lanes 4..7 beside lanes 0..3 */
+        const __m128 X0 = _mm_set1_ps(x0), Y0 = _mm_set1_ps(y0);
+        const __m128 sw = _mm_set1_ps(v->child_span_w), sh = _mm_set1_ps(v->child_span_h);
+        if (!tall) {
+            const __m128 r = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_rows2, sh)), s->vo[1]), s->viv[1]);
+            const __m128 e = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_enter[0], sw)), s->vo[0]), s->viv[0]);
+            const __m128 x = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_exit[0], sw)), s->vo[0]), s->viv[0]);
+            xe = _mm256_set_m128(e, e);
+            xx = _mm256_set_m128(x, x);
+            ye = _mm256_set_m128(_mm_shuffle_ps(r, r, _MM_SHUFFLE(2, 2, 2, 2)), _mm_shuffle_ps(r, r, _MM_SHUFFLE(0, 0, 0, 0)));
+            yx = _mm256_set_m128(_mm_shuffle_ps(r, r, _MM_SHUFFLE(3, 3, 3, 3)), _mm_shuffle_ps(r, r, _MM_SHUFFLE(1, 1, 1, 1)));
+        } else {
+            const __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_cols2, sw)), s->vo[0]), s->viv[0]);
+            const __m128 re = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_enter[1], sh)), s->vo[1]), s->viv[1]);
+            const __m128 rx = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_exit[1], sh)), s->vo[1]), s->viv[1]);
+            const __m128 ce = _mm_shuffle_ps(c, c, _MM_SHUFFLE(1, 0, 1, 0)), cx = _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 2, 3, 2));
+            xe = _mm256_set_m128(ce, ce);
+            xx = _mm256_set_m128(cx, cx);
+            ye = _mm256_set_m128(_mm_unpackhi_ps(re, re), _mm_unpacklo_ps(re, re));
+            yx = _mm256_set_m128(_mm_unpackhi_ps(rx, rx), _mm_unpacklo_ps(rx, rx));
+        }
+    }
+    {
+        const __m256 tz = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(dz, _mm256_set1_ps(w->decode_scale)), s->wo_z), s->wiv_z);
+        __m256 en = _mm256_max_ps(xe, s->wt_lo), ex = _mm256_min_ps(xx, s->wt_hi), grown;
+        en = _mm256_max_ps(ye, en);
+        en = _mm256_max_ps(_mm256_min_ps(s->wzmask, tz), en);
+        ex = _mm256_min_ps(yx, ex);
+        ex = _mm256_min_ps(_mm256_max_ps(s->wzmask, tz), ex);
+        _mm256_storeu_ps(enter, en);
+        _mm256_storeu_ps(exit, ex);
+        /* lrt__widen */
+        grown = _mm256_add_ps(ex, _mm256_mul_ps(_mm256_andnot_ps(_mm256_set1_ps(-0.0f), ex), _mm256_set1_ps(LRT__WIDEN_EXIT)));
+        grown = _mm256_blendv_ps(ex, grown, _mm256_cmp_ps(grown, _mm256_set1_ps(3.40282347e38f), _CMP_LE_OQ));
+        /* lane k of the answer is slot k ^ flip: front to back, as the walk takes them */
+        mask = (uint32_t)_mm256_movemask_ps(_mm256_permutevar8x32_ps(_mm256_cmp_ps(en, grown, _CMP_LE_OQ), s->order[tall]));
+    }
+#elif LRT__SSE
     __m128 dz[2];
     { /* the 8 codes to (qmax - code) in float, exact, without a trip through memory */
         const __m128i zero = _mm_setzero_si128();
@@ -1895,6 +1966,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
         dz[1] = _mm_sub_ps(qmax, _mm_cvtepi32_ps(_mm_unpackhi_epi16(c16, zero)));
     }
     {
+        uint32_t k;
         /* Every plane is x0 + k * span with k a small integer (exact): the
            ray's direction signs, set once per ray (lrt__walk_setup), pick
            which k enters and which leaves, so no per-node selects. */
@@ -1941,6 +2013,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
 #else
     {
         const uint32_t bw = tall ? 2u : 4u, bh = tall ? 4u : 2u;
+        uint32_t k;
         float dz[8], px[5], py[5];
         if (w->wide_codes) {
             const uint16_t *codes = (const uint16_t *)w->nodes + slot0;
@@ -1967,6 +2040,9 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
         }
     }
 #endif
+#if !LRT__AVX
+    mask = lrt__order_mask(mask, s->flip[tall]);
+#endif
     return mask;
 }
 
@@ -1988,17 +2064,6 @@ LRT__INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uin
     else enter = LRT__MAX_KEEP(tz, enter);
     *t = enter;
     return enter <= lrt__widen(exit);
-}
-
-/* Reorders a slot mask so that bit k is slot k ^ flip: then walking bits from
-   the lowest is walking the children front to back. XOR by 4, 2, 1 swaps
-   nibbles, bit pairs, neighbours. */
-LRT__INLINE uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
-{
-    if (flip & 4u) m = ((m & 0x0fu) << 4) | ((m >> 4) & 0x0fu);
-    if (flip & 2u) m = ((m & 0x33u) << 2) | ((m >> 2) & 0x33u);
-    if (flip & 1u) m = ((m & 0x55u) << 1) | ((m >> 1) & 0x55u);
-    return m;
 }
 
 LRT__INLINE uint32_t lrt__code(const lrt__walk *w, size_t slot)
@@ -2044,6 +2109,18 @@ LRT__INLINE void lrt__walk_setup(lrt__ray_setup *s)
         s->k_exit[1] = _mm_sub_ps(k1234, ny);
         s->k_rows2 = _mm_set_ps(2.0f - (float)s->neg_y, 1.0f + (float)s->neg_y, 1.0f - (float)s->neg_y, (float)s->neg_y);
         s->k_cols2 = _mm_set_ps(2.0f - (float)s->neg_x, 1.0f - (float)s->neg_x, 1.0f + (float)s->neg_x, (float)s->neg_x);
+    }
+#endif
+#if LRT__AVX
+    s->wo_z = _mm256_set1_ps(s->o[2]);
+    s->wiv_z = _mm256_set1_ps(s->iv[2]);
+    s->wt_lo = _mm256_set1_ps(s->t_lo);
+    s->wt_hi = _mm256_set1_ps(s->t_hi);
+    s->wzmask = _mm256_set1_ps(s->neg_z ? -INFINITY : INFINITY);
+    {
+        const __m256i k = _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0);
+        s->order[0] = _mm256_xor_si256(k, _mm256_set1_epi32((int)s->flip[0]));
+        s->order[1] = _mm256_xor_si256(k, _mm256_set1_epi32((int)s->flip[1]));
     }
 #endif
 }
@@ -2132,7 +2209,6 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
         float enter[8], exit[8];
         uint32_t mask = tall ? lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 1u)
                              : lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 0u);
-        mask = lrt__order_mask(mask, flip);
         if (lv == 1) {
             while (mask) { /* texels: the exact test, front to back */
                 uint32_t slot = lrt__lowest_bit(mask) ^ flip;
@@ -2159,7 +2235,7 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
             }
             nx = (nx << bw_log2) + (first & ((1u << bw_log2) - 1u));
             ny = (ny << (3u - bw_log2)) + (first >> bw_log2);
-            slot0 = children + first * 8u;
+            slot0 = children + (size_t)first * 8u;
             lv -= 1;
             continue;
         }
@@ -2170,7 +2246,7 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
             const uint32_t slot = lrt__lowest_bit(p->lv_bits & 0xffu) ^ s.flip[ptall];
             nx = (p->x << bw_log2) + (slot & ((1u << bw_log2) - 1u));
             ny = (p->y << (3u - bw_log2)) + (slot >> bw_log2);
-            slot0 = p->children + slot * 8u;
+            slot0 = p->children + (size_t)slot * 8u;
             lv = plv - 1;
             p->lv_bits &= p->lv_bits - 1u;
             if (!(p->lv_bits & 0xffu)) --sp;

@@ -673,7 +673,9 @@ int main(int argc, char **argv)
     printf("compiler: gcc %s\n", __VERSION__);
 #endif
     printf("flags:    %s\n", DEMO_CFLAGS);
-#if defined(__SSE2__) && !defined(LINEAR_RT_NO_SIMD)
+#if defined(__AVX2__) && !defined(LINEAR_RT_NO_SIMD) && !defined(LINEAR_RT_NO_AVX)
+    printf("SIMD:     AVX2 (8 children per node test in one register)\n");
+#elif defined(__SSE2__) && !defined(LINEAR_RT_NO_SIMD)
     printf("SIMD:     SSE2\n");
 #else
     printf("SIMD:     none (scalar)\n");
