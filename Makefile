@@ -128,7 +128,18 @@ $(B)/test_core_scalar: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $
 $(B)/test_core_avx2: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) -mavx2 -mfma $< -o $@ $(LDLIBS)
 
-test-core-paths: $(B)/test_core_scalar $(B)/test_core_avx2
+# and the paths against each other, bit for bit, in one program
+$(B)/paths_scalar.o: tests/paths_tu.c $(LIB) | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) -DLINEAR_RT_NO_SIMD -DPATHS_FN=paths_trace_scalar -c $< -o $@
+
+$(B)/paths_avx2.o: tests/paths_tu.c $(LIB) | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) -mavx2 -mfma -DPATHS_FN=paths_trace_avx2 -c $< -o $@
+
+$(B)/test_paths: tests/test_paths.c $(B)/paths_scalar.o $(B)/paths_avx2.o $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) $< $(B)/paths_scalar.o $(B)/paths_avx2.o -o $@ $(LDLIBS)
+
+test-core-paths: $(B)/test_core_scalar $(B)/test_core_avx2 $(B)/test_paths
+	$(B)/test_paths
 	$(B)/test_core_scalar
 	@if grep -qw avx2 /proc/cpuinfo 2>/dev/null; then echo "$(B)/test_core_avx2"; $(B)/test_core_avx2; \
 	else echo "note: this CPU has no AVX2: the AVX2 build is compiled, not run"; fi

@@ -13,6 +13,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* not every test that includes this file uses all of it */
+#if defined(__GNUC__) || defined(__clang__)
+#define RAYS_MAYBE_UNUSED __attribute__((unused))
+#else
+#define RAYS_MAYBE_UNUSED
+#endif
+
 /* ---- deterministic random numbers ---------------------------------------- */
 static uint64_t g_rng = 0x9e3779b97f4a7c15ull;
 static uint32_t rnd(void)
@@ -113,10 +120,7 @@ static void free_map(test_map *m)
 /* ---- rays the fuzzer found wrong once (tests/fuzz/crashes-found/README.md) ---- */
 /* Case k's map and ray; 0 past the last case. The answer is the reference's.
    Not every test that includes this file runs them. */
-#if defined(__GNUC__) || defined(__clang__)
-__attribute__((unused))
-#endif
-static int found_case(int k, test_map *m, lrt_ray *r)
+RAYS_MAYBE_UNUSED static int found_case(int k, test_map *m, lrt_ray *r)
 {
     static const struct {
         int w, h, format;
@@ -206,7 +210,7 @@ enum {
     RAY_PRIMARY, RAY_SEGMENT, RAY_REFLECT, RAY_GRAZING, RAY_EDGE, RAY_CORNER, RAY_INSIDE, RAY_LEAVING,
     RAY_POINT, RAY_ZERO_DIR, RAY_HUGE, RAY_INVALID, RAY_SHORT, RAY_KIND_COUNT
 };
-static const char *ray_names[RAY_KIND_COUNT] = {"primary", "segment", "reflect", "grazing", "edge", "corner",
+RAYS_MAYBE_UNUSED static const char *ray_names[RAY_KIND_COUNT] = {"primary", "segment", "reflect", "grazing", "edge", "corner",
                                                 "inside", "leaving", "tmin==tmax", "v=0", "huge", "invalid", "short"};
 
 static float depth_at(const test_map *m, int i, int j) { return (float)m->ref.d[(size_t)j * (size_t)m->ref.w + (size_t)i]; }
@@ -314,7 +318,7 @@ static lrt_ray make_ray(const test_map *m, int kind)
     return r;
 }
 
-static ref_ray to_ref(const lrt_ray *r)
+RAYS_MAYBE_UNUSED static ref_ray to_ref(const lrt_ray *r)
 {
     ref_ray q;
     memcpy(q.o, r->origin, sizeof q.o);
@@ -324,7 +328,7 @@ static ref_ray to_ref(const lrt_ray *r)
     return q;
 }
 
-static ref_answer to_answer(const lrt_hit *h)
+RAYS_MAYBE_UNUSED static ref_answer to_answer(const lrt_hit *h)
 {
     ref_answer a;
     a.kind = (int)h->kind;
@@ -335,7 +339,7 @@ static ref_answer to_answer(const lrt_hit *h)
 }
 
 /* ---- frames for update tests: a floor and a sphere that moves in and out ---- */
-static void paint_frame(float *d, int w, int h, int frame)
+RAYS_MAYBE_UNUSED static void paint_frame(float *d, int w, int h, int frame)
 {
     int i, j;
     float cx = (float)(w / 4 + (frame * 7) % (w / 2 + 1)), cy = (float)(h / 3 + (frame * 5) % (h / 3 + 1));
@@ -352,7 +356,7 @@ static void paint_frame(float *d, int w, int h, int frame)
 /* The smallest rectangle holding every texel that differs between two
    frames (empty, at the origin, when none does): the dirty rect an engine
    would pass to an update. */
-static lrt_rect changed_rect(const float *prev, const float *d, int w, int h)
+RAYS_MAYBE_UNUSED static lrt_rect changed_rect(const float *prev, const float *d, int w, int h)
 {
     int i, j, x0 = w, y0 = h, x1 = -1, y1 = -1;
     lrt_rect rect;

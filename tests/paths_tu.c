@@ -1,0 +1,23 @@
+/* tests/paths_tu.c - linear_rt.h's implementation in a translation unit of
+   its own, compiled once per traversal path with that path's flags
+   (-DLINEAR_RT_NO_SIMD, -mavx2) and PATHS_FN naming its one entry point.
+   LINEAR_RT_STATIC keeps each copy to itself, so tests/test_paths.c links
+   them side by side and compares their answers. */
+#define LINEAR_RT_STATIC
+#define LINEAR_RT_IMPLEMENTATION
+#include "../linear_rt.h"
+
+/* builds a BVH over depth and traces rays with this unit's copy; an lrt_result */
+int PATHS_FN(const lrt_depth *depth, uint32_t node_bits, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
+int PATHS_FN(const lrt_depth *depth, uint32_t node_bits, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags)
+{
+    lrt_bvh bvh;
+    lrt_build_options opt;
+    lrt_result r;
+    memset(&opt, 0, sizeof opt);
+    opt.node_bits = node_bits;
+    if ((r = lrt_bvh_build(&bvh, depth, &opt, NULL)) != LRT_SUCCESS) return (int)r;
+    r = lrt_trace(&bvh, depth, rays, hits, n, flags);
+    lrt_bvh_destroy(&bvh);
+    return (int)r;
+}

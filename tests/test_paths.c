@@ -1,0 +1,120 @@
+/* tests/test_paths.c - linear_rt.h's traversal paths give the same answers,
+   bit for bit: the SSE2 child test (this file's own copy, default x86-64
+   flags), plain C (LINEAR_RT_NO_SIMD) and AVX2 (-mavx2, run only where the
+   CPU has it), each a separate copy of the implementation (tests/paths_tu.c).
+   test_core judges every path against the reference within MODEL.md's
+   tolerance; this test holds them to the same floats, which the header
+   promises and the GPU comparison of test_vulkan relies on.
+
+   Prints one line per failure and ends with "N passed, M failed". */
+#define LINEAR_RT_IMPLEMENTATION
+#include "../linear_rt.h"
+#include "reference.h"
+#include "../examples/scene.h"
+#include "rays.h"
+#include "check.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int paths_trace_scalar(const lrt_depth *depth, uint32_t node_bits, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
+int paths_trace_avx2(const lrt_depth *depth, uint32_t node_bits, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
+
+static int g_have_avx2;
+static size_t g_rays;
+
+/* The rays of one map through every path; the first differing ray of each
+   path is printed. */
+static void compare(const char *what, const test_map *m, uint32_t node_bits, const lrt_ray *rays, size_t n)
+{
+    lrt_hit *own = (lrt_hit *)calloc(n ? n : 1, sizeof(lrt_hit)), *other = (lrt_hit *)calloc(n ? n : 1, sizeof(lrt_hit));
+    lrt_bvh bvh;
+    lrt_build_options opt;
+    int p;
+    memset(&opt, 0, sizeof opt);
+    opt.node_bits = node_bits;
+    CHECK(own && other, "%s: out of memory", what);
+    if (!own || !other || lrt_bvh_build(&bvh, &m->depth, &opt, NULL) != LRT_SUCCESS) {
+        CHECK(0, "%s: build failed", what);
+        free(own);
+        free(other);
+        return;
+    }
+    CHECK(lrt_trace(&bvh, &m->depth, rays, own, n, 0) == LRT_SUCCESS, "%s: SSE2 trace", what);
+    lrt_bvh_destroy(&bvh);
+    for (p = 0; p < 2; ++p) {
+        const char *name = p ? "AVX2" : "scalar";
+        size_t i, differ = 0;
+        int r;
+        if (p == 1 && !g_have_avx2) continue;
+        memset(other, 0xab, n * sizeof *other);
+        r = p ? paths_trace_avx2(&m->depth, node_bits, rays, other, n, 0)
+              : paths_trace_scalar(&m->depth, node_bits, rays, other, n, 0);
+        CHECK(r == LRT_SUCCESS, "%s: %s trace returned %d", what, name, r);
+        for (i = 0; i < n; ++i) {
+            if (memcmp(&own[i], &other[i], sizeof own[i]) != 0) {
+                if (differ == 0)
+                    printf("  %s: ray %zu o=(%.9g %.9g %.9g) v=(%.9g %.9g %.9g): SSE2 kind %u t %.9g (%u,%u), %s kind %u t %.9g (%u,%u)\n",
+                           what, i, rays[i].origin[0], rays[i].origin[1], rays[i].origin[2], rays[i].dir[0], rays[i].dir[1],
+                           rays[i].dir[2], own[i].kind, own[i].t, own[i].x, own[i].y, name, other[i].kind, other[i].t,
+                           other[i].x, other[i].y);
+                ++differ;
+            }
+        }
+        CHECK(differ == 0, "%s: %zu of %zu rays differ between SSE2 and %s", what, differ, n, name);
+    }
+    g_rays += n;
+    free(own);
+    free(other);
+}
+
+static void map_and_rays(int w, int h, int shape, lrt_format format, int reversed, uint32_t node_bits, size_t n, int padded)
+{
+    test_map m;
+    lrt_ray *rays = (lrt_ray *)malloc(sizeof(lrt_ray) * n);
+    char what[160];
+    size_t i;
+    make_map(&m, w, h, shape, format, reversed, padded);
+    snprintf(what, sizeof what, "%dx%d %s fmt=%d%s nodes=%u%s", w, h, m.name, (int)format, reversed ? " reversed" : "",
+             node_bits, padded ? " strided" : "");
+    if (rays) {
+        for (i = 0; i < n; ++i) rays[i] = make_ray(&m, (int)(i % RAY_KIND_COUNT));
+        compare(what, &m, node_bits, rays, n);
+    } else CHECK(0, "%s: out of memory", what);
+    free_map(&m);
+    free(rays);
+}
+
+int main(void)
+{
+    static const int sizes[][2] = {{1, 1}, {1, 23}, {23, 1}, {3, 5}, {7, 9}, {8, 8}, {33, 20}, {100, 37}, {5, 300}, {257, 129}};
+    const size_t nsizes = sizeof sizes / sizeof sizes[0];
+    size_t s;
+    int shape, f, k;
+    test_map m;
+    lrt_ray r;
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+    __builtin_cpu_init();
+    g_have_avx2 = __builtin_cpu_supports("avx2");
+#endif
+    if (!g_have_avx2) printf("note: this CPU has no AVX2: SSE2 against scalar only\n");
+    for (s = 0; s < nsizes; ++s)
+        for (shape = 0; shape < SHAPE_COUNT; ++shape)
+            for (f = 1; f <= 3; ++f) {
+                if (shape == SHAPE_WILD && f != 3) continue;
+                map_and_rays(sizes[s][0], sizes[s][1], shape, (lrt_format)f, (int)(s & 1), (s % 3 == 0) ? 8u : 16u, 3000,
+                             (int)(s & 2));
+            }
+    map_and_rays(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, 100000, 0);
+    map_and_rays(1024, 1024, SHAPE_POLES, LRT_FORMAT_FLOAT32, 1, 8, 30000, 0);
+    map_and_rays(1282, 1110, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 30000, 1);
+    for (k = 0; found_case(k, &m, &r); ++k) { /* the fuzzer's rays, the rare set-up among them */
+        char what[64];
+        snprintf(what, sizeof what, "found case %d", k);
+        compare(what, &m, 0, &r, 1);
+        free_map(&m);
+    }
+    printf("%zu rays compared across the paths\n", g_rays);
+    return check_summary();
+}
