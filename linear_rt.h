@@ -2234,13 +2234,12 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
             const uint32_t bw_log2 = tall ? 1u : 2u;
             const size_t children = lrt__children_slot(w, lv, nx, ny);
             lrt__prefetch_children(w, lv, nx, ny, children, mask, flip);
-            if (rest) {
-                stack[sp].children = children;
-                stack[sp].x = nx;
-                stack[sp].y = ny;
-                stack[sp].lv_bits = (lv << 8) | rest;
-                ++sp;
-            }
+            /* written whether or not it stays: no branch on a random bit */
+            stack[sp].children = children;
+            stack[sp].x = nx;
+            stack[sp].y = ny;
+            stack[sp].lv_bits = (lv << 8) | rest;
+            sp += rest != 0u;
             nx = (nx << bw_log2) + (first & ((1u << bw_log2) - 1u));
             ny = (ny << (3u - bw_log2)) + (first >> bw_log2);
             slot0 = children + (size_t)first * 8u;
@@ -2257,7 +2256,7 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
             slot0 = p->children + (size_t)slot * 8u;
             lv = plv - 1;
             p->lv_bits &= p->lv_bits - 1u;
-            if (!(p->lv_bits & 0xffu)) --sp;
+            sp -= (p->lv_bits & 0xffu) == 0u;
         }
     }
     hit->kind = kind;
