@@ -1168,12 +1168,12 @@ typedef struct lrt__ray_setup {
     int zk;                       /* 0, or z (o.z, v.z and every depth plane) is scaled by 2^zk (lrt__setup_rare) */
     uint32_t flip[2];             /* front-to-back slot order of wide (4x2) and tall (2x4) nodes */
 #if LRT__SSE
-    __m128 vo[3], viv[3], vt_lo, vt_hi, vzmask; /* the same, broadcast once for every node test */
+    __m128 vo[3], viv[3], vt_lo, vt_hi; /* the same, broadcast once for every node test */
     __m128 k_enter[2], k_exit[2]; /* entering / leaving plane of 4 columns (x) or rows (y), in spans */
     __m128 k_rows2, k_cols2;      /* 2 rows (columns): enter, leave of the 1st, of the 2nd (cols: enters, then leaves) */
 #endif
 #if LRT__AVX
-    __m256 wo_z, wiv_z, wt_lo, wt_hi, wzmask; /* 8 lanes of the same */
+    __m256 wo_z, wiv_z, wt_lo, wt_hi;  /* 8 lanes of the same */
     __m256i order[2];                         /* lane k: k ^ flip[tall] */
 #endif
 } lrt__ray_setup;
@@ -1910,7 +1910,8 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
         const __m128i c16 = w->wide_codes ? _mm_loadu_si128((const __m128i *)(const void *)((const uint16_t *)w->nodes + slot0))
                                           : _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)((const uint8_t *)w->nodes + slot0)),
                                                               _mm_setzero_si128());
-        dz = _mm256_sub_ps(_mm256_set1_ps(w->wide_codes ? 65535.0f : 255.0f), _mm256_cvtepi32_ps(_mm256_cvtepu16_epi32(c16)));
+        /* qmax - code in integers, then one conversion: exact either way, one step shorter */
+        dz = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), _mm256_cvtepu16_epi32(c16)));
     }
     { /* the planes as in the SSE2 path below, lanes 4..7 beside lanes 0..3 */
         const __m128 X0 = _mm_set1_ps(x0), Y0 = _mm_set1_ps(y0);
@@ -1938,9 +1939,12 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
         const __m256 tz = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(dz, _mm256_set1_ps(w->decode_scale)), s->wo_z), s->wiv_z);
         __m256 en = _mm256_max_ps(xe, s->wt_lo), ex = _mm256_min_ps(xx, s->wt_hi), grown;
         en = _mm256_max_ps(ye, en);
-        en = _mm256_max_ps(_mm256_min_ps(s->wzmask, tz), en);
         ex = _mm256_min_ps(yx, ex);
-        ex = _mm256_min_ps(_mm256_max_ps(s->wzmask, tz), ex);
+        /* the z plane leaves (v.z < 0) or enters; a NaN tz keeps the other
+           operand. A ray going deeper then widens its exits off the chain
+           that waits for the codes. */
+        if (s->neg_z) ex = _mm256_min_ps(tz, ex);
+        else en = _mm256_max_ps(tz, en);
         _mm256_storeu_ps(enter, en);
         _mm256_storeu_ps(exit, ex);
         /* lrt__widen */
@@ -1952,18 +1956,12 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
 #elif LRT__SSE
     __m128 dz[2];
     { /* the 8 codes to (qmax - code) in float, exact, without a trip through memory */
-        const __m128i zero = _mm_setzero_si128();
+        const __m128i zero = _mm_setzero_si128(), qmax = _mm_set1_epi32((int)w->qmax);
         __m128i c16;
-        __m128 qmax;
-        if (w->wide_codes) {
-            c16 = _mm_loadu_si128((const __m128i *)(const void *)((const uint16_t *)w->nodes + slot0));
-            qmax = _mm_set1_ps(65535.0f);
-        } else {
-            c16 = _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)((const uint8_t *)w->nodes + slot0)), zero);
-            qmax = _mm_set1_ps(255.0f);
-        }
-        dz[0] = _mm_sub_ps(qmax, _mm_cvtepi32_ps(_mm_unpacklo_epi16(c16, zero)));
-        dz[1] = _mm_sub_ps(qmax, _mm_cvtepi32_ps(_mm_unpackhi_epi16(c16, zero)));
+        if (w->wide_codes) c16 = _mm_loadu_si128((const __m128i *)(const void *)((const uint16_t *)w->nodes + slot0));
+        else c16 = _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)((const uint8_t *)w->nodes + slot0)), zero);
+        dz[0] = _mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpacklo_epi16(c16, zero)));
+        dz[1] = _mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpackhi_epi16(c16, zero)));
     }
     {
         uint32_t k;
@@ -1994,12 +1992,11 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
         }
         for (k = 0; k < 2; ++k) {
             const __m128 tz = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(dz[k], _mm_set1_ps(w->decode_scale)), s->vo[2]), s->viv[2]);
-            const __m128 zmask = s->vzmask;
             __m128 en = _mm_max_ps(xe[k], s->vt_lo), ex = _mm_min_ps(xx[k], s->vt_hi); /* maxps/minps keep the 2nd operand on NaN */
             en = _mm_max_ps(ye[k], en);
-            en = _mm_max_ps(_mm_min_ps(zmask, tz), en);
             ex = _mm_min_ps(yx[k], ex);
-            ex = _mm_min_ps(_mm_max_ps(zmask, tz), ex);
+            if (s->neg_z) ex = _mm_min_ps(tz, ex); /* the z plane leaves (v.z < 0) or enters */
+            else en = _mm_max_ps(tz, en);
             _mm_storeu_ps(enter + 4 * (size_t)k, en);
             _mm_storeu_ps(exit + 4 * (size_t)k, ex);
             { /* lrt__widen: ex + |ex| 2^-21 where that stays finite, else ex */
@@ -2099,9 +2096,6 @@ LRT__INLINE void lrt__walk_setup(lrt__ray_setup *s)
         }
         s->vt_lo = _mm_set1_ps(s->t_lo);
         s->vt_hi = _mm_set1_ps(s->t_hi);
-        /* the z plane enters (v.z >= 0) or leaves (v.z < 0); the unused side is
-           masked with an infinity placed so that a NaN tz still drops out */
-        s->vzmask = _mm_set1_ps(s->neg_z ? -INFINITY : INFINITY);
         /* plane k of column (row) c: enters at c + neg, leaves at c + 1 - neg */
         s->k_enter[0] = _mm_add_ps(k0123, nx);
         s->k_exit[0] = _mm_sub_ps(k1234, nx);
@@ -2116,7 +2110,6 @@ LRT__INLINE void lrt__walk_setup(lrt__ray_setup *s)
     s->wiv_z = _mm256_set1_ps(s->iv[2]);
     s->wt_lo = _mm256_set1_ps(s->t_lo);
     s->wt_hi = _mm256_set1_ps(s->t_hi);
-    s->wzmask = _mm256_set1_ps(s->neg_z ? -INFINITY : INFINITY);
     {
         const __m256i k = _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0);
         s->order[0] = _mm256_xor_si256(k, _mm256_set1_epi32((int)s->flip[0]));
