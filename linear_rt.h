@@ -1838,6 +1838,13 @@ LRT__INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_setup *s
     const lrt_layout *L = w->L;
     uint32_t i0[2], i1[2], lv, ly;
     int k;
+    if (s->v[0] == 0.0f && s->v[1] == 0.0f && (float)(int32_t)s->o[0] != s->o[0] && (float)(int32_t)s->o[1] != s->o[1]) {
+        /* a camera ray inside one texel's column (the clip put o on the
+           screen; off a texel edge, no neighbour's closed box is met) */
+        *sx = (uint32_t)(int32_t)s->o[0];
+        *sy = (uint32_t)(int32_t)s->o[1];
+        return 0;
+    }
     for (k = 0; k < 2; ++k) {
         const float lim = (float)((k ? L->height : L->width) - 1u);
         float a = s->o[k] + s->t_lo * s->v[k], b = s->o[k] + s->t_hi * s->v[k];
@@ -2174,15 +2181,7 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
         hit->kind = kind;
         return;
     }
-    if (s.v[0] == 0.0f && s.v[1] == 0.0f && (float)(int32_t)s.o[0] != s.o[0] && (float)(int32_t)s.o[1] != s.o[1]) {
-        /* a camera ray, inside one texel's column (the clip put o on the
-           screen; off a texel edge, no neighbour's closed box is met) */
-        lv = 0;
-        nx = (uint32_t)(int32_t)s.o[0];
-        ny = (uint32_t)(int32_t)s.o[1];
-    } else {
-        lv = lrt__start_node(w, &s, &nx, &ny);
-    }
+    lv = lrt__start_node(w, &s, &nx, &ny);
     if (lv == 0) { /* one texel: its box alone decides */
         const float x0 = (float)nx, y0 = (float)ny;
         const float ax = (x0 - s.o[0]) * s.iv[0], bx = ((x0 + 1.0f) - s.o[0]) * s.iv[0];
