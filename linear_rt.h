@@ -2135,9 +2135,10 @@ LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, uint32_t lv, u
 {
     const unsigned char *codes = (const unsigned char *)w->nodes + children * (w->wide_codes ? 2u : 1u);
     LRT__PREFETCH(codes);
-    /* the second line of 16-bit codes (else likely the next node's); as an
-       integer, since it may lie past the end of the array */
-    LRT__PREFETCH((const void *)((uintptr_t)codes + 64u));
+    /* the 8 children's codes fill 8 whole slots (padding included): 128
+       bytes of 16-bit codes, whose second line this is; of 8-bit codes, 64
+       bytes, and this is at most one past the array's end (never read) */
+    LRT__PREFETCH(codes + 64);
     if (lv == 2 && !w->exact_codes) {
         /* level 2 is tall: child slot 2r + c is row r, column c, 4x2 texels each */
         const uint32_t bytes = lrt__format_bytes(w->depth->format);
