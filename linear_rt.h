@@ -1898,6 +1898,47 @@ LRT__INLINE uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
     return m;
 }
 
+#if LRT__SSE
+/* A node's 8 codes as 16-bit lanes, in slot order. */
+LRT__INLINE __m128i lrt__load_codes(const lrt__walk *w, size_t slot0)
+{
+    if (w->wide_codes) return _mm_loadu_si128((const __m128i *)(const void *)((const uint16_t *)w->nodes + slot0));
+    return _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)((const uint8_t *)w->nodes + slot0)),
+                             _mm_setzero_si128());
+}
+
+/* The x and y slabs of a node's 8 children: entering and leaving t of
+   slots 0..3 in [0], of slots 4..7 in [1]. Every plane is x0 + k * span
+   with k a small integer (exact): the ray's direction signs, set once per
+   ray (lrt__walk_setup), pick which k enters and which leaves, so no
+   per-node selects. */
+LRT__FORCE_INLINE void lrt__child_slabs(const lrt__ray_setup *s, const lrt__walk_level *v, float x0, float y0,
+                                        uint32_t tall, __m128 xe[2], __m128 xx[2], __m128 ye[2], __m128 yx[2])
+{
+    const __m128 X0 = _mm_set1_ps(x0), Y0 = _mm_set1_ps(y0);
+    const __m128 sw = _mm_set1_ps(v->child_span_w), sh = _mm_set1_ps(v->child_span_h);
+    if (!tall) { /* 4 columns, 2 rows */
+        const __m128 r = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_rows2, sh)), s->vo[1]), s->viv[1]);
+        xe[0] = xe[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_enter[0], sw)), s->vo[0]), s->viv[0]);
+        xx[0] = xx[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_exit[0], sw)), s->vo[0]), s->viv[0]);
+        ye[0] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(0, 0, 0, 0)); /* r: row 0 enter, exit, row 1 enter, exit */
+        yx[0] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(1, 1, 1, 1));
+        ye[1] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(2, 2, 2, 2));
+        yx[1] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(3, 3, 3, 3));
+    } else {     /* 2 columns, 4 rows; lanes alternate columns 0, 1 */
+        const __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_cols2, sw)), s->vo[0]), s->viv[0]);
+        const __m128 re = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_enter[1], sh)), s->vo[1]), s->viv[1]);
+        const __m128 rx = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_exit[1], sh)), s->vo[1]), s->viv[1]);
+        xe[0] = xe[1] = _mm_shuffle_ps(c, c, _MM_SHUFFLE(1, 0, 1, 0)); /* c: column 0, 1 enter, column 0, 1 exit */
+        xx[0] = xx[1] = _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 2, 3, 2));
+        ye[0] = _mm_unpacklo_ps(re, re);
+        ye[1] = _mm_unpackhi_ps(re, re);
+        yx[0] = _mm_unpacklo_ps(rx, rx);
+        yx[1] = _mm_unpackhi_ps(rx, rx);
+    }
+}
+#endif
+
 /* Children of node (nx, ny) at level lv whose boxes the ray meets, as a bit
    mask in visiting order (bit k is slot k ^ flip, lrt__order_mask);
    enter[s] / exit[s] bound the ray inside child s.
@@ -1911,42 +1952,20 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
     const lrt__walk_level *v = &w->lv[lv];
     const float x0 = (float)(nx << v->span_w_log2), y0 = (float)(ny << v->span_h_log2);
     uint32_t mask = 0;
+#if LRT__SSE
+    __m128 xe[2], xx[2], ye[2], yx[2];
+    /* qmax - code in integers, then one conversion: exact, one step shorter */
+    const __m128i c16 = lrt__load_codes(w, slot0);
+    lrt__child_slabs(s, v, x0, y0, tall, xe, xx, ye, yx);
+#endif
 #if LRT__AVX
-    __m256 dz, xe, xx, ye, yx;
-    { /* the 8 codes to (qmax - code) in float, exact */
-        const __m128i c16 = w->wide_codes ? _mm_loadu_si128((const __m128i *)(const void *)((const uint16_t *)w->nodes + slot0))
-                                          : _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)((const uint8_t *)w->nodes + slot0)),
-                                                              _mm_setzero_si128());
-        /* qmax - code in integers, then one conversion: exact either way, one step shorter */
-        dz = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), _mm256_cvtepu16_epi32(c16)));
-    }
-    { /* the planes as in the SSE2 path below, lanes 4..7 beside lanes 0..3 */
-        const __m128 X0 = _mm_set1_ps(x0), Y0 = _mm_set1_ps(y0);
-        const __m128 sw = _mm_set1_ps(v->child_span_w), sh = _mm_set1_ps(v->child_span_h);
-        if (!tall) {
-            const __m128 r = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_rows2, sh)), s->vo[1]), s->viv[1]);
-            const __m128 e = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_enter[0], sw)), s->vo[0]), s->viv[0]);
-            const __m128 x = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_exit[0], sw)), s->vo[0]), s->viv[0]);
-            xe = _mm256_set_m128(e, e);
-            xx = _mm256_set_m128(x, x);
-            ye = _mm256_set_m128(_mm_shuffle_ps(r, r, _MM_SHUFFLE(2, 2, 2, 2)), _mm_shuffle_ps(r, r, _MM_SHUFFLE(0, 0, 0, 0)));
-            yx = _mm256_set_m128(_mm_shuffle_ps(r, r, _MM_SHUFFLE(3, 3, 3, 3)), _mm_shuffle_ps(r, r, _MM_SHUFFLE(1, 1, 1, 1)));
-        } else {
-            const __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_cols2, sw)), s->vo[0]), s->viv[0]);
-            const __m128 re = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_enter[1], sh)), s->vo[1]), s->viv[1]);
-            const __m128 rx = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_exit[1], sh)), s->vo[1]), s->viv[1]);
-            const __m128 ce = _mm_shuffle_ps(c, c, _MM_SHUFFLE(1, 0, 1, 0)), cx = _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 2, 3, 2));
-            xe = _mm256_set_m128(ce, ce);
-            xx = _mm256_set_m128(cx, cx);
-            ye = _mm256_set_m128(_mm_unpackhi_ps(re, re), _mm_unpacklo_ps(re, re));
-            yx = _mm256_set_m128(_mm_unpackhi_ps(rx, rx), _mm_unpacklo_ps(rx, rx));
-        }
-    }
-    {
+    {   /* lanes 4..7 beside lanes 0..3 */
+        const __m256 dz = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), _mm256_cvtepu16_epi32(c16)));
         const __m256 tz = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(dz, _mm256_set1_ps(w->decode_scale)), s->wo_z), s->wiv_z);
-        __m256 en = _mm256_max_ps(xe, s->wt_lo), ex = _mm256_min_ps(xx, s->wt_hi), grown;
-        en = _mm256_max_ps(ye, en);
-        ex = _mm256_min_ps(yx, ex);
+        __m256 en = _mm256_max_ps(_mm256_set_m128(xe[1], xe[0]), s->wt_lo), ex = _mm256_min_ps(_mm256_set_m128(xx[1], xx[0]), s->wt_hi);
+        __m256 grown;
+        en = _mm256_max_ps(_mm256_set_m128(ye[1], ye[0]), en);
+        ex = _mm256_min_ps(_mm256_set_m128(yx[1], yx[0]), ex);
         /* the z plane leaves (v.z < 0) or enters; a NaN tz keeps the other
            operand. A ray going deeper then widens its exits off the chain
            that waits for the codes. */
@@ -1961,42 +1980,11 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
         mask = (uint32_t)_mm256_movemask_ps(_mm256_permutevar8x32_ps(_mm256_cmp_ps(en, grown, _CMP_LE_OQ), s->order[tall]));
     }
 #elif LRT__SSE
-    __m128 dz[2];
-    { /* the 8 codes to (qmax - code) in float, exact, without a trip through memory */
-        const __m128i zero = _mm_setzero_si128(), qmax = _mm_set1_epi32((int)w->qmax);
-        __m128i c16;
-        if (w->wide_codes) c16 = _mm_loadu_si128((const __m128i *)(const void *)((const uint16_t *)w->nodes + slot0));
-        else c16 = _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)((const uint8_t *)w->nodes + slot0)), zero);
-        dz[0] = _mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpacklo_epi16(c16, zero)));
-        dz[1] = _mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpackhi_epi16(c16, zero)));
-    }
     {
+        const __m128i zero = _mm_setzero_si128(), qmax = _mm_set1_epi32((int)w->qmax);
+        const __m128 dz[2] = {_mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpacklo_epi16(c16, zero))),
+                              _mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpackhi_epi16(c16, zero)))};
         uint32_t k;
-        /* Every plane is x0 + k * span with k a small integer (exact): the
-           ray's direction signs, set once per ray (lrt__walk_setup), pick
-           which k enters and which leaves, so no per-node selects. */
-        const __m128 X0 = _mm_set1_ps(x0), Y0 = _mm_set1_ps(y0);
-        const __m128 sw = _mm_set1_ps(v->child_span_w), sh = _mm_set1_ps(v->child_span_h);
-        __m128 xe[2], xx[2], ye[2], yx[2];
-        if (!tall) { /* 4 columns, 2 rows */
-            const __m128 r = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_rows2, sh)), s->vo[1]), s->viv[1]);
-            xe[0] = xe[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_enter[0], sw)), s->vo[0]), s->viv[0]);
-            xx[0] = xx[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_exit[0], sw)), s->vo[0]), s->viv[0]);
-            ye[0] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(0, 0, 0, 0)); /* r: row 0 enter, exit, row 1 enter, exit */
-            yx[0] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(1, 1, 1, 1));
-            ye[1] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(2, 2, 2, 2));
-            yx[1] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(3, 3, 3, 3));
-        } else {     /* 2 columns, 4 rows; lanes alternate columns 0, 1 */
-            const __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_cols2, sw)), s->vo[0]), s->viv[0]);
-            const __m128 re = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_enter[1], sh)), s->vo[1]), s->viv[1]);
-            const __m128 rx = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_exit[1], sh)), s->vo[1]), s->viv[1]);
-            xe[0] = xe[1] = _mm_shuffle_ps(c, c, _MM_SHUFFLE(1, 0, 1, 0)); /* c: column 0, 1 enter, column 0, 1 exit */
-            xx[0] = xx[1] = _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 2, 3, 2));
-            ye[0] = _mm_unpacklo_ps(re, re);
-            ye[1] = _mm_unpackhi_ps(re, re);
-            yx[0] = _mm_unpacklo_ps(rx, rx);
-            yx[1] = _mm_unpackhi_ps(rx, rx);
-        }
         for (k = 0; k < 2; ++k) {
             const __m128 tz = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(dz[k], _mm_set1_ps(w->decode_scale)), s->vo[2]), s->viv[2]);
             __m128 en = _mm_max_ps(xe[k], s->vt_lo), ex = _mm_min_ps(xx[k], s->vt_hi); /* maxps/minps keep the 2nd operand on NaN */
