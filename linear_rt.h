@@ -1166,17 +1166,27 @@ typedef struct lrt__ray_setup {
     float t_lo, t_hi;             /* the ray clipped to the screen and to z <= 1 */
     float t_base;                 /* t of the origin used here on the caller's ray */
     int zk;                       /* 0, or z (o.z, v.z and every depth plane) is scaled by 2^zk (lrt__setup_rare) */
-    uint32_t flip[2];             /* front-to-back slot order of wide (4x2) and tall (2x4) nodes */
+    const struct lrt__signs *sg;  /* the node test's constants of the x and y direction signs (lrt__walk_setup) */
 #if LRT__SSE
     __m128 vo[3], viv[3], vt_lo, vt_hi; /* the same, broadcast once for every node test */
+#endif
+#if LRT__AVX
+    __m256 wo_z, wiv_z, wt_lo, wt_hi;  /* 8 lanes of the same */
+#endif
+} lrt__ray_setup;
+
+/* What the node test needs of a ray's x and y direction signs: four sets,
+   made once per trace call, so a ray only picks one. */
+typedef struct lrt__signs {
+    uint32_t flip[2];             /* front-to-back slot order of wide (4x2) and tall (2x4) nodes */
+#if LRT__SSE
     __m128 k_enter[2], k_exit[2]; /* entering / leaving plane of 4 columns (x) or rows (y), in spans */
     __m128 k_rows2, k_cols2;      /* 2 rows (columns): enter, leave of the 1st, of the 2nd (cols: enters, then leaves) */
 #endif
 #if LRT__AVX
-    __m256 wo_z, wiv_z, wt_lo, wt_hi;  /* 8 lanes of the same */
-    __m256i order[2];                         /* lane k: k ^ flip[tall] */
+    __m256i order[2];             /* lane k: k ^ flip[tall] */
 #endif
-} lrt__ray_setup;
+} lrt__signs;
 
 /* max/min that drop a NaN candidate (acc is never NaN) */
 #define LRT__MAX_KEEP(cand, acc) ((cand) > (acc) ? (cand) : (acc))
@@ -1767,7 +1777,36 @@ typedef struct lrt__walk {
     int exact_codes;    /* the level-1 codes are the input depth itself */
     lrt__walk_level lv[LINEAR_RT_MAX_LEVELS + 1];
     uint8_t start_level[2][33]; /* lowest level whose nodes span 2^b texels along x / y */
+    lrt__signs signs[4];        /* by neg_x | neg_y << 1 */
 } lrt__walk;
+
+/* The sign constants of the node test for neg_x, neg_y: flip bits of each
+   axis that runs backwards, so bit k of a mask is slot k ^ flip. */
+static void lrt__signs_init(lrt__signs *g, uint32_t neg_x, uint32_t neg_y)
+{
+    g->flip[0] = (neg_x ? 3u : 0u) | (neg_y ? 4u : 0u);
+    g->flip[1] = (neg_x ? 1u : 0u) | (neg_y ? 6u : 0u);
+#if LRT__SSE
+    {
+        const __m128 k0123 = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f), k1234 = _mm_set_ps(4.0f, 3.0f, 2.0f, 1.0f);
+        const __m128 nx = _mm_set1_ps((float)neg_x), ny = _mm_set1_ps((float)neg_y);
+        /* plane k of column (row) c: enters at c + neg, leaves at c + 1 - neg */
+        g->k_enter[0] = _mm_add_ps(k0123, nx);
+        g->k_exit[0] = _mm_sub_ps(k1234, nx);
+        g->k_enter[1] = _mm_add_ps(k0123, ny);
+        g->k_exit[1] = _mm_sub_ps(k1234, ny);
+        g->k_rows2 = _mm_set_ps(2.0f - (float)neg_y, 1.0f + (float)neg_y, 1.0f - (float)neg_y, (float)neg_y);
+        g->k_cols2 = _mm_set_ps(2.0f - (float)neg_x, 1.0f - (float)neg_x, 1.0f + (float)neg_x, (float)neg_x);
+    }
+#endif
+#if LRT__AVX
+    {
+        const __m256i k = _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0);
+        g->order[0] = _mm256_xor_si256(k, _mm256_set1_epi32((int)g->flip[0]));
+        g->order[1] = _mm256_xor_si256(k, _mm256_set1_epi32((int)g->flip[1]));
+    }
+#endif
+}
 
 static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *depth, size_t stride)
 {
@@ -1801,6 +1840,7 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
         w->start_level[0][b] = (uint8_t)lx;
         w->start_level[1][b] = (uint8_t)ly;
     }
+    for (i = 0; i < 4u; ++i) lrt__signs_init(&w->signs[i], i & 1u, i >> 1);
 }
 
 LRT__INLINE uint32_t lrt__lowest_bit(uint32_t m)
@@ -1918,17 +1958,17 @@ LRT__FORCE_INLINE void lrt__child_slabs(const lrt__ray_setup *s, const lrt__walk
     const __m128 X0 = _mm_set1_ps(x0), Y0 = _mm_set1_ps(y0);
     const __m128 sw = _mm_set1_ps(v->child_span_w), sh = _mm_set1_ps(v->child_span_h);
     if (!tall) { /* 4 columns, 2 rows */
-        const __m128 r = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_rows2, sh)), s->vo[1]), s->viv[1]);
-        xe[0] = xe[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_enter[0], sw)), s->vo[0]), s->viv[0]);
-        xx[0] = xx[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_exit[0], sw)), s->vo[0]), s->viv[0]);
+        const __m128 r = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->sg->k_rows2, sh)), s->vo[1]), s->viv[1]);
+        xe[0] = xe[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->sg->k_enter[0], sw)), s->vo[0]), s->viv[0]);
+        xx[0] = xx[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->sg->k_exit[0], sw)), s->vo[0]), s->viv[0]);
         ye[0] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(0, 0, 0, 0)); /* r: row 0 enter, exit, row 1 enter, exit */
         yx[0] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(1, 1, 1, 1));
         ye[1] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(2, 2, 2, 2));
         yx[1] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(3, 3, 3, 3));
     } else {     /* 2 columns, 4 rows; lanes alternate columns 0, 1 */
-        const __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->k_cols2, sw)), s->vo[0]), s->viv[0]);
-        const __m128 re = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_enter[1], sh)), s->vo[1]), s->viv[1]);
-        const __m128 rx = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->k_exit[1], sh)), s->vo[1]), s->viv[1]);
+        const __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->sg->k_cols2, sw)), s->vo[0]), s->viv[0]);
+        const __m128 re = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->sg->k_enter[1], sh)), s->vo[1]), s->viv[1]);
+        const __m128 rx = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->sg->k_exit[1], sh)), s->vo[1]), s->viv[1]);
         xe[0] = xe[1] = _mm_shuffle_ps(c, c, _MM_SHUFFLE(1, 0, 1, 0)); /* c: column 0, 1 enter, column 0, 1 exit */
         xx[0] = xx[1] = _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 2, 3, 2));
         ye[0] = _mm_unpacklo_ps(re, re);
@@ -1977,7 +2017,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
         grown = _mm256_add_ps(ex, _mm256_mul_ps(_mm256_andnot_ps(_mm256_set1_ps(-0.0f), ex), _mm256_set1_ps(LRT__WIDEN_EXIT)));
         grown = _mm256_blendv_ps(ex, grown, _mm256_cmp_ps(grown, _mm256_set1_ps(3.40282347e38f), _CMP_LE_OQ));
         /* lane k of the answer is slot k ^ flip: front to back, as the walk takes them */
-        mask = (uint32_t)_mm256_movemask_ps(_mm256_permutevar8x32_ps(_mm256_cmp_ps(en, grown, _CMP_LE_OQ), s->order[tall]));
+        mask = (uint32_t)_mm256_movemask_ps(_mm256_permutevar8x32_ps(_mm256_cmp_ps(en, grown, _CMP_LE_OQ), s->sg->order[tall]));
     }
 #elif LRT__SSE
     {
@@ -2033,7 +2073,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
     }
 #endif
 #if !LRT__AVX
-    mask = lrt__order_mask(mask, s->flip[tall]);
+    mask = lrt__order_mask(mask, s->sg->flip[tall]);
 #endif
     return mask;
 }
@@ -2076,14 +2116,11 @@ LRT__INLINE void lrt__report_hit(const lrt_ray *ray, const lrt__ray_setup *s, fl
 }
 
 /* Per-ray constants of every node test, set once a ray is walked. */
-LRT__INLINE void lrt__walk_setup(lrt__ray_setup *s)
+LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
 {
-    s->flip[0] = (s->neg_x ? 3u : 0u) | (s->neg_y ? 4u : 0u);
-    s->flip[1] = (s->neg_x ? 1u : 0u) | (s->neg_y ? 6u : 0u);
+    s->sg = &w->signs[s->neg_x | (s->neg_y << 1)];
 #if LRT__SSE
     {
-        const __m128 k0123 = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f), k1234 = _mm_set_ps(4.0f, 3.0f, 2.0f, 1.0f);
-        const __m128 nx = _mm_set1_ps((float)s->neg_x), ny = _mm_set1_ps((float)s->neg_y);
         int axis;
         for (axis = 0; axis < 3; ++axis) {
             s->vo[axis] = _mm_set1_ps(s->o[axis]);
@@ -2091,13 +2128,6 @@ LRT__INLINE void lrt__walk_setup(lrt__ray_setup *s)
         }
         s->vt_lo = _mm_set1_ps(s->t_lo);
         s->vt_hi = _mm_set1_ps(s->t_hi);
-        /* plane k of column (row) c: enters at c + neg, leaves at c + 1 - neg */
-        s->k_enter[0] = _mm_add_ps(k0123, nx);
-        s->k_exit[0] = _mm_sub_ps(k1234, nx);
-        s->k_enter[1] = _mm_add_ps(k0123, ny);
-        s->k_exit[1] = _mm_sub_ps(k1234, ny);
-        s->k_rows2 = _mm_set_ps(2.0f - (float)s->neg_y, 1.0f + (float)s->neg_y, 1.0f - (float)s->neg_y, (float)s->neg_y);
-        s->k_cols2 = _mm_set_ps(2.0f - (float)s->neg_x, 1.0f - (float)s->neg_x, 1.0f + (float)s->neg_x, (float)s->neg_x);
     }
 #endif
 #if LRT__AVX
@@ -2105,11 +2135,6 @@ LRT__INLINE void lrt__walk_setup(lrt__ray_setup *s)
     s->wiv_z = _mm256_set1_ps(s->iv[2]);
     s->wt_lo = _mm256_set1_ps(s->t_lo);
     s->wt_hi = _mm256_set1_ps(s->t_hi);
-    {
-        const __m256i k = _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0);
-        s->order[0] = _mm256_xor_si256(k, _mm256_set1_epi32((int)s->flip[0]));
-        s->order[1] = _mm256_xor_si256(k, _mm256_set1_epi32((int)s->flip[1]));
-    }
 #endif
 }
 
@@ -2191,12 +2216,12 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
         hit->kind = kind;
         return;
     }
-    lrt__walk_setup(&s);
+    lrt__walk_setup(w, &s);
     slot0 = lrt__node_slot(w, lv, nx, ny);
     for (;;) {
         const uint32_t tall = (lv & 1u) ^ 1u;
         /* front-to-back order: flip the bits of each axis that runs backwards */
-        const uint32_t flip = s.flip[tall];
+        const uint32_t flip = s.sg->flip[tall];
         float enter[8], exit[8];
         uint32_t mask = tall ? lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 1u)
                              : lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 0u);
@@ -2233,7 +2258,7 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
         { /* the next child of the last pending node */
             lrt__pending *p = &stack[sp - 1];
             const uint32_t plv = p->lv_bits >> 8, ptall = (plv & 1u) ^ 1u, bw_log2 = ptall ? 1u : 2u;
-            const uint32_t slot = lrt__lowest_bit(p->lv_bits & 0xffu) ^ s.flip[ptall];
+            const uint32_t slot = lrt__lowest_bit(p->lv_bits & 0xffu) ^ s.sg->flip[ptall];
             nx = (p->x << bw_log2) + (slot & ((1u << bw_log2) - 1u));
             ny = (p->y << (3u - bw_log2)) + (slot >> bw_log2);
             slot0 = p->children + (size_t)slot * 8u;
