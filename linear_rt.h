@@ -2200,15 +2200,11 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
     lv = lrt__start_node(w, &s, &nx, &ny);
     if (lv == 0) { /* one texel: its box alone decides */
         const float x0 = (float)nx, y0 = (float)ny;
-        const float ax = (x0 - s.o[0]) * s.iv[0], bx = ((x0 + 1.0f) - s.o[0]) * s.iv[0];
-        const float ay = (y0 - s.o[1]) * s.iv[1], by = ((y0 + 1.0f) - s.o[1]) * s.iv[1];
         const uint32_t slot = ((ny & 1u) << 2) | (nx & 3u);
         float en = s.t_lo, ex = s.t_hi, t;
         slot0 = lrt__node_slot(w, 1, nx >> 2, ny >> 1);
-        en = LRT__MAX_KEEP(s.neg_x ? bx : ax, en);
-        en = LRT__MAX_KEEP(s.neg_y ? by : ay, en);
-        ex = LRT__MIN_KEEP(s.neg_x ? ax : bx, ex);
-        ex = LRT__MIN_KEEP(s.neg_y ? ay : by, ex);
+        lrt__slab(x0, x0 + 1.0f, s.o[0], s.iv[0], s.neg_x, &en, &ex);
+        lrt__slab(y0, y0 + 1.0f, s.o[1], s.iv[1], s.neg_y, &en, &ex);
         if (lrt__test_texel(w, &s, nx, ny, en, ex, lrt__code(w, slot0 + slot), &t)) {
             lrt__report_hit(ray, &s, t_scale, t, nx, ny, hit);
             return;
