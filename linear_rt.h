@@ -1171,7 +1171,7 @@ typedef struct lrt__ray_setup {
     __m128 vo[3], viv[3], vt_lo, vt_hi; /* the same, broadcast once for every node test */
 #endif
 #if LRT__AVX
-    __m256 wo_z, wiv_z, wt_lo, wt_hi;  /* 8 lanes of the same */
+    __m256 wo[3], wiv[3], wt_lo, wt_hi; /* 8 lanes of the same */
 #endif
 } lrt__ray_setup;
 
@@ -1185,6 +1185,7 @@ typedef struct lrt__signs {
 #endif
 #if LRT__AVX
     __m256i order[2];             /* lane k: k ^ flip[tall] */
+    __m256 kx_enter[2], kx_exit[2], ky_enter[2], ky_exit[2]; /* of lane k's column and row, in spans */
 #endif
 } lrt__signs;
 
@@ -1762,6 +1763,7 @@ LRT__INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t heig
    (lrt_layout_compute), so a node's shape is a bit of its level. */
 typedef struct lrt__walk_level {
     size_t offset;                     /* first node slot of the level */
+    size_t children;                   /* first code of the level below: node (x, y)'s children are at children + (y * width + x) * 64 */
     uint32_t width;                    /* nodes per row: the block row of the level below */
     uint32_t span_w_log2, span_h_log2; /* texels per node of this level */
     float child_span_w, child_span_h;  /* texels per child, as float */
@@ -1773,6 +1775,7 @@ typedef struct lrt__walk {
     const lrt_depth *depth;
     size_t stride;
     uint32_t qmax, wide_codes; /* wide_codes: 16-bit nodes */
+    uint32_t row_prefetch_level; /* 2, where the exact test reads depth rows, else 0 (never met) */
     float decode_scale; /* just below 1/qmax: decoded bounds never exceed the true ones */
     int exact_codes;    /* the level-1 codes are the input depth itself */
     lrt__walk_level lv[LINEAR_RT_MAX_LEVELS + 1];
@@ -1802,8 +1805,24 @@ static void lrt__signs_init(lrt__signs *g, uint32_t neg_x, uint32_t neg_y)
 #if LRT__AVX
     {
         const __m256i k = _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0);
+        uint32_t tall, lane;
         g->order[0] = _mm256_xor_si256(k, _mm256_set1_epi32((int)g->flip[0]));
         g->order[1] = _mm256_xor_si256(k, _mm256_set1_epi32((int)g->flip[1]));
+        for (tall = 0; tall < 2u; ++tall) {
+            float xe[8], xx[8], ye[8], yx[8];
+            for (lane = 0; lane < 8u; ++lane) {
+                /* a wide node's lane k is column k&3, row k>>2; a tall one's column k&1, row k>>1 */
+                const uint32_t c = tall ? lane & 1u : lane & 3u, r = tall ? lane >> 1 : lane >> 2;
+                xe[lane] = (float)(c + neg_x);
+                xx[lane] = (float)(c + 1u - neg_x);
+                ye[lane] = (float)(r + neg_y);
+                yx[lane] = (float)(r + 1u - neg_y);
+            }
+            g->kx_enter[tall] = _mm256_loadu_ps(xe);
+            g->kx_exit[tall] = _mm256_loadu_ps(xx);
+            g->ky_enter[tall] = _mm256_loadu_ps(ye);
+            g->ky_exit[tall] = _mm256_loadu_ps(yx);
+        }
     }
 #endif
 }
@@ -1824,9 +1843,11 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
        in float never drops a hit that the texel test (in double) finds */
     w->decode_scale = (1.0f / (float)w->qmax) * (1.0f - 1.0f / 1048576.0f);
     w->exact_codes = depth->format != LRT_FORMAT_FLOAT32 && lrt__format_bytes(depth->format) * 8u <= L->node_bits;
+    w->row_prefetch_level = w->exact_codes ? 0u : 2u;
     for (i = 1; i <= L->level_count; ++i) {
         lrt__walk_level *v = &w->lv[i];
         v->offset = L->levels[i].offset;
+        v->children = L->levels[i - 1].offset * 8u;
         v->width = L->levels[i].width;
         v->span_w_log2 = L->levels[i].span_w_log2;
         v->span_h_log2 = L->levels[i].span_h_log2;
@@ -1924,9 +1945,11 @@ LRT__INLINE size_t lrt__node_slot(const lrt__walk *w, uint32_t lv, uint32_t x, u
    level lv - 1 in its block, whose first codes follow 8 apart. */
 LRT__INLINE size_t lrt__children_slot(const lrt__walk *w, uint32_t lv, uint32_t x, uint32_t y)
 {
-    return (w->lv[lv - 1].offset + ((size_t)y * w->lv[lv].width + x) * 8u) * 8u;
+    const lrt__walk_level *v = &w->lv[lv];
+    return v->children + ((size_t)y * v->width + x) * 64u;
 }
 
+#if !LRT__AVX
 /* Reorders a slot mask so that bit k is slot k ^ flip: then walking bits from
    the lowest is walking the children front to back. XOR by 4, 2, 1 swaps
    nibbles, bit pairs, neighbours. */
@@ -1937,6 +1960,7 @@ LRT__INLINE uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
     if (flip & 1u) m = ((m & 0x55u) << 1) | ((m >> 1) & 0x55u);
     return m;
 }
+#endif
 
 #if LRT__SSE
 /* A node's 8 codes as 16-bit lanes, in slot order. */
@@ -1947,6 +1971,7 @@ LRT__INLINE __m128i lrt__load_codes(const lrt__walk *w, size_t slot0)
                              _mm_setzero_si128());
 }
 
+#if !LRT__AVX /* AVX takes all 8 children in one register (lrt__test_children) */
 /* The x and y slabs of a node's 8 children: entering and leaving t of
    slots 0..3 in [0], of slots 4..7 in [1]. Every plane is x0 + k * span
    with k a small integer (exact): the ray's direction signs, set once per
@@ -1978,6 +2003,7 @@ LRT__FORCE_INLINE void lrt__child_slabs(const lrt__ray_setup *s, const lrt__walk
     }
 }
 #endif
+#endif
 
 /* Children of node (nx, ny) at level lv whose boxes the ray meets, as a bit
    mask in visiting order (bit k is slot k ^ flip, lrt__order_mask);
@@ -1993,19 +2019,25 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
     const float x0 = (float)(nx << v->span_w_log2), y0 = (float)(ny << v->span_h_log2);
     uint32_t mask = 0;
 #if LRT__SSE
-    __m128 xe[2], xx[2], ye[2], yx[2];
     /* qmax - code in integers, then one conversion: exact, one step shorter */
     const __m128i c16 = lrt__load_codes(w, slot0);
-    lrt__child_slabs(s, v, x0, y0, tall, xe, xx, ye, yx);
 #endif
 #if LRT__AVX
-    {   /* lanes 4..7 beside lanes 0..3 */
+    {   /* all 8 children at once: lane k's planes are x0 + k' * span with k'
+           from the sign set's tables (exact), then the same (plane - o) / v */
+        const lrt__signs *g = s->sg;
+        const __m256 X0 = _mm256_set1_ps(x0), Y0 = _mm256_set1_ps(y0);
+        const __m256 sw = _mm256_set1_ps(v->child_span_w), sh = _mm256_set1_ps(v->child_span_h);
+        const __m256 xe = _mm256_mul_ps(_mm256_sub_ps(_mm256_add_ps(X0, _mm256_mul_ps(g->kx_enter[tall], sw)), s->wo[0]), s->wiv[0]);
+        const __m256 xx = _mm256_mul_ps(_mm256_sub_ps(_mm256_add_ps(X0, _mm256_mul_ps(g->kx_exit[tall], sw)), s->wo[0]), s->wiv[0]);
+        const __m256 ye = _mm256_mul_ps(_mm256_sub_ps(_mm256_add_ps(Y0, _mm256_mul_ps(g->ky_enter[tall], sh)), s->wo[1]), s->wiv[1]);
+        const __m256 yx = _mm256_mul_ps(_mm256_sub_ps(_mm256_add_ps(Y0, _mm256_mul_ps(g->ky_exit[tall], sh)), s->wo[1]), s->wiv[1]);
         const __m256 dz = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), _mm256_cvtepu16_epi32(c16)));
-        const __m256 tz = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(dz, _mm256_set1_ps(w->decode_scale)), s->wo_z), s->wiv_z);
-        __m256 en = _mm256_max_ps(_mm256_set_m128(xe[1], xe[0]), s->wt_lo), ex = _mm256_min_ps(_mm256_set_m128(xx[1], xx[0]), s->wt_hi);
+        const __m256 tz = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(dz, _mm256_set1_ps(w->decode_scale)), s->wo[2]), s->wiv[2]);
+        __m256 en = _mm256_max_ps(xe, s->wt_lo), ex = _mm256_min_ps(xx, s->wt_hi);
         __m256 grown;
-        en = _mm256_max_ps(_mm256_set_m128(ye[1], ye[0]), en);
-        ex = _mm256_min_ps(_mm256_set_m128(yx[1], yx[0]), ex);
+        en = _mm256_max_ps(ye, en);
+        ex = _mm256_min_ps(yx, ex);
         /* the z plane leaves (v.z < 0) or enters; a NaN tz keeps the other
            operand. A ray going deeper then widens its exits off the chain
            that waits for the codes. */
@@ -2022,9 +2054,11 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
 #elif LRT__SSE
     {
         const __m128i zero = _mm_setzero_si128(), qmax = _mm_set1_epi32((int)w->qmax);
+        __m128 xe[2], xx[2], ye[2], yx[2];
+        uint32_t k;
         const __m128 dz[2] = {_mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpacklo_epi16(c16, zero))),
                               _mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpackhi_epi16(c16, zero)))};
-        uint32_t k;
+        lrt__child_slabs(s, v, x0, y0, tall, xe, xx, ye, yx);
         for (k = 0; k < 2; ++k) {
             const __m128 tz = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(dz[k], _mm_set1_ps(w->decode_scale)), s->vo[2]), s->viv[2]);
             __m128 en = _mm_max_ps(xe[k], s->vt_lo), ex = _mm_min_ps(xx[k], s->vt_hi); /* maxps/minps keep the 2nd operand on NaN */
@@ -2131,8 +2165,13 @@ LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
     }
 #endif
 #if LRT__AVX
-    s->wo_z = _mm256_set1_ps(s->o[2]);
-    s->wiv_z = _mm256_set1_ps(s->iv[2]);
+    {
+        int axis;
+        for (axis = 0; axis < 3; ++axis) {
+            s->wo[axis] = _mm256_set1_ps(s->o[axis]);
+            s->wiv[axis] = _mm256_set1_ps(s->iv[axis]);
+        }
+    }
     s->wt_lo = _mm256_set1_ps(s->t_lo);
     s->wt_hi = _mm256_set1_ps(s->t_hi);
 #endif
@@ -2143,8 +2182,7 @@ LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
    depth rows the exact test reads) while the first child is worked on.
    Forced inline: gcc 12 takes a function that only prefetches for one
    without effects and drops its calls. */
-LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, uint32_t lv, uint32_t nx, uint32_t ny, size_t children,
-                                        uint32_t ordered, uint32_t flip)
+LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, uint32_t lv, uint32_t nx, uint32_t ny, size_t children)
 {
     const unsigned char *codes = (const unsigned char *)w->nodes + children * (w->wide_codes ? 2u : 1u);
     LRT__PREFETCH(codes);
@@ -2152,21 +2190,14 @@ LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, uint32_t lv, u
        bytes of 16-bit codes, whose second line this is; of 8-bit codes, 64
        bytes, and this is at most one past the array's end (never read) */
     LRT__PREFETCH(codes + 64);
-    if (lv == 2 && !w->exact_codes) {
-        /* level 2 is tall: child slot 2r + c is row r, column c, 4x2 texels each */
-        const uint32_t bytes = lrt__format_bytes(w->depth->format);
-        const uint32_t rows = lrt__order_mask(ordered, flip), tx = nx * 8u;
+    if (lv == w->row_prefetch_level) {
+        /* level 2 is 8x8 texels: its 8 rows, clamped into the map, without
+           a branch per row (which children the ray meets is a coin toss) */
+        const uint32_t bytes = lrt__format_bytes(w->depth->format), last = w->L->height - 1u;
+        const uint32_t tx = nx * 8u < w->L->width ? nx * 8u : w->L->width - 1u, ty = ny * 8u;
         const unsigned char *base = (const unsigned char *)w->depth->data + (size_t)tx * bytes;
         uint32_t r;
-        for (r = 0; r < 4u; ++r) {
-            if ((rows >> (2u * r)) & 3u) {
-                const uint32_t ty = (ny * 4u + r) * 2u;
-                if (ty < w->L->height && tx < w->L->width) {
-                    LRT__PREFETCH(base + w->stride * ty);
-                    if (ty + 1u < w->L->height) LRT__PREFETCH(base + w->stride * (ty + 1u));
-                }
-            }
-        }
+        for (r = 0; r < 8u; ++r) LRT__PREFETCH(base + w->stride * (ty + r < last ? ty + r : last));
     }
 }
 
@@ -2237,7 +2268,7 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
             const uint32_t first = lrt__lowest_bit(mask) ^ flip, rest = mask & (mask - 1u);
             const uint32_t bw_log2 = tall ? 1u : 2u;
             const size_t children = lrt__children_slot(w, lv, nx, ny);
-            lrt__prefetch_children(w, lv, nx, ny, children, mask, flip);
+            lrt__prefetch_children(w, lv, nx, ny, children);
             /* written whether or not it stays: no branch on a random bit */
             stack[sp].children = children;
             stack[sp].x = nx;
