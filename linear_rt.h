@@ -656,6 +656,13 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
 #else
 #define LRT__AVX 0
 #endif
+/* a * b + c where a * b is exact (small integers times powers of two), so
+   fused or not it is the same float: one instruction where FMA is there */
+#if LRT__AVX && defined(__FMA__)
+#define LRT__EXACT_MADD8(a, b, c) _mm256_fmadd_ps(a, b, c)
+#elif LRT__AVX
+#define LRT__EXACT_MADD8(a, b, c) _mm256_add_ps(c, _mm256_mul_ps(a, b))
+#endif
 
 #ifndef LINEAR_RT_ASSERT
 #include <assert.h>
@@ -2028,10 +2035,10 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
         const lrt__signs *g = s->sg;
         const __m256 X0 = _mm256_set1_ps(x0), Y0 = _mm256_set1_ps(y0);
         const __m256 sw = _mm256_set1_ps(v->child_span_w), sh = _mm256_set1_ps(v->child_span_h);
-        const __m256 xe = _mm256_mul_ps(_mm256_sub_ps(_mm256_add_ps(X0, _mm256_mul_ps(g->kx_enter[tall], sw)), s->wo[0]), s->wiv[0]);
-        const __m256 xx = _mm256_mul_ps(_mm256_sub_ps(_mm256_add_ps(X0, _mm256_mul_ps(g->kx_exit[tall], sw)), s->wo[0]), s->wiv[0]);
-        const __m256 ye = _mm256_mul_ps(_mm256_sub_ps(_mm256_add_ps(Y0, _mm256_mul_ps(g->ky_enter[tall], sh)), s->wo[1]), s->wiv[1]);
-        const __m256 yx = _mm256_mul_ps(_mm256_sub_ps(_mm256_add_ps(Y0, _mm256_mul_ps(g->ky_exit[tall], sh)), s->wo[1]), s->wiv[1]);
+        const __m256 xe = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->kx_enter[tall], sw, X0), s->wo[0]), s->wiv[0]);
+        const __m256 xx = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->kx_exit[tall], sw, X0), s->wo[0]), s->wiv[0]);
+        const __m256 ye = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->ky_enter[tall], sh, Y0), s->wo[1]), s->wiv[1]);
+        const __m256 yx = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->ky_exit[tall], sh, Y0), s->wo[1]), s->wiv[1]);
         const __m256 dz = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), _mm256_cvtepu16_epi32(c16)));
         const __m256 tz = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(dz, _mm256_set1_ps(w->decode_scale)), s->wo[2]), s->wiv[2]);
         __m256 en = _mm256_max_ps(xe, s->wt_lo), ex = _mm256_min_ps(xx, s->wt_hi);
@@ -2046,7 +2053,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
         _mm256_storeu_ps(enter, en);
         _mm256_storeu_ps(exit, ex);
         /* lrt__widen */
-        grown = _mm256_add_ps(ex, _mm256_mul_ps(_mm256_andnot_ps(_mm256_set1_ps(-0.0f), ex), _mm256_set1_ps(LRT__WIDEN_EXIT)));
+        grown = LRT__EXACT_MADD8(_mm256_andnot_ps(_mm256_set1_ps(-0.0f), ex), _mm256_set1_ps(LRT__WIDEN_EXIT), ex);
         grown = _mm256_blendv_ps(ex, grown, _mm256_cmp_ps(grown, _mm256_set1_ps(3.40282347e38f), _CMP_LE_OQ));
         /* lane k of the answer is slot k ^ flip: front to back, as the walk takes them */
         mask = (uint32_t)_mm256_movemask_ps(_mm256_permutevar8x32_ps(_mm256_cmp_ps(en, grown, _CMP_LE_OQ), s->sg->order[tall]));
@@ -2193,11 +2200,11 @@ LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, uint32_t lv, u
     if (lv == w->row_prefetch_level) {
         /* level 2 is 8x8 texels: its 8 rows, clamped into the map, without
            a branch per row (which children the ray meets is a coin toss) */
-        const uint32_t bytes = lrt__format_bytes(w->depth->format), last = w->L->height - 1u;
         const uint32_t tx = nx * 8u < w->L->width ? nx * 8u : w->L->width - 1u, ty = ny * 8u;
-        const unsigned char *base = (const unsigned char *)w->depth->data + (size_t)tx * bytes;
+        const uint32_t rows = w->L->height - ty < 8u ? w->L->height - ty : 8u;
+        const unsigned char *base = (const unsigned char *)w->depth->data + (size_t)tx * lrt__format_bytes(w->depth->format);
         uint32_t r;
-        for (r = 0; r < 8u; ++r) LRT__PREFETCH(base + w->stride * (ty + r < last ? ty + r : last));
+        for (r = 0; r < rows; ++r) LRT__PREFETCH(base + w->stride * (ty + r));
     }
 }
 
