@@ -1639,7 +1639,7 @@ static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *ray, uint32_t width, uin
 
 /* Validates and clips one ray; returns 0 with *kind set when nothing is left
    to walk. Directions at the edge of float range take lrt__setup_rare. */
-LRT__INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t height, lrt__ray_setup *s, float *t_scale,
+LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t height, lrt__ray_setup *s, float *t_scale,
                           uint32_t *kind)
 {
     float v[3], tmin = ray->tmin, tmax = ray->tmax;
@@ -1785,6 +1785,7 @@ typedef struct lrt__walk {
     uint32_t row_prefetch_level; /* 2, where the exact test reads depth rows, else 0 (never met) */
     float decode_scale; /* just below 1/qmax: decoded bounds never exceed the true ones */
     int exact_codes;    /* the level-1 codes are the input depth itself */
+    int plain_float;    /* float depth, standard Z */
     lrt__walk_level lv[LINEAR_RT_MAX_LEVELS + 1];
     uint8_t start_level[2][33]; /* lowest level whose nodes span 2^b texels along x / y */
     lrt__signs signs[4];        /* by neg_x | neg_y << 1 */
@@ -1851,6 +1852,7 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
     w->decode_scale = (1.0f / (float)w->qmax) * (1.0f - 1.0f / 1048576.0f);
     w->exact_codes = depth->format != LRT_FORMAT_FLOAT32 && lrt__format_bytes(depth->format) * 8u <= L->node_bits;
     w->row_prefetch_level = w->exact_codes ? 0u : 2u;
+    w->plain_float = depth->format == LRT_FORMAT_FLOAT32 && !(depth->flags & LRT_DEPTH_REVERSED_Z);
     for (i = 1; i <= L->level_count; ++i) {
         lrt__walk_level *v = &w->lv[i];
         v->offset = L->levels[i].offset;
@@ -1913,6 +1915,31 @@ LRT__INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_setup *s
         *sy = (uint32_t)(int32_t)s->o[1];
         return 0;
     }
+#if LRT__SSE
+    { /* x and y side by side: the same floats as the loop below */
+        const __m128 o = _mm_set_ps(0.0f, 0.0f, s->o[1], s->o[0]), v = _mm_set_ps(0.0f, 0.0f, s->v[1], s->v[0]);
+        const __m128 lim = _mm_set_ps(0.0f, 0.0f, (float)(L->height - 1u), (float)(L->width - 1u));
+        const __m128 a = _mm_add_ps(o, _mm_mul_ps(_mm_set1_ps(s->t_lo), v));
+        const __m128 b = _mm_add_ps(o, _mm_mul_ps(_mm_set1_ps(s->t_hi), v));
+        const __m128 abs_bits = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+        const __m128 size = _mm_add_ps(_mm_add_ps(_mm_and_ps(o, abs_bits), _mm_and_ps(_mm_sub_ps(a, o), abs_bits)),
+                                       _mm_and_ps(_mm_sub_ps(b, o), abs_bits));
+        const __m128 mg = _mm_add_ps(_mm_set1_ps(1e-3f), _mm_mul_ps(_mm_set1_ps(1e-5f), size));
+        /* min_ps(p, q) is p < q ? p : q, max_ps(p, q) is p > q ? p : q: the
+           selects below, NaN included */
+        __m128 lo = _mm_sub_ps(_mm_min_ps(a, b), mg), hi = _mm_add_ps(_mm_max_ps(b, a), mg);
+        __m128i l, h;
+        lo = _mm_min_ps(_mm_max_ps(lo, _mm_setzero_ps()), lim);
+        hi = _mm_max_ps(_mm_min_ps(hi, lim), _mm_setzero_ps());
+        l = _mm_cvttps_epi32(lo);
+        h = _mm_cvttps_epi32(hi);
+        i0[0] = (uint32_t)_mm_cvtsi128_si32(l);
+        i1[0] = (uint32_t)_mm_cvtsi128_si32(h);
+        i0[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(l, _MM_SHUFFLE(1, 1, 1, 1)));
+        i1[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(h, _MM_SHUFFLE(1, 1, 1, 1)));
+        (void)k;
+    }
+#else
     for (k = 0; k < 2; ++k) {
         const float lim = (float)((k ? L->height : L->width) - 1u);
         float a = s->o[k] + s->t_lo * s->v[k], b = s->o[k] + s->t_hi * s->v[k];
@@ -1926,6 +1953,7 @@ LRT__INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_setup *s
         i0[k] = (uint32_t)(int32_t)lo;
         i1[k] = (uint32_t)(int32_t)hi;
     }
+#endif
     lv = w->start_level[0][lrt__bit_length(i0[0] ^ i1[0])];
     ly = w->start_level[1][lrt__bit_length(i0[1] ^ i1[1])];
     lv = lv > ly ? lv : ly;
@@ -1971,9 +1999,9 @@ LRT__INLINE uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
 
 #if LRT__SSE
 /* A node's 8 codes as 16-bit lanes, in slot order. */
-LRT__INLINE __m128i lrt__load_codes(const lrt__walk *w, size_t slot0)
+LRT__INLINE __m128i lrt__load_codes(const lrt__walk *w, size_t slot0, uint32_t wide)
 {
-    if (w->wide_codes) return _mm_loadu_si128((const __m128i *)(const void *)((const uint16_t *)w->nodes + slot0));
+    if (wide) return _mm_loadu_si128((const __m128i *)(const void *)((const uint16_t *)w->nodes + slot0));
     return _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)((const uint8_t *)w->nodes + slot0)),
                              _mm_setzero_si128());
 }
@@ -2020,14 +2048,14 @@ LRT__FORCE_INLINE void lrt__child_slabs(const lrt__ray_setup *s, const lrt__walk
    every level, which keeps the culling monotone. tall is a constant where
    this is inlined, so each shape gets its own straight code. */
 LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
-                                   size_t slot0, float enter[8], float exit[8], uint32_t tall)
+                                   size_t slot0, float enter[8], float exit[8], uint32_t tall, uint32_t wide)
 {
     const lrt__walk_level *v = &w->lv[lv];
     const float x0 = (float)(nx << v->span_w_log2), y0 = (float)(ny << v->span_h_log2);
     uint32_t mask = 0;
 #if LRT__SSE
     /* qmax - code in integers, then one conversion: exact, one step shorter */
-    const __m128i c16 = lrt__load_codes(w, slot0);
+    const __m128i c16 = lrt__load_codes(w, slot0, wide);
 #endif
 #if LRT__AVX
     {   /* all 8 children at once: lane k's planes are x0 + k' * span with k'
@@ -2088,7 +2116,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
         const uint32_t bw = tall ? 2u : 4u, bh = tall ? 4u : 2u;
         uint32_t k;
         float dz[8], px[5], py[5];
-        if (w->wide_codes) {
+        if (wide) {
             const uint16_t *codes = (const uint16_t *)w->nodes + slot0;
             for (k = 0; k < 8; ++k) dz[k] = (float)(65535 - (int)codes[k]);
         } else {
@@ -2126,22 +2154,29 @@ LRT__INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uin
     uint32_t raw;
     float tz;
     if (tx >= w->L->width || ty >= w->L->height) return 0; /* padding */
-    if (w->exact_codes) { /* the code is the input's own integer, scaled by qmax/vmax (1 or 257) */
+    if (w->plain_float && !s->zk) { /* the common case, straight: lrt__depth_raw, then lrt__depth_plane */
+        float d;
+        memcpy(&d, (const unsigned char *)w->depth->data + w->stride * ty + 4 * (size_t)tx, 4);
+        if (!(d <= 1.0f)) d = 1.0f; /* NaN too */
+        if (!(d > 0.0f)) d = 0.0f;
+        tz = (d - s->o[2]) * s->iv[2];
+    } else if (w->exact_codes) { /* the code is the input's own integer, scaled by qmax/vmax (1 or 257) */
         const uint32_t vmax = w->depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
         raw = (w->qmax - code) / (w->qmax / vmax);
+        tz = lrt__depth_plane(s, w->depth->format, raw);
     } else {
         raw = lrt__depth_raw(w->depth, w->stride, tx, ty);
+        tz = lrt__depth_plane(s, w->depth->format, raw);
     }
-    tz = lrt__depth_plane(s, w->depth->format, raw);
     if (s->neg_z) exit = LRT__MIN_KEEP(tz, exit);
     else enter = LRT__MAX_KEEP(tz, enter);
     *t = enter;
     return enter <= lrt__widen(exit);
 }
 
-LRT__INLINE uint32_t lrt__code(const lrt__walk *w, size_t slot)
+LRT__INLINE uint32_t lrt__code(const lrt__walk *w, size_t slot, uint32_t wide)
 {
-    return w->wide_codes ? ((const uint16_t *)w->nodes)[slot] : ((const uint8_t *)w->nodes)[slot];
+    return wide ? ((const uint16_t *)w->nodes)[slot] : ((const uint8_t *)w->nodes)[slot];
 }
 
 /* A hit at t of the walked ray, told in the caller's ray: undo the restart
@@ -2189,9 +2224,10 @@ LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
    depth rows the exact test reads) while the first child is worked on.
    Forced inline: gcc 12 takes a function that only prefetches for one
    without effects and drops its calls. */
-LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, uint32_t lv, uint32_t nx, uint32_t ny, size_t children)
+LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, uint32_t lv, uint32_t nx, uint32_t ny, size_t children,
+                                              uint32_t wide)
 {
-    const unsigned char *codes = (const unsigned char *)w->nodes + children * (w->wide_codes ? 2u : 1u);
+    const unsigned char *codes = (const unsigned char *)w->nodes + (children << wide);
     LRT__PREFETCH(codes);
     /* the 8 children's codes fill 8 whole slots (padding included): 128
        bytes of 16-bit codes, whose second line this is; of 8-bit codes, 64
@@ -2202,9 +2238,15 @@ LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, uint32_t lv, u
            a branch per row (which children the ray meets is a coin toss) */
         const uint32_t tx = nx * 8u < w->L->width ? nx * 8u : w->L->width - 1u, ty = ny * 8u;
         const uint32_t rows = w->L->height - ty < 8u ? w->L->height - ty : 8u;
-        const unsigned char *base = (const unsigned char *)w->depth->data + (size_t)tx * lrt__format_bytes(w->depth->format);
+        const size_t stride = w->stride;
+        const unsigned char *row = (const unsigned char *)w->depth->data + (size_t)tx * lrt__format_bytes(w->depth->format) +
+                                   stride * ty;
         uint32_t r;
-        for (r = 0; r < rows; ++r) LRT__PREFETCH(base + w->stride * (ty + r));
+        LRT__PREFETCH(row);
+        for (r = 1; r < rows; ++r) { /* one add a row: registers are scarce here */
+            row += stride;
+            LRT__PREFETCH(row);
+        }
     }
 }
 
@@ -2221,7 +2263,8 @@ typedef struct lrt__pending {
    nodes of lower levels */
 #define LRT__STACK (LINEAR_RT_MAX_LEVELS + 1u)
 
-static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
+/* wide (16-bit codes) is a constant where this is inlined (lrt__trace_rays) */
+LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, uint32_t wide)
 {
     const lrt_layout *L = w->L;
     lrt__ray_setup s;
@@ -2243,7 +2286,7 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
         slot0 = lrt__node_slot(w, 1, nx >> 2, ny >> 1);
         lrt__slab(x0, x0 + 1.0f, s.o[0], s.iv[0], s.neg_x, &en, &ex);
         lrt__slab(y0, y0 + 1.0f, s.o[1], s.iv[1], s.neg_y, &en, &ex);
-        if (lrt__test_texel(w, &s, nx, ny, en, ex, lrt__code(w, slot0 + slot), &t)) {
+        if (lrt__test_texel(w, &s, nx, ny, en, ex, lrt__code(w, slot0 + slot, wide), &t)) {
             lrt__report_hit(ray, &s, t_scale, t, nx, ny, hit);
             return;
         }
@@ -2257,12 +2300,12 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
         /* front-to-back order: flip the bits of each axis that runs backwards */
         const uint32_t flip = s.sg->flip[tall];
         float enter[8], exit[8];
-        uint32_t mask = tall ? lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 1u)
-                             : lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 0u);
+        uint32_t mask = tall ? lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 1u, wide)
+                             : lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 0u, wide);
         if (lv == 1) {
             while (mask) { /* texels: the exact test, front to back */
                 uint32_t slot = lrt__lowest_bit(mask) ^ flip;
-                uint32_t code = lrt__code(w, slot0 + slot);
+                uint32_t code = lrt__code(w, slot0 + slot, wide);
                 uint32_t tx = nx * 4u + (slot & 3u), ty = ny * 2u + (slot >> 2);
                 float t;
                 mask &= mask - 1u;
@@ -2275,7 +2318,7 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
             const uint32_t first = lrt__lowest_bit(mask) ^ flip, rest = mask & (mask - 1u);
             const uint32_t bw_log2 = tall ? 1u : 2u;
             const size_t children = lrt__children_slot(w, lv, nx, ny);
-            lrt__prefetch_children(w, lv, nx, ny, children);
+            lrt__prefetch_children(w, lv, nx, ny, children, wide);
             /* written whether or not it stays: no branch on a random bit */
             stack[sp].children = children;
             stack[sp].x = nx;
@@ -2304,11 +2347,24 @@ static void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
     hit->kind = kind;
 }
 
+/* One walk per node width, so the width is no test in the loop. */
+static void lrt__trace_rays16(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits, size_t first, size_t end)
+{
+    size_t i;
+    for (i = first; i < end; ++i) lrt__trace_one(w, &rays[i], &hits[i], 1u);
+}
+
+static void lrt__trace_rays8(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits, size_t first, size_t end)
+{
+    size_t i;
+    for (i = first; i < end; ++i) lrt__trace_one(w, &rays[i], &hits[i], 0u);
+}
+
 LINEAR_RT_DEF lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
                                          lrt_hit *hits, size_t first, size_t end, uint32_t flags)
 {
     lrt__walk w;
-    size_t i, stride;
+    size_t stride;
     lrt_result r;
     if ((r = lrt__check_pair(bvh, depth, &stride)) != LRT_SUCCESS) return r;
     if (flags & ~(uint32_t)LRT_TRACE_ANY_HIT) return LRT_ERROR_INVALID_OPTION;
@@ -2318,7 +2374,8 @@ LINEAR_RT_DEF lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *de
     lrt__walk_init(&w, bvh, depth, stride);
     /* The walk already stops at the first (closest) hit, so any-hit needs no
        separate path: the flag is accepted for what a caller means. */
-    for (i = first; i < end; ++i) lrt__trace_one(&w, &rays[i], &hits[i]);
+    if (w.wide_codes) lrt__trace_rays16(&w, rays, hits, first, end);
+    else lrt__trace_rays8(&w, rays, hits, first, end);
     return LRT_SUCCESS;
 }
 
