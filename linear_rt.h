@@ -1782,7 +1782,7 @@ typedef struct lrt__walk {
     const lrt_depth *depth;
     size_t stride;
     uint32_t qmax, wide_codes; /* wide_codes: 16-bit nodes */
-    uint32_t row_prefetch_level; /* 2, where the exact test reads depth rows, else 0 (never met) */
+    uint32_t row_prefetch_level; /* 2, where the exact test reads depth rows, else ~0 (never met) */
     float decode_scale; /* just below 1/qmax: decoded bounds never exceed the true ones */
     int exact_codes;    /* the level-1 codes are the input depth itself */
     int plain_float;    /* float depth, standard Z */
@@ -1851,7 +1851,7 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
        in float never drops a hit that the texel test (in double) finds */
     w->decode_scale = (1.0f / (float)w->qmax) * (1.0f - 1.0f / 1048576.0f);
     w->exact_codes = depth->format != LRT_FORMAT_FLOAT32 && lrt__format_bytes(depth->format) * 8u <= L->node_bits;
-    w->row_prefetch_level = w->exact_codes ? 0u : 2u;
+    w->row_prefetch_level = w->exact_codes ? ~0u : 2u;
     w->plain_float = depth->format == LRT_FORMAT_FLOAT32 && !(depth->flags & LRT_DEPTH_REVERSED_Z);
     for (i = 1; i <= L->level_count; ++i) {
         lrt__walk_level *v = &w->lv[i];
@@ -2263,6 +2263,28 @@ typedef struct lrt__pending {
    nodes of lower levels */
 #define LRT__STACK (LINEAR_RT_MAX_LEVELS + 1u)
 
+/* Into the first child met of node (nx, ny) of level lv >= 2; the others
+   wait on the stack. tall and wide are constants where this is inlined. */
+LRT__FORCE_INLINE void lrt__descend(const lrt__walk *w, uint32_t tall, uint32_t wide, uint32_t mask, uint32_t flip,
+                                    uint32_t *lv, uint32_t *nx, uint32_t *ny, size_t *slot0, lrt__pending *stack,
+                                    uint32_t *sp)
+{
+    const uint32_t first = lrt__lowest_bit(mask) ^ flip, rest = mask & (mask - 1u);
+    const uint32_t bw_log2 = tall ? 1u : 2u;
+    const size_t children = lrt__children_slot(w, *lv, *nx, *ny);
+    lrt__prefetch_children(w, tall ? *lv : ~0u, *nx, *ny, children, wide); /* level 2 is tall */
+    /* written whether or not it stays: no branch on a random bit */
+    stack[*sp].children = children;
+    stack[*sp].x = *nx;
+    stack[*sp].y = *ny;
+    stack[*sp].lv_bits = (*lv << 8) | rest;
+    *sp += rest != 0u;
+    *nx = (*nx << bw_log2) + (first & ((1u << bw_log2) - 1u));
+    *ny = (*ny << (3u - bw_log2)) + (first >> bw_log2);
+    *slot0 = children + (size_t)first * 8u;
+    *lv -= 1u;
+}
+
 /* wide (16-bit codes) is a constant where this is inlined (lrt__trace_rays) */
 LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, uint32_t wide)
 {
@@ -2296,13 +2318,25 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
     lrt__walk_setup(w, &s);
     slot0 = lrt__node_slot(w, lv, nx, ny);
     for (;;) {
-        const uint32_t tall = (lv & 1u) ^ 1u;
-        /* front-to-back order: flip the bits of each axis that runs backwards */
-        const uint32_t flip = s.sg->flip[tall];
+        /* three copies of the node test: tall nodes, wide ones above the
+           texels, and level 1, the only one that needs the children's t */
         float enter[8], exit[8];
-        uint32_t mask = tall ? lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 1u, wide)
-                             : lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 0u, wide);
-        if (lv == 1) {
+        uint32_t mask;
+        if (!(lv & 1u)) {
+            mask = lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 1u, wide);
+            if (mask) {
+                lrt__descend(w, 1u, wide, mask, s.sg->flip[1], &lv, &nx, &ny, &slot0, stack, &sp);
+                continue;
+            }
+        } else if (lv != 1u) {
+            mask = lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 0u, wide);
+            if (mask) {
+                lrt__descend(w, 0u, wide, mask, s.sg->flip[0], &lv, &nx, &ny, &slot0, stack, &sp);
+                continue;
+            }
+        } else {
+            const uint32_t flip = s.sg->flip[0];
+            mask = lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 0u, wide);
             while (mask) { /* texels: the exact test, front to back */
                 uint32_t slot = lrt__lowest_bit(mask) ^ flip;
                 uint32_t code = lrt__code(w, slot0 + slot, wide);
@@ -2314,22 +2348,6 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
                     return;
                 }
             }
-        } else if (mask) { /* into the first child; the others wait */
-            const uint32_t first = lrt__lowest_bit(mask) ^ flip, rest = mask & (mask - 1u);
-            const uint32_t bw_log2 = tall ? 1u : 2u;
-            const size_t children = lrt__children_slot(w, lv, nx, ny);
-            lrt__prefetch_children(w, lv, nx, ny, children, wide);
-            /* written whether or not it stays: no branch on a random bit */
-            stack[sp].children = children;
-            stack[sp].x = nx;
-            stack[sp].y = ny;
-            stack[sp].lv_bits = (lv << 8) | rest;
-            sp += rest != 0u;
-            nx = (nx << bw_log2) + (first & ((1u << bw_log2) - 1u));
-            ny = (ny << (3u - bw_log2)) + (first >> bw_log2);
-            slot0 = children + (size_t)first * 8u;
-            lv -= 1;
-            continue;
         }
         if (sp == 0) break;
         { /* the next child of the last pending node */
