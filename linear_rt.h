@@ -1782,7 +1782,7 @@ typedef struct lrt__walk {
     const lrt_depth *depth;
     size_t stride;
     uint32_t qmax, wide_codes; /* wide_codes: 16-bit nodes */
-    uint32_t row_prefetch_level; /* 2, where the exact test reads depth rows, else ~0 (never met) */
+    uint32_t row_prefetch_level; /* 3: entering a level-2 node prefetches the depth rows the exact test reads; ~0: never */
     float decode_scale; /* just below 1/qmax: decoded bounds never exceed the true ones */
     int exact_codes;    /* the level-1 codes are the input depth itself */
     int plain_float;    /* float depth, standard Z */
@@ -1851,7 +1851,7 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
        in float never drops a hit that the texel test (in double) finds */
     w->decode_scale = (1.0f / (float)w->qmax) * (1.0f - 1.0f / 1048576.0f);
     w->exact_codes = depth->format != LRT_FORMAT_FLOAT32 && lrt__format_bytes(depth->format) * 8u <= L->node_bits;
-    w->row_prefetch_level = w->exact_codes ? ~0u : 2u;
+    w->row_prefetch_level = w->exact_codes ? ~0u : 3u;
     w->plain_float = depth->format == LRT_FORMAT_FLOAT32 && !(depth->flags & LRT_DEPTH_REVERSED_Z);
     for (i = 1; i <= L->level_count; ++i) {
         lrt__walk_level *v = &w->lv[i];
@@ -2224,8 +2224,25 @@ LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
    depth rows the exact test reads) while the first child is worked on.
    Forced inline: gcc 12 takes a function that only prefetches for one
    without effects and drops its calls. */
-LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, uint32_t lv, uint32_t nx, uint32_t ny, size_t children,
-                                              uint32_t wide)
+/* The depth rows of level-2 node (nx, ny) (8x8 texels), which the exact
+   texel tests below it read, as the walk enters it: two node tests ahead
+   of the first read. Rows inside the map only; one add a row, as
+   registers are scarce here. */
+LRT__FORCE_INLINE void lrt__prefetch_rows(const lrt__walk *w, uint32_t nx, uint32_t ny)
+{
+    const uint32_t tx = nx * 8u < w->L->width ? nx * 8u : w->L->width - 1u, ty = ny * 8u;
+    const uint32_t rows = w->L->height - ty < 8u ? w->L->height - ty : 8u;
+    const size_t stride = w->stride;
+    const unsigned char *row = (const unsigned char *)w->depth->data + (size_t)tx * lrt__format_bytes(w->depth->format) + stride * ty;
+    uint32_t r;
+    LRT__PREFETCH(row);
+    for (r = 1; r < rows; ++r) {
+        row += stride;
+        LRT__PREFETCH(row);
+    }
+}
+
+LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, size_t children, uint32_t wide)
 {
     const unsigned char *codes = (const unsigned char *)w->nodes + (children << wide);
     LRT__PREFETCH(codes);
@@ -2233,21 +2250,6 @@ LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, uint32_t lv, u
        bytes of 16-bit codes, whose second line this is; of 8-bit codes, 64
        bytes, and this is at most one past the array's end (never read) */
     LRT__PREFETCH(codes + 64);
-    if (lv == w->row_prefetch_level) {
-        /* level 2 is 8x8 texels: its 8 rows, clamped into the map, without
-           a branch per row (which children the ray meets is a coin toss) */
-        const uint32_t tx = nx * 8u < w->L->width ? nx * 8u : w->L->width - 1u, ty = ny * 8u;
-        const uint32_t rows = w->L->height - ty < 8u ? w->L->height - ty : 8u;
-        const size_t stride = w->stride;
-        const unsigned char *row = (const unsigned char *)w->depth->data + (size_t)tx * lrt__format_bytes(w->depth->format) +
-                                   stride * ty;
-        uint32_t r;
-        LRT__PREFETCH(row);
-        for (r = 1; r < rows; ++r) { /* one add a row: registers are scarce here */
-            row += stride;
-            LRT__PREFETCH(row);
-        }
-    }
 }
 
 /* A node whose children are not all visited yet: the walk goes into its
@@ -2272,7 +2274,7 @@ LRT__FORCE_INLINE void lrt__descend(const lrt__walk *w, uint32_t tall, uint32_t 
     const uint32_t first = lrt__lowest_bit(mask) ^ flip, rest = mask & (mask - 1u);
     const uint32_t bw_log2 = tall ? 1u : 2u;
     const size_t children = lrt__children_slot(w, *lv, *nx, *ny);
-    lrt__prefetch_children(w, tall ? *lv : ~0u, *nx, *ny, children, wide); /* level 2 is tall */
+    lrt__prefetch_children(w, children, wide);
     /* written whether or not it stays: no branch on a random bit */
     stack[*sp].children = children;
     stack[*sp].x = *nx;
@@ -2282,6 +2284,7 @@ LRT__FORCE_INLINE void lrt__descend(const lrt__walk *w, uint32_t tall, uint32_t 
     *nx = (*nx << bw_log2) + (first & ((1u << bw_log2) - 1u));
     *ny = (*ny << (3u - bw_log2)) + (first >> bw_log2);
     *slot0 = children + (size_t)first * 8u;
+    if (!tall && *lv == w->row_prefetch_level) lrt__prefetch_rows(w, *nx, *ny); /* level 3 is wide */
     *lv -= 1u;
 }
 
@@ -2358,6 +2361,7 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
             ny = (p->y << (3u - bw_log2)) + (slot >> bw_log2);
             slot0 = p->children + (size_t)slot * 8u;
             lv = plv - 1;
+            if (plv == w->row_prefetch_level) lrt__prefetch_rows(w, nx, ny);
             p->lv_bits &= p->lv_bits - 1u;
             sp -= (p->lv_bits & 0xffu) == 0u;
         }
