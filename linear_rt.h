@@ -2048,7 +2048,7 @@ LRT__FORCE_INLINE void lrt__child_slabs(const lrt__ray_setup *s, const lrt__walk
    every level, which keeps the culling monotone. tall is a constant where
    this is inlined, so each shape gets its own straight code. */
 LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
-                                   size_t slot0, float enter[8], float exit[8], uint32_t tall, uint32_t wide)
+                                   size_t slot0, float enter[8], float exit[8], uint32_t tall, uint32_t wide, uint32_t neg_z)
 {
     const lrt__walk_level *v = &w->lv[lv];
     const float x0 = (float)(nx << v->span_w_log2), y0 = (float)(ny << v->span_h_log2);
@@ -2076,7 +2076,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
         /* the z plane leaves (v.z < 0) or enters; a NaN tz keeps the other
            operand. A ray going deeper then widens its exits off the chain
            that waits for the codes. */
-        if (s->neg_z) ex = _mm256_min_ps(tz, ex);
+        if (neg_z) ex = _mm256_min_ps(tz, ex);
         else en = _mm256_max_ps(tz, en);
         _mm256_storeu_ps(enter, en);
         _mm256_storeu_ps(exit, ex);
@@ -2099,7 +2099,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
             __m128 en = _mm_max_ps(xe[k], s->vt_lo), ex = _mm_min_ps(xx[k], s->vt_hi); /* maxps/minps keep the 2nd operand on NaN */
             en = _mm_max_ps(ye[k], en);
             ex = _mm_min_ps(yx[k], ex);
-            if (s->neg_z) ex = _mm_min_ps(tz, ex); /* the z plane leaves (v.z < 0) or enters */
+            if (neg_z) ex = _mm_min_ps(tz, ex); /* the z plane leaves (v.z < 0) or enters */
             else en = _mm_max_ps(tz, en);
             _mm_storeu_ps(enter + 4 * (size_t)k, en);
             _mm_storeu_ps(exit + 4 * (size_t)k, ex);
@@ -2133,7 +2133,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
             en = LRT__MAX_KEEP(py[r + s->neg_y], en);
             ex = LRT__MIN_KEEP(px[c + 1 - s->neg_x], ex);
             ex = LRT__MIN_KEEP(py[r + 1 - s->neg_y], ex);
-            if (s->neg_z) ex = LRT__MIN_KEEP(tz, ex);
+            if (neg_z) ex = LRT__MIN_KEEP(tz, ex);
             else en = LRT__MAX_KEEP(tz, en);
             enter[k] = en;
             exit[k] = ex;
@@ -2288,66 +2288,43 @@ LRT__FORCE_INLINE void lrt__descend(const lrt__walk *w, uint32_t tall, uint32_t 
     *lv -= 1u;
 }
 
-/* wide (16-bit codes) is a constant where this is inlined (lrt__trace_rays) */
-LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, uint32_t wide)
+/* The walk from node (nx, ny) of level lv >= 1 down to the first texel hit;
+   wide and neg_z (s->neg_z) are constants where this is inlined. */
+LRT__FORCE_INLINE void lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
+                                      float t_scale, uint32_t kind, uint32_t lv, uint32_t nx, uint32_t ny, uint32_t wide,
+                                      uint32_t neg_z)
 {
-    const lrt_layout *L = w->L;
-    lrt__ray_setup s;
-    float t_scale;
-    uint32_t kind, lv, nx, ny, sp = 0;
-    size_t slot0;
+    size_t slot0 = lrt__node_slot(w, lv, nx, ny);
+    uint32_t sp = 0;
     lrt__pending stack[LRT__STACK];
-    hit->t = 0.0f;
-    hit->x = hit->y = 0;
-    if (!lrt__setup_ray(ray, L->width, L->height, &s, &t_scale, &kind)) {
-        hit->kind = kind;
-        return;
-    }
-    lv = lrt__start_node(w, &s, &nx, &ny);
-    if (lv == 0) { /* one texel: its box alone decides */
-        const float x0 = (float)nx, y0 = (float)ny;
-        const uint32_t slot = ((ny & 1u) << 2) | (nx & 3u);
-        float en = s.t_lo, ex = s.t_hi, t;
-        slot0 = lrt__node_slot(w, 1, nx >> 2, ny >> 1);
-        lrt__slab(x0, x0 + 1.0f, s.o[0], s.iv[0], s.neg_x, &en, &ex);
-        lrt__slab(y0, y0 + 1.0f, s.o[1], s.iv[1], s.neg_y, &en, &ex);
-        if (lrt__test_texel(w, &s, nx, ny, en, ex, lrt__code(w, slot0 + slot, wide), &t)) {
-            lrt__report_hit(ray, &s, t_scale, t, nx, ny, hit);
-            return;
-        }
-        hit->kind = kind;
-        return;
-    }
-    lrt__walk_setup(w, &s);
-    slot0 = lrt__node_slot(w, lv, nx, ny);
     for (;;) {
         /* three copies of the node test: tall nodes, wide ones above the
            texels, and level 1, the only one that needs the children's t */
         float enter[8], exit[8];
         uint32_t mask;
         if (!(lv & 1u)) {
-            mask = lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 1u, wide);
+            mask = lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, 1u, wide, neg_z);
             if (mask) {
-                lrt__descend(w, 1u, wide, mask, s.sg->flip[1], &lv, &nx, &ny, &slot0, stack, &sp);
+                lrt__descend(w, 1u, wide, mask, s->sg->flip[1], &lv, &nx, &ny, &slot0, stack, &sp);
                 continue;
             }
         } else if (lv != 1u) {
-            mask = lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 0u, wide);
+            mask = lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, 0u, wide, neg_z);
             if (mask) {
-                lrt__descend(w, 0u, wide, mask, s.sg->flip[0], &lv, &nx, &ny, &slot0, stack, &sp);
+                lrt__descend(w, 0u, wide, mask, s->sg->flip[0], &lv, &nx, &ny, &slot0, stack, &sp);
                 continue;
             }
         } else {
-            const uint32_t flip = s.sg->flip[0];
-            mask = lrt__test_children(w, &s, lv, nx, ny, slot0, enter, exit, 0u, wide);
+            const uint32_t flip = s->sg->flip[0];
+            mask = lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, 0u, wide, neg_z);
             while (mask) { /* texels: the exact test, front to back */
                 uint32_t slot = lrt__lowest_bit(mask) ^ flip;
                 uint32_t code = lrt__code(w, slot0 + slot, wide);
                 uint32_t tx = nx * 4u + (slot & 3u), ty = ny * 2u + (slot >> 2);
                 float t;
                 mask &= mask - 1u;
-                if (lrt__test_texel(w, &s, tx, ty, enter[slot], exit[slot], code, &t)) {
-                    lrt__report_hit(ray, &s, t_scale, t, tx, ty, hit);
+                if (lrt__test_texel(w, s, tx, ty, enter[slot], exit[slot], code, &t)) {
+                    lrt__report_hit(ray, s, t_scale, t, tx, ty, hit);
                     return;
                 }
             }
@@ -2356,7 +2333,7 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
         { /* the next child of the last pending node */
             lrt__pending *p = &stack[sp - 1];
             const uint32_t plv = p->lv_bits >> 8, ptall = (plv & 1u) ^ 1u, bw_log2 = ptall ? 1u : 2u;
-            const uint32_t slot = lrt__lowest_bit(p->lv_bits & 0xffu) ^ s.sg->flip[ptall];
+            const uint32_t slot = lrt__lowest_bit(p->lv_bits & 0xffu) ^ s->sg->flip[ptall];
             nx = (p->x << bw_log2) + (slot & ((1u << bw_log2) - 1u));
             ny = (p->y << (3u - bw_log2)) + (slot >> bw_log2);
             slot0 = p->children + (size_t)slot * 8u;
@@ -2367,6 +2344,40 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
         }
     }
     hit->kind = kind;
+}
+
+/* wide (16-bit codes) is a constant where this is inlined (lrt__trace_rays) */
+LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, uint32_t wide)
+{
+    const lrt_layout *L = w->L;
+    lrt__ray_setup s;
+    float t_scale;
+    uint32_t kind, lv, nx, ny;
+    hit->t = 0.0f;
+    hit->x = hit->y = 0;
+    if (!lrt__setup_ray(ray, L->width, L->height, &s, &t_scale, &kind)) {
+        hit->kind = kind;
+        return;
+    }
+    lv = lrt__start_node(w, &s, &nx, &ny);
+    if (lv == 0) { /* one texel: its box alone decides */
+        const float x0 = (float)nx, y0 = (float)ny;
+        const uint32_t slot = ((ny & 1u) << 2) | (nx & 3u);
+        const size_t slot0 = lrt__node_slot(w, 1, nx >> 2, ny >> 1);
+        float en = s.t_lo, ex = s.t_hi, t;
+        lrt__slab(x0, x0 + 1.0f, s.o[0], s.iv[0], s.neg_x, &en, &ex);
+        lrt__slab(y0, y0 + 1.0f, s.o[1], s.iv[1], s.neg_y, &en, &ex);
+        if (lrt__test_texel(w, &s, nx, ny, en, ex, lrt__code(w, slot0 + slot, wide), &t)) {
+            lrt__report_hit(ray, &s, t_scale, t, nx, ny, hit);
+            return;
+        }
+        hit->kind = kind;
+        return;
+    }
+    lrt__walk_setup(w, &s);
+    /* the walk, with the sign of v.z a constant of its node tests */
+    if (s.neg_z) lrt__walk_down(w, ray, hit, &s, t_scale, kind, lv, nx, ny, wide, 1u);
+    else lrt__walk_down(w, ray, hit, &s, t_scale, kind, lv, nx, ny, wide, 0u);
 }
 
 /* One walk per node width, so the width is no test in the loop. */
