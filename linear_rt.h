@@ -1907,7 +1907,6 @@ LRT__INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_setup *s
 {
     const lrt_layout *L = w->L;
     uint32_t i0[2], i1[2], lv, ly;
-    int k;
     if (s->v[0] == 0.0f && s->v[1] == 0.0f && (float)(int32_t)s->o[0] != s->o[0] && (float)(int32_t)s->o[1] != s->o[1]) {
         /* a camera ray inside one texel's column (the clip put o on the
            screen; off a texel edge, no neighbour's closed box is met) */
@@ -1937,21 +1936,23 @@ LRT__INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_setup *s
         i1[0] = (uint32_t)_mm_cvtsi128_si32(h);
         i0[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(l, _MM_SHUFFLE(1, 1, 1, 1)));
         i1[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(h, _MM_SHUFFLE(1, 1, 1, 1)));
-        (void)k;
     }
 #else
-    for (k = 0; k < 2; ++k) {
-        const float lim = (float)((k ? L->height : L->width) - 1u);
-        float a = s->o[k] + s->t_lo * s->v[k], b = s->o[k] + s->t_hi * s->v[k];
-        float mg = 1e-3f + 1e-5f * (fabsf(s->o[k]) + fabsf(a - s->o[k]) + fabsf(b - s->o[k]));
-        float lo = (a < b ? a : b) - mg, hi = (a < b ? b : a) + mg;
-        /* clamp, then convert; a NaN (from overflow) clamps to the whole map */
-        lo = lo > 0.0f ? lo : 0.0f;
-        lo = lo < lim ? lo : lim;
-        hi = hi < lim ? hi : lim;
-        hi = hi > 0.0f ? hi : 0.0f;
-        i0[k] = (uint32_t)(int32_t)lo;
-        i1[k] = (uint32_t)(int32_t)hi;
+    {
+        int k;
+        for (k = 0; k < 2; ++k) {
+            const float lim = (float)((k ? L->height : L->width) - 1u);
+            float a = s->o[k] + s->t_lo * s->v[k], b = s->o[k] + s->t_hi * s->v[k];
+            float mg = 1e-3f + 1e-5f * (fabsf(s->o[k]) + fabsf(a - s->o[k]) + fabsf(b - s->o[k]));
+            float lo = (a < b ? a : b) - mg, hi = (a < b ? b : a) + mg;
+            /* clamp, then convert; a NaN (from overflow) clamps to the whole map */
+            lo = lo > 0.0f ? lo : 0.0f;
+            lo = lo < lim ? lo : lim;
+            hi = hi < lim ? hi : lim;
+            hi = hi > 0.0f ? hi : 0.0f;
+            i0[k] = (uint32_t)(int32_t)lo;
+            i1[k] = (uint32_t)(int32_t)hi;
+        }
     }
 #endif
     lv = w->start_level[0][lrt__bit_length(i0[0] ^ i1[0])];
@@ -2106,8 +2107,8 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
             { /* lrt__widen: ex + |ex| 2^-21 where that stays finite, else ex */
                 const __m128 grown = _mm_add_ps(ex, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), ex), _mm_set1_ps(LRT__WIDEN_EXIT)));
                 const __m128 ok = _mm_cmple_ps(grown, _mm_set1_ps(3.40282347e38f));
-                const __m128 wide = _mm_or_ps(_mm_and_ps(ok, grown), _mm_andnot_ps(ok, ex));
-                mask |= (uint32_t)_mm_movemask_ps(_mm_cmple_ps(en, wide)) << (4 * k);
+                const __m128 widened = _mm_or_ps(_mm_and_ps(ok, grown), _mm_andnot_ps(ok, ex));
+                mask |= (uint32_t)_mm_movemask_ps(_mm_cmple_ps(en, widened)) << (4 * k);
             }
         }
     }
@@ -2219,11 +2220,11 @@ LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
 #endif
 }
 
-/* The walk is a chain of dependent loads: start the loads of every child
-   it may visit (their codes: 1 or 2 cache lines; above the texels, the
-   depth rows the exact test reads) while the first child is worked on.
-   Forced inline: gcc 12 takes a function that only prefetches for one
-   without effects and drops its calls. */
+/* The walk is a chain of dependent loads, so it starts loads ahead of
+   their use: the depth rows below a level-2 node, and every child's codes
+   (below). Forced inline: gcc 12 takes a function that only prefetches
+   for one without effects and drops its calls. */
+
 /* The depth rows of level-2 node (nx, ny) (8x8 texels), which the exact
    texel tests below it read, as the walk enters it: two node tests ahead
    of the first read. Rows inside the map only; one add a row, as
@@ -2231,17 +2232,19 @@ LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
 LRT__FORCE_INLINE void lrt__prefetch_rows(const lrt__walk *w, uint32_t nx, uint32_t ny)
 {
     const uint32_t tx = nx * 8u < w->L->width ? nx * 8u : w->L->width - 1u, ty = ny * 8u;
-    const uint32_t rows = w->L->height - ty < 8u ? w->L->height - ty : 8u;
+    const uint32_t end = w->L->height - ty < 8u ? w->L->height : ty + 8u; /* the node's rows inside the map */
     const size_t stride = w->stride;
     const unsigned char *row = (const unsigned char *)w->depth->data + (size_t)tx * lrt__format_bytes(w->depth->format) + stride * ty;
-    uint32_t r;
+    uint32_t y;
     LRT__PREFETCH(row);
-    for (r = 1; r < rows; ++r) {
+    for (y = ty + 1u; y < end; ++y) {
         row += stride;
         LRT__PREFETCH(row);
     }
 }
 
+/* The codes of every child the walk may visit (1 or 2 cache lines), while
+   the first child is worked on. */
 LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, size_t children, uint32_t wide)
 {
     const unsigned char *codes = (const unsigned char *)w->nodes + (children << wide);
