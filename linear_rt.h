@@ -1174,11 +1174,10 @@ typedef struct lrt__ray_setup {
     float t_base;                 /* t of the origin used here on the caller's ray */
     int zk;                       /* 0, or z (o.z, v.z and every depth plane) is scaled by 2^zk (lrt__setup_rare) */
     const struct lrt__signs *sg;  /* the node test's constants of the x and y direction signs (lrt__walk_setup) */
-#if LRT__SSE
-    __m128 vo[3], viv[3], vt_lo, vt_hi; /* the same, broadcast once for every node test */
-#endif
 #if LRT__AVX
-    __m256 wo[3], wiv[3], wt_lo, wt_hi; /* 8 lanes of the same */
+    __m256 wo[3], wiv[3], wt_lo, wt_hi; /* the same, broadcast once for every node test */
+#elif LRT__SSE
+    __m128 vo[3], viv[3], vt_lo, vt_hi; /* the same, broadcast once for every node test */
 #endif
 } lrt__ray_setup;
 
@@ -1186,13 +1185,12 @@ typedef struct lrt__ray_setup {
    made once per trace call, so a ray only picks one. */
 typedef struct lrt__signs {
     uint32_t flip[2];             /* front-to-back slot order of wide (4x2) and tall (2x4) nodes */
-#if LRT__SSE
-    __m128 k_enter[2], k_exit[2]; /* entering / leaving plane of 4 columns (x) or rows (y), in spans */
-    __m128 k_rows2, k_cols2;      /* 2 rows (columns): enter, leave of the 1st, of the 2nd (cols: enters, then leaves) */
-#endif
 #if LRT__AVX
     __m256i order[2];             /* lane k: k ^ flip[tall] */
     __m256 kx_enter[2], kx_exit[2], ky_enter[2], ky_exit[2]; /* of lane k's column and row, in spans */
+#elif LRT__SSE
+    __m128 k_enter[2], k_exit[2]; /* entering / leaving plane of 4 columns (x) or rows (y), in spans */
+    __m128 k_rows2, k_cols2;      /* 2 rows (columns): enter, leave of the 1st, of the 2nd (cols: enters, then leaves) */
 #endif
 } lrt__signs;
 
@@ -1797,19 +1795,6 @@ static void lrt__signs_init(lrt__signs *g, uint32_t neg_x, uint32_t neg_y)
 {
     g->flip[0] = (neg_x ? 3u : 0u) | (neg_y ? 4u : 0u);
     g->flip[1] = (neg_x ? 1u : 0u) | (neg_y ? 6u : 0u);
-#if LRT__SSE
-    {
-        const __m128 k0123 = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f), k1234 = _mm_set_ps(4.0f, 3.0f, 2.0f, 1.0f);
-        const __m128 nx = _mm_set1_ps((float)neg_x), ny = _mm_set1_ps((float)neg_y);
-        /* plane k of column (row) c: enters at c + neg, leaves at c + 1 - neg */
-        g->k_enter[0] = _mm_add_ps(k0123, nx);
-        g->k_exit[0] = _mm_sub_ps(k1234, nx);
-        g->k_enter[1] = _mm_add_ps(k0123, ny);
-        g->k_exit[1] = _mm_sub_ps(k1234, ny);
-        g->k_rows2 = _mm_set_ps(2.0f - (float)neg_y, 1.0f + (float)neg_y, 1.0f - (float)neg_y, (float)neg_y);
-        g->k_cols2 = _mm_set_ps(2.0f - (float)neg_x, 1.0f - (float)neg_x, 1.0f + (float)neg_x, (float)neg_x);
-    }
-#endif
 #if LRT__AVX
     {
         const __m256i k = _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0);
@@ -1831,6 +1816,18 @@ static void lrt__signs_init(lrt__signs *g, uint32_t neg_x, uint32_t neg_y)
             g->ky_enter[tall] = _mm256_loadu_ps(ye);
             g->ky_exit[tall] = _mm256_loadu_ps(yx);
         }
+    }
+#elif LRT__SSE
+    {
+        const __m128 k0123 = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f), k1234 = _mm_set_ps(4.0f, 3.0f, 2.0f, 1.0f);
+        const __m128 nx = _mm_set1_ps((float)neg_x), ny = _mm_set1_ps((float)neg_y);
+        /* plane k of column (row) c: enters at c + neg, leaves at c + 1 - neg */
+        g->k_enter[0] = _mm_add_ps(k0123, nx);
+        g->k_exit[0] = _mm_sub_ps(k1234, nx);
+        g->k_enter[1] = _mm_add_ps(k0123, ny);
+        g->k_exit[1] = _mm_sub_ps(k1234, ny);
+        g->k_rows2 = _mm_set_ps(2.0f - (float)neg_y, 1.0f + (float)neg_y, 1.0f - (float)neg_y, (float)neg_y);
+        g->k_cols2 = _mm_set_ps(2.0f - (float)neg_x, 1.0f - (float)neg_x, 1.0f + (float)neg_x, (float)neg_x);
     }
 #endif
 }
@@ -2196,7 +2193,17 @@ LRT__INLINE void lrt__report_hit(const lrt_ray *ray, const lrt__ray_setup *s, fl
 LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
 {
     s->sg = &w->signs[s->neg_x | (s->neg_y << 1)];
-#if LRT__SSE
+#if LRT__AVX
+    {
+        int axis;
+        for (axis = 0; axis < 3; ++axis) {
+            s->wo[axis] = _mm256_set1_ps(s->o[axis]);
+            s->wiv[axis] = _mm256_set1_ps(s->iv[axis]);
+        }
+        s->wt_lo = _mm256_set1_ps(s->t_lo);
+        s->wt_hi = _mm256_set1_ps(s->t_hi);
+    }
+#elif LRT__SSE
     {
         int axis;
         for (axis = 0; axis < 3; ++axis) {
@@ -2206,17 +2213,6 @@ LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
         s->vt_lo = _mm_set1_ps(s->t_lo);
         s->vt_hi = _mm_set1_ps(s->t_hi);
     }
-#endif
-#if LRT__AVX
-    {
-        int axis;
-        for (axis = 0; axis < 3; ++axis) {
-            s->wo[axis] = _mm256_set1_ps(s->o[axis]);
-            s->wiv[axis] = _mm256_set1_ps(s->iv[axis]);
-        }
-    }
-    s->wt_lo = _mm256_set1_ps(s->t_lo);
-    s->wt_hi = _mm256_set1_ps(s->t_hi);
 #endif
 }
 
@@ -2383,17 +2379,13 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
     else lrt__walk_down(w, ray, hit, &s, t_scale, kind, lv, nx, ny, wide, 0u);
 }
 
-/* One walk per node width, so the width is no test in the loop. */
-static void lrt__trace_rays16(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits, size_t first, size_t end)
+/* One walk per node width (wide: a constant where this is inlined), so the
+   width is no test in the loop. */
+LRT__FORCE_INLINE void lrt__trace_rays(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits, size_t first, size_t end,
+                                       uint32_t wide)
 {
     size_t i;
-    for (i = first; i < end; ++i) lrt__trace_one(w, &rays[i], &hits[i], 1u);
-}
-
-static void lrt__trace_rays8(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits, size_t first, size_t end)
-{
-    size_t i;
-    for (i = first; i < end; ++i) lrt__trace_one(w, &rays[i], &hits[i], 0u);
+    for (i = first; i < end; ++i) lrt__trace_one(w, &rays[i], &hits[i], wide);
 }
 
 LINEAR_RT_DEF lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
@@ -2410,8 +2402,8 @@ LINEAR_RT_DEF lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *de
     lrt__walk_init(&w, bvh, depth, stride);
     /* The walk already stops at the first (closest) hit, so any-hit needs no
        separate path: the flag is accepted for what a caller means. */
-    if (w.wide_codes) lrt__trace_rays16(&w, rays, hits, first, end);
-    else lrt__trace_rays8(&w, rays, hits, first, end);
+    if (w.wide_codes) lrt__trace_rays(&w, rays, hits, first, end, 1u);
+    else lrt__trace_rays(&w, rays, hits, first, end, 0u);
     return LRT_SUCCESS;
 }
 
