@@ -1167,6 +1167,15 @@ LINEAR_RT_DEF lrt_result lrt_bvh_update(lrt_bvh *bvh, const lrt_depth *depth, co
       stay exact for them: ordinary rays pay one test on their bits.
    ========================================================================== */
 
+/* The node test's register: 8 lanes with AVX2, 4 with SSE2. */
+#if LRT__AVX
+typedef __m256 lrt__lanes;
+#define LRT__BROADCAST(x) _mm256_set1_ps(x)
+#elif LRT__SSE
+typedef __m128 lrt__lanes;
+#define LRT__BROADCAST(x) _mm_set1_ps(x)
+#endif
+
 typedef struct lrt__ray_setup {
     float o[3], v[3], iv[3];
     uint32_t neg_x, neg_y, neg_z; /* sign bits of the direction (-0 counts) */
@@ -1174,10 +1183,8 @@ typedef struct lrt__ray_setup {
     float t_base;                 /* t of the origin used here on the caller's ray */
     int zk;                       /* 0, or z (o.z, v.z and every depth plane) is scaled by 2^zk (lrt__setup_rare) */
     const struct lrt__signs *sg;  /* the node test's constants of the x and y direction signs (lrt__walk_setup) */
-#if LRT__AVX
-    __m256 wo[3], wiv[3], wt_lo, wt_hi; /* the same, broadcast once for every node test */
-#elif LRT__SSE
-    __m128 vo[3], viv[3], vt_lo, vt_hi; /* the same, broadcast once for every node test */
+#if LRT__SSE
+    lrt__lanes vo[3], viv[3], vt_lo, vt_hi; /* the same, broadcast once for every node test */
 #endif
 } lrt__ray_setup;
 
@@ -2061,13 +2068,13 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
         const lrt__signs *g = s->sg;
         const __m256 X0 = _mm256_set1_ps(x0), Y0 = _mm256_set1_ps(y0);
         const __m256 sw = _mm256_set1_ps(v->child_span_w), sh = _mm256_set1_ps(v->child_span_h);
-        const __m256 xe = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->kx_enter[tall], sw, X0), s->wo[0]), s->wiv[0]);
-        const __m256 xx = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->kx_exit[tall], sw, X0), s->wo[0]), s->wiv[0]);
-        const __m256 ye = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->ky_enter[tall], sh, Y0), s->wo[1]), s->wiv[1]);
-        const __m256 yx = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->ky_exit[tall], sh, Y0), s->wo[1]), s->wiv[1]);
+        const __m256 xe = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->kx_enter[tall], sw, X0), s->vo[0]), s->viv[0]);
+        const __m256 xx = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->kx_exit[tall], sw, X0), s->vo[0]), s->viv[0]);
+        const __m256 ye = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->ky_enter[tall], sh, Y0), s->vo[1]), s->viv[1]);
+        const __m256 yx = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->ky_exit[tall], sh, Y0), s->vo[1]), s->viv[1]);
         const __m256 dz = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), _mm256_cvtepu16_epi32(c16)));
-        const __m256 tz = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(dz, _mm256_set1_ps(w->decode_scale)), s->wo[2]), s->wiv[2]);
-        __m256 en = _mm256_max_ps(xe, s->wt_lo), ex = _mm256_min_ps(xx, s->wt_hi);
+        const __m256 tz = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(dz, _mm256_set1_ps(w->decode_scale)), s->vo[2]), s->viv[2]);
+        __m256 en = _mm256_max_ps(xe, s->vt_lo), ex = _mm256_min_ps(xx, s->vt_hi);
         __m256 grown;
         en = _mm256_max_ps(ye, en);
         ex = _mm256_min_ps(yx, ex);
@@ -2193,25 +2200,15 @@ LRT__INLINE void lrt__report_hit(const lrt_ray *ray, const lrt__ray_setup *s, fl
 LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
 {
     s->sg = &w->signs[s->neg_x | (s->neg_y << 1)];
-#if LRT__AVX
+#if LRT__SSE
     {
         int axis;
         for (axis = 0; axis < 3; ++axis) {
-            s->wo[axis] = _mm256_set1_ps(s->o[axis]);
-            s->wiv[axis] = _mm256_set1_ps(s->iv[axis]);
+            s->vo[axis] = LRT__BROADCAST(s->o[axis]);
+            s->viv[axis] = LRT__BROADCAST(s->iv[axis]);
         }
-        s->wt_lo = _mm256_set1_ps(s->t_lo);
-        s->wt_hi = _mm256_set1_ps(s->t_hi);
-    }
-#elif LRT__SSE
-    {
-        int axis;
-        for (axis = 0; axis < 3; ++axis) {
-            s->vo[axis] = _mm_set1_ps(s->o[axis]);
-            s->viv[axis] = _mm_set1_ps(s->iv[axis]);
-        }
-        s->vt_lo = _mm_set1_ps(s->t_lo);
-        s->vt_hi = _mm_set1_ps(s->t_hi);
+        s->vt_lo = LRT__BROADCAST(s->t_lo);
+        s->vt_hi = LRT__BROADCAST(s->t_hi);
     }
 #endif
 }
