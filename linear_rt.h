@@ -1186,6 +1186,12 @@ typedef struct lrt__ray_setup {
 #if LRT__SSE
     lrt__lanes vo[3], viv[3], vt_lo, vt_hi; /* the same, broadcast once for every node test */
 #endif
+#if LRT__AVX
+    /* the node test above level 1 (lrt__cull_children): a plane's t in one
+       fused step, p * iv + c, with c moved out by more than that step's
+       error (lrt__cull_axis) */
+    lrt__lanes cull_iv[2], cull_enter[2], cull_exit[2], cull_za, cull_zb, cull_hi;
+#endif
 } lrt__ray_setup;
 
 /* What the node test needs of a ray's x and y direction signs: four sets,
@@ -1791,6 +1797,7 @@ typedef struct lrt__walk {
     float decode_scale; /* just below 1/qmax: decoded bounds never exceed the true ones */
     int exact_codes;    /* the level-1 codes are the input depth itself */
     int plain_float;    /* float depth, standard Z */
+    float extent[2];    /* the root's span in texels: no node's plane lies beyond it */
     lrt__walk_level lv[LINEAR_RT_MAX_LEVELS + 1];
     uint8_t start_level[2][33]; /* lowest level whose nodes span 2^b texels along x / y */
     lrt__signs signs[4];        /* by neg_x | neg_y << 1 */
@@ -1867,6 +1874,8 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
         v->child_span_w = (float)(1u << L->levels[i - 1].span_w_log2);
         v->child_span_h = (float)(1u << L->levels[i - 1].span_h_log2);
     }
+    w->extent[0] = (float)(1u << L->levels[L->level_count].span_w_log2);
+    w->extent[1] = (float)(1u << L->levels[L->level_count].span_h_log2);
     for (b = 0; b <= 32u; ++b) {
         uint32_t lx = 0, ly = 0;
         while (lx < L->level_count && L->levels[lx].span_w_log2 < b) ++lx;
@@ -2152,6 +2161,30 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
     return mask;
 }
 
+#if LRT__AVX
+/* The test of lrt__test_children above level 1, where only a mask is
+   needed: each plane's t in one fused step with the margins of
+   lrt__cull_axis, the z plane straight from the codes, no widening (the
+   margins hold it). It keeps every child the exact test keeps. */
+LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx,
+                                              uint32_t ny, size_t slot0, uint32_t tall, uint32_t wide, uint32_t neg_z)
+{
+    const lrt__walk_level *v = &w->lv[lv];
+    const lrt__signs *g = s->sg;
+    const __m256 X0 = _mm256_set1_ps((float)(nx << v->span_w_log2)), Y0 = _mm256_set1_ps((float)(ny << v->span_h_log2));
+    const __m256 sw = _mm256_set1_ps(v->child_span_w), sh = _mm256_set1_ps(v->child_span_h);
+    const __m256 xe = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->kx_enter[tall], sw, X0), s->cull_iv[0], s->cull_enter[0]);
+    const __m256 xx = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->kx_exit[tall], sw, X0), s->cull_iv[0], s->cull_exit[0]);
+    const __m256 ye = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->ky_enter[tall], sh, Y0), s->cull_iv[1], s->cull_enter[1]);
+    const __m256 yx = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->ky_exit[tall], sh, Y0), s->cull_iv[1], s->cull_exit[1]);
+    const __m256 tz = LRT__EXACT_MADD8(_mm256_cvtepi32_ps(_mm256_cvtepu16_epi32(lrt__load_codes(w, slot0, wide))),
+                                       s->cull_za, s->cull_zb);
+    const __m256 en = _mm256_max_ps(_mm256_max_ps(xe, ye), neg_z ? s->vt_lo : _mm256_max_ps(tz, s->vt_lo));
+    const __m256 ex = _mm256_min_ps(_mm256_min_ps(xx, yx), neg_z ? _mm256_min_ps(tz, s->cull_hi) : s->cull_hi);
+    return (uint32_t)_mm256_movemask_ps(_mm256_permutevar8x32_ps(_mm256_cmp_ps(en, ex, _CMP_LE_OQ), g->order[tall]));
+}
+#endif
+
 /* The exact test of one candidate texel against its true depth. */
 LRT__INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float enter,
                            float exit, uint32_t code, float *t)
@@ -2196,6 +2229,33 @@ LRT__INLINE void lrt__report_hit(const lrt_ray *ray, const lrt__ray_setup *s, fl
     hit->kind = LRT_HIT;
 }
 
+#if LRT__AVX
+/* The nodes above level 1 only cull: a child they keep is tested again
+   below, and level 1 and the texels use the exact planes. So their test
+   may take a plane's t as p * iv + c (one fused step, c = -o iv) instead
+   of (p - o) * iv, if it never culls a child that the exact planes keep.
+   Its error is a few ulps of (|p| + |o|) |iv| with |p| <= extent, so c is
+   moved out (down for entering planes, up for leaving ones) by 2^-19 of
+   that, and by 2^-19 |t_hi| for the exits' widening (lrt__widen: an exit
+   <= t_hi grows by at most 2^-21 |t_hi|). A plane the ray never crosses
+   (v_k = 0, or below 2^-100) has an infinite or huge iv, taken as
+   +-2^100 here with |t_hi| more margin: then a plane more than 2^-90 or so
+   of a texel from o still culls as it does exactly (t beyond t_hi either
+   way), a nearer one never culls. Nothing here is NaN: iv and c are
+   finite, so p * iv + c is finite or an infinite c. */
+#define LRT__CULL_IV_MAX 1.26765060e30f /* 2^100 */
+#define LRT__CULL_MARGIN (1.0f / 524288.0f) /* 2^-19 */
+static void lrt__cull_axis(float o, float iv, float extent, float t_hi, float *cull_iv, float *c_enter, float *c_exit)
+{
+    const int huge = !(fabsf(iv) < LRT__CULL_IV_MAX);
+    const float m = huge ? LRT__CULL_IV_MAX : fabsf(iv), ivc = lrt__sign_bit(iv) ? -m : m, c = -o * ivc;
+    const float d = (fabsf(o) + extent) * m * LRT__CULL_MARGIN + fabsf(t_hi) * (huge ? 2.0f : LRT__CULL_MARGIN);
+    *cull_iv = ivc;
+    *c_enter = c - d;
+    *c_exit = c + d;
+}
+#endif
+
 /* Per-ray constants of every node test, set once a ray is walked. */
 LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
 {
@@ -2209,6 +2269,24 @@ LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
         }
         s->vt_lo = LRT__BROADCAST(s->t_lo);
         s->vt_hi = LRT__BROADCAST(s->t_hi);
+    }
+#endif
+#if LRT__AVX
+    {
+        float iv, ce, cx, za, zb_enter, zb_exit;
+        int axis;
+        for (axis = 0; axis < 2; ++axis) {
+            lrt__cull_axis(s->o[axis], s->iv[axis], w->extent[axis], s->t_hi, &iv, &ce, &cx);
+            s->cull_iv[axis] = LRT__BROADCAST(iv);
+            s->cull_enter[axis] = LRT__BROADCAST(ce);
+            s->cull_exit[axis] = LRT__BROADCAST(cx);
+        }
+        /* z: a node's plane is (qmax - code) * decode_scale, below 1 */
+        lrt__cull_axis(s->o[2] - (float)w->qmax * w->decode_scale, s->iv[2], 1.0f, s->t_hi, &iv, &zb_enter, &zb_exit);
+        za = -w->decode_scale * iv;
+        s->cull_za = LRT__BROADCAST(za);
+        s->cull_zb = LRT__BROADCAST(s->neg_z ? zb_exit : zb_enter);
+        s->cull_hi = LRT__BROADCAST(lrt__widen(s->t_hi));
     }
 #endif
 }
@@ -2263,14 +2341,12 @@ typedef struct lrt__pending {
 
 /* Into the first child met of node (nx, ny) of level lv >= 2; the others
    wait on the stack. tall and wide are constants where this is inlined. */
-LRT__FORCE_INLINE void lrt__descend(const lrt__walk *w, uint32_t tall, uint32_t wide, uint32_t mask, uint32_t flip,
+LRT__FORCE_INLINE void lrt__descend(const lrt__walk *w, uint32_t tall, size_t children, uint32_t mask, uint32_t flip,
                                     uint32_t *lv, uint32_t *nx, uint32_t *ny, size_t *slot0, lrt__pending *stack,
                                     uint32_t *sp)
 {
     const uint32_t first = lrt__lowest_bit(mask) ^ flip, rest = mask & (mask - 1u);
     const uint32_t bw_log2 = tall ? 1u : 2u;
-    const size_t children = lrt__children_slot(w, *lv, *nx, *ny);
-    lrt__prefetch_children(w, children, wide);
     /* written whether or not it stays: no branch on a random bit */
     stack[*sp].children = children;
     stack[*sp].x = *nx;
@@ -2299,15 +2375,27 @@ LRT__FORCE_INLINE void lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lr
         float enter[8], exit[8];
         uint32_t mask;
         if (!(lv & 1u)) {
+            const size_t children = lrt__children_slot(w, lv, nx, ny);
+            lrt__prefetch_children(w, children, wide);
+#if LRT__AVX
+            mask = lrt__cull_children(w, s, lv, nx, ny, slot0, 1u, wide, neg_z);
+#else
             mask = lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, 1u, wide, neg_z);
+#endif
             if (mask) {
-                lrt__descend(w, 1u, wide, mask, s->sg->flip[1], &lv, &nx, &ny, &slot0, stack, &sp);
+                lrt__descend(w, 1u, children, mask, s->sg->flip[1], &lv, &nx, &ny, &slot0, stack, &sp);
                 continue;
             }
         } else if (lv != 1u) {
+            const size_t children = lrt__children_slot(w, lv, nx, ny);
+            lrt__prefetch_children(w, children, wide);
+#if LRT__AVX
+            mask = lrt__cull_children(w, s, lv, nx, ny, slot0, 0u, wide, neg_z);
+#else
             mask = lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, 0u, wide, neg_z);
+#endif
             if (mask) {
-                lrt__descend(w, 0u, wide, mask, s->sg->flip[0], &lv, &nx, &ny, &slot0, stack, &sp);
+                lrt__descend(w, 0u, children, mask, s->sg->flip[0], &lv, &nx, &ny, &slot0, stack, &sp);
                 continue;
             }
         } else {
