@@ -113,6 +113,9 @@ $(B)/test_reference_san: tests/test_reference.c $(REF) | deps $(B)
 $(B)/test_core_san: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
 	$(CC) $(STD) $(WARN) $(SAN) $< -o $@ $(LDLIBS)
 
+$(B)/test_core_san_avx2: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
+	$(CC) $(STD) $(WARN) $(SAN) -mavx2 -mfma $< -o $@ $(LDLIBS)
+
 test-reference: $(B)/test_reference
 	$(B)/test_reference
 
@@ -147,8 +150,10 @@ test-core-paths: $(B)/test_core_scalar $(B)/test_core_avx2 $(B)/test_paths
 test-sanitize-reference: $(B)/test_reference_san
 	$(B)/test_reference_san
 
-test-sanitize-core: $(B)/test_core_san
+test-sanitize-core: $(B)/test_core_san $(B)/test_core_san_avx2
 	$(B)/test_core_san
+	@if grep -qw avx2 /proc/cpuinfo 2>/dev/null; then echo "$(B)/test_core_san_avx2"; $(B)/test_core_san_avx2; \
+	else echo "note: this CPU has no AVX2: the AVX2 build is compiled, not run"; fi
 
 test-sanitize: test-sanitize-reference test-sanitize-core
 

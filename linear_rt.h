@@ -1909,17 +1909,31 @@ LRT__INLINE uint32_t lrt__bit_length(uint32_t m)
 #endif
 }
 
+/* Lowest level whose single node holds texels i0 to i1 on both axes, and
+   that node. Two texel indices share a node of a level exactly when their
+   highest differing bit is below the level's span, so the level is a
+   table lookup per axis. */
+LRT__INLINE uint32_t lrt__start_level(const lrt__walk *w, const uint32_t i0[2], const uint32_t i1[2], uint32_t *sx, uint32_t *sy)
+{
+    const lrt_layout *L = w->L;
+    uint32_t lv = w->start_level[0][lrt__bit_length(i0[0] ^ i1[0])];
+    const uint32_t ly = w->start_level[1][lrt__bit_length(i0[1] ^ i1[1])];
+    lv = lv > ly ? lv : ly;
+    *sx = i0[0] >> L->levels[lv].span_w_log2;
+    *sy = i0[1] >> L->levels[lv].span_h_log2;
+    if (lv == L->level_count) *sx = *sy = 0;
+    return lv;
+}
+
 /* Lowest level whose single node holds every texel the clipped segment can
    touch: the walk starts there instead of at the root, and a segment inside
    one texel (a camera ray, say) is level 0: one exact box test. The texel
    box is widened by a margin far above float rounding, so it is
-   conservative. Two texel indices share a node of a level exactly when
-   their highest differing bit is below the level's span, so the level is a
-   table lookup per axis. */
+   conservative. */
 LRT__INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_setup *s, uint32_t *sx, uint32_t *sy)
 {
     const lrt_layout *L = w->L;
-    uint32_t i0[2], i1[2], lv, ly;
+    uint32_t i0[2], i1[2];
     if (s->v[0] == 0.0f && s->v[1] == 0.0f && (float)(int32_t)s->o[0] != s->o[0] && (float)(int32_t)s->o[1] != s->o[1]) {
         /* a camera ray inside one texel's column (the clip put o on the
            screen; off a texel edge, no neighbour's closed box is met) */
@@ -1968,13 +1982,7 @@ LRT__INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_setup *s
         }
     }
 #endif
-    lv = w->start_level[0][lrt__bit_length(i0[0] ^ i1[0])];
-    ly = w->start_level[1][lrt__bit_length(i0[1] ^ i1[1])];
-    lv = lv > ly ? lv : ly;
-    *sx = i0[0] >> L->levels[lv].span_w_log2;
-    *sy = i0[1] >> L->levels[lv].span_h_log2;
-    if (lv == L->level_count) *sx = *sy = 0;
-    return lv;
+    return lrt__start_level(w, i0, i1, sx, sy);
 }
 
 /* First code of node (x, y) of level lv in the node array (code units):
@@ -2254,10 +2262,30 @@ static void lrt__cull_axis(float o, float iv, float extent, float t_hi, float *c
     *c_enter = c - d;
     *c_exit = c + d;
 }
+
+/* The constants of lrt__cull_children, in this order, each LRT__CULL_STRIDE
+   floats after the last where 8 rays are set up together (lrt__setup8). */
+enum { LRT__CULL_IV_X, LRT__CULL_IV_Y, LRT__CULL_ENTER_X, LRT__CULL_ENTER_Y, LRT__CULL_EXIT_X, LRT__CULL_EXIT_Y,
+       LRT__CULL_ZA, LRT__CULL_ZB, LRT__CULL_HI, LRT__CULL_COUNT };
+
+static void lrt__cull_constants(const lrt__walk *w, const lrt__ray_setup *s, float c[LRT__CULL_COUNT])
+{
+    float zb_enter, zb_exit;
+    int axis;
+    for (axis = 0; axis < 2; ++axis)
+        lrt__cull_axis(s->o[axis], s->iv[axis], w->extent[axis], s->t_hi, &c[LRT__CULL_IV_X + axis],
+                       &c[LRT__CULL_ENTER_X + axis], &c[LRT__CULL_EXIT_X + axis]);
+    /* z: a node's plane is (qmax - code) * decode_scale, below 1 */
+    lrt__cull_axis(s->o[2] - (float)w->qmax * w->decode_scale, s->iv[2], 1.0f, s->t_hi, &c[LRT__CULL_ZA], &zb_enter, &zb_exit);
+    c[LRT__CULL_ZA] = -w->decode_scale * c[LRT__CULL_ZA];
+    c[LRT__CULL_ZB] = s->neg_z ? zb_exit : zb_enter;
+    c[LRT__CULL_HI] = lrt__widen(s->t_hi);
+}
 #endif
 
-/* Per-ray constants of every node test, set once a ray is walked. */
-LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
+/* Per-ray constants of every node test, set once a ray is walked; cull:
+   lrt__cull_constants, stride floats apart (AVX2 only). */
+LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s, const float *cull, size_t stride)
 {
     s->sg = &w->signs[s->neg_x | (s->neg_y << 1)];
 #if LRT__SSE
@@ -2273,21 +2301,19 @@ LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s)
 #endif
 #if LRT__AVX
     {
-        float iv, ce, cx, za, zb_enter, zb_exit;
         int axis;
         for (axis = 0; axis < 2; ++axis) {
-            lrt__cull_axis(s->o[axis], s->iv[axis], w->extent[axis], s->t_hi, &iv, &ce, &cx);
-            s->cull_iv[axis] = LRT__BROADCAST(iv);
-            s->cull_enter[axis] = LRT__BROADCAST(ce);
-            s->cull_exit[axis] = LRT__BROADCAST(cx);
+            s->cull_iv[axis] = LRT__BROADCAST(cull[(LRT__CULL_IV_X + axis) * stride]);
+            s->cull_enter[axis] = LRT__BROADCAST(cull[(LRT__CULL_ENTER_X + axis) * stride]);
+            s->cull_exit[axis] = LRT__BROADCAST(cull[(LRT__CULL_EXIT_X + axis) * stride]);
         }
-        /* z: a node's plane is (qmax - code) * decode_scale, below 1 */
-        lrt__cull_axis(s->o[2] - (float)w->qmax * w->decode_scale, s->iv[2], 1.0f, s->t_hi, &iv, &zb_enter, &zb_exit);
-        za = -w->decode_scale * iv;
-        s->cull_za = LRT__BROADCAST(za);
-        s->cull_zb = LRT__BROADCAST(s->neg_z ? zb_exit : zb_enter);
-        s->cull_hi = LRT__BROADCAST(lrt__widen(s->t_hi));
+        s->cull_za = LRT__BROADCAST(cull[LRT__CULL_ZA * stride]);
+        s->cull_zb = LRT__BROADCAST(cull[LRT__CULL_ZB * stride]);
+        s->cull_hi = LRT__BROADCAST(cull[LRT__CULL_HI * stride]);
     }
+#else
+    (void)cull;
+    (void)stride;
 #endif
 }
 
@@ -2430,6 +2456,45 @@ LRT__FORCE_INLINE void lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lr
     hit->kind = kind;
 }
 
+/* The trace of a set-up ray from node (nx, ny) of level lv (lrt__start_node);
+   cull: lrt__cull_constants, stride floats apart, where AVX2 builds them
+   (NULL: made here). wide is a constant where this is inlined. */
+LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, lrt__ray_setup *s, float t_scale,
+                                       uint32_t kind, uint32_t lv, uint32_t nx, uint32_t ny, const float *cull, size_t stride,
+                                       uint32_t wide)
+{
+    if (lv == 0) { /* one texel: its box alone decides */
+        const float x0 = (float)nx, y0 = (float)ny;
+        const uint32_t slot = ((ny & 1u) << 2) | (nx & 3u);
+        const size_t slot0 = lrt__node_slot(w, 1, nx >> 2, ny >> 1);
+        float en = s->t_lo, ex = s->t_hi, t;
+        lrt__slab(x0, x0 + 1.0f, s->o[0], s->iv[0], s->neg_x, &en, &ex);
+        lrt__slab(y0, y0 + 1.0f, s->o[1], s->iv[1], s->neg_y, &en, &ex);
+        if (lrt__test_texel(w, s, nx, ny, en, ex, lrt__code(w, slot0 + slot, wide), &t)) {
+            lrt__report_hit(ray, s, t_scale, t, nx, ny, hit);
+            return;
+        }
+        hit->kind = kind;
+        return;
+    }
+#if LRT__AVX
+    {
+        float own[LRT__CULL_COUNT];
+        if (!cull) {
+            lrt__cull_constants(w, s, own);
+            cull = own;
+            stride = 1;
+        }
+        lrt__walk_setup(w, s, cull, stride);
+    }
+#else
+    lrt__walk_setup(w, s, cull, stride);
+#endif
+    /* the walk, with the sign of v.z a constant of its node tests */
+    if (s->neg_z) lrt__walk_down(w, ray, hit, s, t_scale, kind, lv, nx, ny, wide, 1u);
+    else lrt__walk_down(w, ray, hit, s, t_scale, kind, lv, nx, ny, wide, 0u);
+}
+
 /* wide (16-bit codes) is a constant where this is inlined (lrt__trace_rays) */
 LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, uint32_t wide)
 {
@@ -2444,33 +2509,221 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
         return;
     }
     lv = lrt__start_node(w, &s, &nx, &ny);
-    if (lv == 0) { /* one texel: its box alone decides */
-        const float x0 = (float)nx, y0 = (float)ny;
-        const uint32_t slot = ((ny & 1u) << 2) | (nx & 3u);
-        const size_t slot0 = lrt__node_slot(w, 1, nx >> 2, ny >> 1);
-        float en = s.t_lo, ex = s.t_hi, t;
-        lrt__slab(x0, x0 + 1.0f, s.o[0], s.iv[0], s.neg_x, &en, &ex);
-        lrt__slab(y0, y0 + 1.0f, s.o[1], s.iv[1], s.neg_y, &en, &ex);
-        if (lrt__test_texel(w, &s, nx, ny, en, ex, lrt__code(w, slot0 + slot, wide), &t)) {
-            lrt__report_hit(ray, &s, t_scale, t, nx, ny, hit);
-            return;
-        }
-        hit->kind = kind;
-        return;
-    }
-    lrt__walk_setup(w, &s);
-    /* the walk, with the sign of v.z a constant of its node tests */
-    if (s.neg_z) lrt__walk_down(w, ray, hit, &s, t_scale, kind, lv, nx, ny, wide, 1u);
-    else lrt__walk_down(w, ray, hit, &s, t_scale, kind, lv, nx, ny, wide, 0u);
+    lrt__trace_from(w, ray, hit, &s, t_scale, kind, lv, nx, ny, NULL, 0, wide);
 }
+
+#if LRT__AVX
+/* Eight rays set up side by side: the same floats as lrt__setup_ray,
+   lrt__start_node and lrt__cull_constants, one ray a lane, with no branch
+   on a ray's signs or kind. A lane that needs more (a ray at the edge of
+   float range, or a far origin to restart) is left to lrt__setup_ray.
+   Row k of each array holds one value of the 8 rays. */
+typedef struct lrt__batch8 {
+    float o[3][8], v[3][8], iv[3][8], t_lo[8], t_hi[8];
+    float cull[LRT__CULL_COUNT][8]; /* lrt__cull_constants */
+    uint32_t i0[2][8], i1[2][8];    /* lrt__start_node's texel range, x and y */
+    uint32_t kind[8];
+    uint32_t one_by_one, walk, column; /* lane masks: for lrt__setup_ray; something to walk; a camera ray in one texel column */
+} lrt__batch8;
+
+/* lanes where the float bits x are 0 or their size lies in [low, low + span) (lrt__setup_ray) */
+LRT__INLINE __m256i lrt__bits_in(__m256 x, uint32_t low, uint32_t span)
+{
+    const __m256i size = _mm256_and_si256(_mm256_castps_si256(x), _mm256_set1_epi32(0x7fffffff));
+    const __m256i bias = _mm256_set1_epi32((int)0x80000000u);
+    const __m256i moved = _mm256_xor_si256(_mm256_sub_epi32(size, _mm256_set1_epi32((int)low)), bias);
+    return _mm256_or_si256(_mm256_cmpeq_epi32(size, _mm256_setzero_si256()),
+                           _mm256_cmpgt_epi32(_mm256_set1_epi32((int)(span ^ 0x80000000u)), moved));
+}
+
+/* lrt__cull_axis on 8 lanes */
+LRT__INLINE void lrt__cull_axis8(__m256 o, __m256 iv, float extent, __m256 t_hi, float *cull_iv, float *c_enter, float *c_exit)
+{
+    const __m256 sign = _mm256_set1_ps(-0.0f), size = _mm256_andnot_ps(sign, iv);
+    const __m256 huge = _mm256_cmp_ps(size, _mm256_set1_ps(LRT__CULL_IV_MAX), _CMP_NLT_UQ);
+    const __m256 m = _mm256_blendv_ps(size, _mm256_set1_ps(LRT__CULL_IV_MAX), huge);
+    const __m256 ivc = _mm256_or_ps(m, _mm256_and_ps(sign, iv)), c = _mm256_mul_ps(_mm256_xor_ps(o, sign), ivc);
+    const __m256 d = _mm256_add_ps(
+        _mm256_mul_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_andnot_ps(sign, o), _mm256_set1_ps(extent)), m),
+                      _mm256_set1_ps(LRT__CULL_MARGIN)),
+        _mm256_mul_ps(_mm256_andnot_ps(sign, t_hi), _mm256_blendv_ps(_mm256_set1_ps(LRT__CULL_MARGIN), _mm256_set1_ps(2.0f), huge)));
+    _mm256_storeu_ps(cull_iv, ivc);
+    _mm256_storeu_ps(c_enter, _mm256_sub_ps(c, d));
+    _mm256_storeu_ps(c_exit, _mm256_add_ps(c, d));
+}
+
+static void lrt__setup8(const lrt__walk *w, const lrt_ray *rays, lrt__batch8 *b)
+{
+    const lrt_layout *L = w->L;
+    const float *f = (const float *)(const void *)rays; /* 8 floats a ray: origin, tmin, dir, tmax */
+    const __m256 sign = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+    __m256 r[8], t[8], o[3], v[3], iv[3], tmin, tmax, enter, exit, t_lo, t_hi, neg[3], bad, walk;
+    int k;
+    for (k = 0; k < 8; ++k) r[k] = _mm256_loadu_ps(f + 8 * k);
+    for (k = 0; k < 8; k += 2) { /* 8x8 transpose: row k of r is ray k, of the result value k */
+        t[k] = _mm256_unpacklo_ps(r[k], r[k + 1]);
+        t[k + 1] = _mm256_unpackhi_ps(r[k], r[k + 1]);
+    }
+    for (k = 0; k < 8; k += 4) {
+        r[k] = _mm256_shuffle_ps(t[k], t[k + 2], _MM_SHUFFLE(1, 0, 1, 0));
+        r[k + 1] = _mm256_shuffle_ps(t[k], t[k + 2], _MM_SHUFFLE(3, 2, 3, 2));
+        r[k + 2] = _mm256_shuffle_ps(t[k + 1], t[k + 3], _MM_SHUFFLE(1, 0, 1, 0));
+        r[k + 3] = _mm256_shuffle_ps(t[k + 1], t[k + 3], _MM_SHUFFLE(3, 2, 3, 2));
+    }
+    for (k = 0; k < 4; ++k) {
+        t[k] = _mm256_permute2f128_ps(r[k], r[k + 4], 0x20);
+        t[k + 4] = _mm256_permute2f128_ps(r[k], r[k + 4], 0x31);
+    }
+    o[0] = t[0], o[1] = t[1], o[2] = t[2], tmin = t[3], v[0] = t[4], v[1] = t[5], v[2] = t[6], tmax = t[7];
+    { /* the bit test of lrt__setup_ray: such lanes go one by one */
+        __m256i ok = _mm256_and_si256(lrt__bits_in(tmin, 0u, 0x7f800000u), lrt__bits_in(tmax, 0u, 0x7f800000u));
+        for (k = 0; k < 3; ++k) {
+            ok = _mm256_and_si256(ok, lrt__bits_in(o[k], LRT__RARE_TINY, 0x7f800000u - LRT__RARE_TINY));
+            ok = _mm256_and_si256(ok, lrt__bits_in(v[k], LRT__RARE_TINY, LRT__RARE_HUGE - LRT__RARE_TINY));
+        }
+        bad = _mm256_or_ps(_mm256_castsi256_ps(_mm256_xor_si256(ok, _mm256_set1_epi32(-1))),
+                           _mm256_and_ps(_mm256_cmp_ps(o[2], zero, _CMP_EQ_OQ),
+                                         _mm256_cmp_ps(_mm256_andnot_ps(sign, v[2]), _mm256_set1_ps(16.0f), _CMP_GE_OQ)));
+    }
+    for (k = 0; k < 3; ++k) {
+        iv[k] = _mm256_div_ps(one, v[k]);
+        neg[k] = _mm256_castsi256_ps(_mm256_srai_epi32(_mm256_castps_si256(v[k]), 31));
+    }
+    { /* lrt__clip */
+        const __m256 t1 = _mm256_mul_ps(_mm256_sub_ps(one, o[2]), iv[2]), t0 = _mm256_mul_ps(_mm256_sub_ps(zero, o[2]), iv[2]);
+        const __m256 size[2] = {_mm256_set1_ps((float)L->width), _mm256_set1_ps((float)L->height)};
+        __m256 kind;
+        enter = _mm256_set1_ps(-INFINITY);
+        exit = _mm256_set1_ps(INFINITY);
+        for (k = 0; k < 2; ++k) {
+            const __m256 a = _mm256_mul_ps(_mm256_sub_ps(zero, o[k]), iv[k]), c = _mm256_mul_ps(_mm256_sub_ps(size[k], o[k]), iv[k]);
+            enter = _mm256_max_ps(_mm256_blendv_ps(a, c, neg[k]), enter);
+            exit = _mm256_min_ps(_mm256_blendv_ps(c, a, neg[k]), exit);
+        }
+        t_lo = _mm256_max_ps(enter, tmin);
+        t_hi = _mm256_min_ps(exit, tmax);
+        kind = _mm256_or_ps(_mm256_cmp_ps(t_lo, t_hi, _CMP_GT_OQ), _mm256_cmp_ps(exit, tmax, _CMP_LT_OQ));
+        _mm256_storeu_si256((__m256i *)(void *)b->kind,
+                            _mm256_blendv_epi8(_mm256_set1_epi32(LRT_MISS_TMAX), _mm256_set1_epi32(LRT_MISS_OFF_SCREEN),
+                                               _mm256_castps_si256(kind)));
+        t_lo = _mm256_max_ps(_mm256_blendv_ps(t0, t1, neg[2]), t_lo);
+        t_hi = _mm256_min_ps(_mm256_blendv_ps(t1, t0, neg[2]), t_hi);
+    }
+    { /* an invalid range: no walk, kind LRT_MISS_INVALID_RAY */
+        const __m256 invalid = _mm256_or_ps(_mm256_cmp_ps(tmin, zero, _CMP_NGE_UQ), _mm256_cmp_ps(tmin, tmax, _CMP_NLE_UQ));
+        __m256 far;
+        _mm256_storeu_si256((__m256i *)(void *)b->kind, _mm256_blendv_epi8(_mm256_loadu_si256((const __m256i *)(const void *)b->kind),
+                                                                              _mm256_set1_epi32(LRT_MISS_INVALID_RAY),
+                                                                              _mm256_castps_si256(invalid)));
+        walk = _mm256_andnot_ps(invalid, _mm256_cmp_ps(t_lo, t_hi, _CMP_LE_OQ));
+        /* a far origin restarts: one by one */
+        far = _mm256_or_ps(_mm256_cmp_ps(_mm256_andnot_ps(sign, o[0]), _mm256_set1_ps(2.0f * (float)L->width + 16.0f), _CMP_GT_OQ),
+                           _mm256_cmp_ps(_mm256_andnot_ps(sign, o[1]), _mm256_set1_ps(2.0f * (float)L->height + 16.0f), _CMP_GT_OQ));
+        far = _mm256_or_ps(far, _mm256_cmp_ps(_mm256_andnot_ps(sign, o[2]), _mm256_set1_ps(4.0f), _CMP_GT_OQ));
+        bad = _mm256_or_ps(bad, _mm256_and_ps(walk, far));
+    }
+    b->one_by_one = (uint32_t)_mm256_movemask_ps(bad);
+    b->walk = (uint32_t)_mm256_movemask_ps(walk);
+    { /* lrt__start_node */
+        const __m256 lim[2] = {_mm256_set1_ps((float)(L->width - 1u)), _mm256_set1_ps((float)(L->height - 1u))};
+        __m256 column = _mm256_and_ps(_mm256_cmp_ps(v[0], zero, _CMP_EQ_OQ), _mm256_cmp_ps(v[1], zero, _CMP_EQ_OQ));
+        for (k = 0; k < 2; ++k) {
+            const __m256 a = _mm256_add_ps(o[k], _mm256_mul_ps(t_lo, v[k])), c = _mm256_add_ps(o[k], _mm256_mul_ps(t_hi, v[k]));
+            const __m256 size = _mm256_add_ps(_mm256_add_ps(_mm256_andnot_ps(sign, o[k]), _mm256_andnot_ps(sign, _mm256_sub_ps(a, o[k]))),
+                                              _mm256_andnot_ps(sign, _mm256_sub_ps(c, o[k])));
+            const __m256 mg = _mm256_add_ps(_mm256_set1_ps(1e-3f), _mm256_mul_ps(_mm256_set1_ps(1e-5f), size));
+            const __m256i within = _mm256_cvttps_epi32(o[k]);
+            __m256 lo = _mm256_sub_ps(_mm256_min_ps(a, c), mg), hi = _mm256_add_ps(_mm256_max_ps(c, a), mg);
+            lo = _mm256_min_ps(_mm256_max_ps(lo, zero), lim[k]);
+            hi = _mm256_max_ps(_mm256_min_ps(hi, lim[k]), zero);
+            column = _mm256_and_ps(column, _mm256_cmp_ps(_mm256_cvtepi32_ps(within), o[k], _CMP_NEQ_UQ));
+            _mm256_storeu_si256((__m256i *)(void *)b->i0[k], _mm256_cvttps_epi32(lo));
+            _mm256_storeu_si256((__m256i *)(void *)b->i1[k], _mm256_cvttps_epi32(hi));
+        }
+        b->column = (uint32_t)_mm256_movemask_ps(column);
+    }
+    { /* lrt__cull_constants */
+        __m256 zb_enter, zb_exit, ivz;
+        for (k = 0; k < 2; ++k)
+            lrt__cull_axis8(o[k], iv[k], w->extent[k], t_hi, b->cull[LRT__CULL_IV_X + k], b->cull[LRT__CULL_ENTER_X + k],
+                            b->cull[LRT__CULL_EXIT_X + k]);
+        lrt__cull_axis8(_mm256_sub_ps(o[2], _mm256_set1_ps((float)w->qmax * w->decode_scale)), iv[2], 1.0f, t_hi,
+                        b->cull[LRT__CULL_ZA], b->cull[LRT__CULL_ZB], b->cull[LRT__CULL_HI]);
+        ivz = _mm256_loadu_ps(b->cull[LRT__CULL_ZA]);
+        zb_enter = _mm256_loadu_ps(b->cull[LRT__CULL_ZB]);
+        zb_exit = _mm256_loadu_ps(b->cull[LRT__CULL_HI]);
+        _mm256_storeu_ps(b->cull[LRT__CULL_ZA], _mm256_mul_ps(_mm256_set1_ps(-w->decode_scale), ivz));
+        _mm256_storeu_ps(b->cull[LRT__CULL_ZB], _mm256_blendv_ps(zb_enter, zb_exit, neg[2]));
+        { /* lrt__widen(t_hi) */
+            const __m256 grown = _mm256_add_ps(t_hi, _mm256_mul_ps(_mm256_andnot_ps(sign, t_hi), _mm256_set1_ps(LRT__WIDEN_EXIT)));
+            _mm256_storeu_ps(b->cull[LRT__CULL_HI],
+                             _mm256_blendv_ps(t_hi, grown, _mm256_cmp_ps(grown, _mm256_set1_ps(3.40282347e38f), _CMP_LE_OQ)));
+        }
+    }
+    for (k = 0; k < 3; ++k) {
+        _mm256_storeu_ps(b->o[k], o[k]);
+        _mm256_storeu_ps(b->v[k], v[k]);
+        _mm256_storeu_ps(b->iv[k], iv[k]);
+    }
+    _mm256_storeu_ps(b->t_lo, t_lo);
+    _mm256_storeu_ps(b->t_hi, t_hi);
+}
+
+/* 8 rays: set up together, then walked one by one. */
+LRT__FORCE_INLINE void lrt__trace8(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits, uint32_t wide)
+{
+    lrt__batch8 b;
+    uint32_t j;
+    lrt__setup8(w, rays, &b);
+    for (j = 0; j < 8u; ++j) {
+        lrt__ray_setup s;
+        lrt_hit *hit = &hits[j];
+        uint32_t k, lv, nx, ny;
+        if ((b.one_by_one >> j) & 1u) {
+            lrt__trace_one(w, &rays[j], hit, wide);
+            continue;
+        }
+        hit->t = 0.0f;
+        hit->x = hit->y = 0;
+        if (!((b.walk >> j) & 1u)) {
+            hit->kind = b.kind[j];
+            continue;
+        }
+        for (k = 0; k < 3u; ++k) {
+            s.o[k] = b.o[k][j];
+            s.v[k] = b.v[k][j];
+            s.iv[k] = b.iv[k][j];
+        }
+        s.neg_x = lrt__sign_bit(s.v[0]);
+        s.neg_y = lrt__sign_bit(s.v[1]);
+        s.neg_z = lrt__sign_bit(s.v[2]);
+        s.t_lo = b.t_lo[j];
+        s.t_hi = b.t_hi[j];
+        s.t_base = 0.0f;
+        s.zk = 0;
+        if ((b.column >> j) & 1u) { /* lrt__start_node's camera ray */
+            lv = 0;
+            nx = (uint32_t)(int32_t)s.o[0];
+            ny = (uint32_t)(int32_t)s.o[1];
+        } else {
+            const uint32_t i0[2] = {b.i0[0][j], b.i0[1][j]}, i1[2] = {b.i1[0][j], b.i1[1][j]};
+            lv = lrt__start_level(w, i0, i1, &nx, &ny);
+        }
+        lrt__trace_from(w, &rays[j], hit, &s, 1.0f, b.kind[j], lv, nx, ny, &b.cull[0][j], 8, wide);
+    }
+}
+#endif
 
 /* One walk per node width (wide: a constant where this is inlined), so the
    width is no test in the loop. */
 LRT__FORCE_INLINE void lrt__trace_rays(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits, size_t first, size_t end,
                                        uint32_t wide)
 {
-    size_t i;
-    for (i = first; i < end; ++i) lrt__trace_one(w, &rays[i], &hits[i], wide);
+    size_t i = first;
+#if LRT__AVX
+    for (; end - i >= 8u; i += 8) lrt__trace8(w, rays + i, hits + i, wide);
+#endif
+    for (; i < end; ++i) lrt__trace_one(w, &rays[i], &hits[i], wide);
 }
 
 LINEAR_RT_DEF lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
