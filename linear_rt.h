@@ -814,7 +814,25 @@ static void lrt__row_heights(const lrt_depth *depth, const unsigned char *row, u
     const int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
     uint32_t i;
     if (depth->format == LRT_FORMAT_FLOAT32) {
-        for (i = 0; i < n; ++i) {
+        i = 0;
+#if LRT__SSE
+        { /* 4 at a time: the same clamps (minps keeps 1 for NaN) and the same
+             product in double */
+            const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
+            const __m128d q = _mm_set1_pd((double)qmax);
+            const __m128i qi = _mm_set1_epi32((int)qmax);
+            for (; n - i >= 4u; i += 4) {
+                __m128 f = _mm_loadu_ps((const float *)(const void *)(row + 4 * (size_t)(x0 + i)));
+                __m128i lo, hi;
+                if (reversed) f = _mm_sub_ps(one, f);
+                f = _mm_max_ps(_mm_min_ps(f, one), zero);
+                lo = _mm_cvttpd_epi32(_mm_mul_pd(_mm_cvtps_pd(f), q));
+                hi = _mm_cvttpd_epi32(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), q));
+                _mm_storeu_si128((__m128i *)(void *)(codes + i), _mm_sub_epi32(qi, _mm_unpacklo_epi64(lo, hi)));
+            }
+        }
+#endif
+        for (; i < n; ++i) {
             float f;
             memcpy(&f, row + 4 * (size_t)(x0 + i), 4);
             if (reversed) f = 1.0f - f;
@@ -931,6 +949,7 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
     uint32_t codes[2][64 + 4];
     uint32_t nx, ny, r, s, chunk;
     for (ny = ny0; ny <= ny1; ++ny) {
+        const size_t row = lrt_layout_node_index(L, 1, 0, ny);
         for (chunk = nx0; chunk <= nx1; chunk += 16) { /* 16 nodes = 64 texels a step */
             uint32_t last = nx1 - chunk < 15 ? nx1 : chunk + 15, tx0 = chunk * 4u;
             uint32_t n = (last - chunk + 1) * 4u, real;
@@ -942,8 +961,23 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
                 for (s = real; s < n; ++s) codes[r][s] = 0;
             }
             for (nx = chunk; nx <= last; ++nx) {
-                size_t node = (base + lrt_layout_node_index(L, 1, nx, ny)) * 8u;
+                /* level 1 groups 2x4 (lrt_layout_node_index): node nx is 8 slots after nx - 2 */
+                size_t node = (base + row + (nx >> 1) * 8u + (nx & 1u)) * 8u;
                 const uint32_t *c0 = codes[0] + (size_t)(nx - chunk) * 4u, *c1 = codes[1] + (size_t)(nx - chunk) * 4u;
+#if LRT__SSE
+                { /* the node's 4 + 4 codes, packed (the signed packs see them moved by 2^15 when 16-bit) */
+                    const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)c0);
+                    const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)c1);
+                    if (L->node_bits == 8) {
+                        const __m128i p = _mm_packs_epi32(a, b);
+                        _mm_storel_epi64((__m128i *)(void *)((uint8_t *)bvh->nodes + node), _mm_packus_epi16(p, p));
+                    } else {
+                        const __m128i h = _mm_set1_epi32(32768);
+                        const __m128i p = _mm_packs_epi32(_mm_sub_epi32(a, h), _mm_sub_epi32(b, h));
+                        _mm_storeu_si128((__m128i *)(void *)((uint16_t *)bvh->nodes + node), _mm_xor_si128(p, _mm_set1_epi16((short)0x8000)));
+                    }
+                }
+#else
                 if (L->node_bits == 8) {
                     uint8_t *out = (uint8_t *)bvh->nodes + node;
                     for (s = 0; s < 4; ++s) {
@@ -957,6 +991,7 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
                         out[4 + s] = (uint16_t)c1[s];
                     }
                 }
+#endif
             }
         }
     }
