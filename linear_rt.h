@@ -2421,6 +2421,27 @@ LRT__FORCE_INLINE void lrt__descend(const lrt__walk *w, uint32_t tall, size_t ch
     *lv -= 1u;
 }
 
+/* A node above level 1: its test, then into its first child met, if any
+   (returns the mask of those met). tall, wide and neg_z are constants where
+   this is inlined. */
+LRT__FORCE_INLINE uint32_t lrt__visit(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tall, uint32_t wide, uint32_t neg_z,
+                                      uint32_t *lv, uint32_t *nx, uint32_t *ny, size_t *slot0, lrt__pending *stack, uint32_t *sp)
+{
+    const size_t children = lrt__children_slot(w, *lv, *nx, *ny);
+    uint32_t mask;
+    lrt__prefetch_children(w, children, wide);
+#if LRT__AVX
+    mask = lrt__cull_children(w, s, *lv, *nx, *ny, *slot0, tall, wide, neg_z);
+#else
+    {
+        float enter[8], exit[8];
+        mask = lrt__test_children(w, s, *lv, *nx, *ny, *slot0, enter, exit, tall, wide, neg_z);
+    }
+#endif
+    if (mask) lrt__descend(w, tall, children, mask, s->sg->flip[tall], lv, nx, ny, slot0, stack, sp);
+    return mask;
+}
+
 /* The walk from node (nx, ny) of level lv >= 1 down to the first texel hit;
    wide and neg_z (s->neg_z) are constants where this is inlined. */
 LRT__FORCE_INLINE void lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
@@ -2433,35 +2454,14 @@ LRT__FORCE_INLINE void lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lr
     for (;;) {
         /* three copies of the node test: tall nodes, wide ones above the
            texels, and level 1, the only one that needs the children's t */
-        float enter[8], exit[8];
-        uint32_t mask;
-        if (!(lv & 1u)) {
-            const size_t children = lrt__children_slot(w, lv, nx, ny);
-            lrt__prefetch_children(w, children, wide);
-#if LRT__AVX
-            mask = lrt__cull_children(w, s, lv, nx, ny, slot0, 1u, wide, neg_z);
-#else
-            mask = lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, 1u, wide, neg_z);
-#endif
-            if (mask) {
-                lrt__descend(w, 1u, children, mask, s->sg->flip[1], &lv, &nx, &ny, &slot0, stack, &sp);
+        if (lv != 1u) {
+            if ((lv & 1u) ? lrt__visit(w, s, 0u, wide, neg_z, &lv, &nx, &ny, &slot0, stack, &sp)
+                          : lrt__visit(w, s, 1u, wide, neg_z, &lv, &nx, &ny, &slot0, stack, &sp))
                 continue;
-            }
-        } else if (lv != 1u) {
-            const size_t children = lrt__children_slot(w, lv, nx, ny);
-            lrt__prefetch_children(w, children, wide);
-#if LRT__AVX
-            mask = lrt__cull_children(w, s, lv, nx, ny, slot0, 0u, wide, neg_z);
-#else
-            mask = lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, 0u, wide, neg_z);
-#endif
-            if (mask) {
-                lrt__descend(w, 0u, children, mask, s->sg->flip[0], &lv, &nx, &ny, &slot0, stack, &sp);
-                continue;
-            }
         } else {
             const uint32_t flip = s->sg->flip[0];
-            mask = lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, 0u, wide, neg_z);
+            float enter[8], exit[8];
+            uint32_t mask = lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, 0u, wide, neg_z);
             while (mask) { /* texels: the exact test, front to back */
                 uint32_t slot = lrt__lowest_bit(mask) ^ flip;
                 uint32_t code = lrt__code(w, slot0 + slot, wide);
