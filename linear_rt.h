@@ -962,7 +962,7 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
             }
             for (nx = chunk; nx <= last; ++nx) {
                 /* level 1 groups 2x4 (lrt_layout_node_index): node nx is 8 slots after nx - 2 */
-                size_t node = (base + row + (nx >> 1) * 8u + (nx & 1u)) * 8u;
+                size_t node = (base + row + (size_t)(nx >> 1) * 8u + (nx & 1u)) * 8u;
                 const uint32_t *c0 = codes[0] + (size_t)(nx - chunk) * 4u, *c1 = codes[1] + (size_t)(nx - chunk) * 4u;
 #if LRT__SSE
                 { /* the node's 4 + 4 codes, packed (the signed packs see them moved by 2^15 when 16-bit) */
@@ -2594,7 +2594,7 @@ static void lrt__setup8(const lrt__walk *w, const lrt_ray *rays, lrt__batch8 *b)
     const __m256 sign = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
     __m256 r[8], t[8], o[3], v[3], iv[3], tmin, tmax, enter, exit, t_lo, t_hi, neg[3], bad, walk;
     int k;
-    for (k = 0; k < 8; ++k) r[k] = _mm256_loadu_ps(f + 8 * k);
+    for (k = 0; k < 8; ++k) r[k] = _mm256_loadu_ps(f + (size_t)k * 8u);
     for (k = 0; k < 8; k += 2) { /* 8x8 transpose: row k of r is ray k, of the result value k */
         t[k] = _mm256_unpacklo_ps(r[k], r[k + 1]);
         t[k + 1] = _mm256_unpackhi_ps(r[k], r[k + 1]);
