@@ -1234,13 +1234,25 @@ typedef struct lrt__ray_setup {
 typedef struct lrt__signs {
     uint32_t flip[2];             /* front-to-back slot order of wide (4x2) and tall (2x4) nodes */
 #if LRT__AVX
-    __m256i order[2];             /* lane k: k ^ flip[tall] */
-    __m256 kx_enter[2], kx_exit[2], ky_enter[2], ky_exit[2]; /* of lane k's column and row, in spans */
+    /* AVX2 tests a node's children in visiting order: lane k is slot
+       k ^ flip[tall], whose codes order[tall] fetches and whose column and
+       row planes (in spans) these are, so a mask needs no reordering */
+    __m256i order[2];
+    __m256 kx_enter[2], kx_exit[2], ky_enter[2], ky_exit[2];
 #elif LRT__SSE
     __m128 k_enter[2], k_exit[2]; /* entering / leaving plane of 4 columns (x) or rows (y), in spans */
     __m128 k_rows2, k_cols2;      /* 2 rows (columns): enter, leave of the 1st, of the 2nd (cols: enters, then leaves) */
 #endif
 } lrt__signs;
+
+/* The lane of a node test's enter / exit arrays that holds the child met
+   vis-th in visiting order (slot vis ^ flip): AVX2 tests in visiting order
+   (lrt__signs), SSE2 and scalar code in slot order. */
+#if LRT__AVX
+#define LRT__LANE(vis, slot) (vis)
+#else
+#define LRT__LANE(vis, slot) (slot)
+#endif
 
 /* max/min that drop a NaN candidate (acc is never NaN) */
 #define LRT__MAX_KEEP(cand, acc) ((cand) > (acc) ? (cand) : (acc))
@@ -1832,6 +1844,7 @@ typedef struct lrt__walk {
     float decode_scale; /* just below 1/qmax: decoded bounds never exceed the true ones */
     int exact_codes;    /* the level-1 codes are the input depth itself */
     int plain_float;    /* float depth, standard Z */
+    uint32_t texels8_w, texels8_h; /* plain float: level-1 nodes (x, y) below these lie inside the map (lrt__texels8) */
     float extent[2];    /* the root's span in texels: no node's plane lies beyond it */
     lrt__walk_level lv[LINEAR_RT_MAX_LEVELS + 1];
     uint8_t start_level[2][33]; /* lowest level whose nodes span 2^b texels along x / y */
@@ -1853,8 +1866,9 @@ static void lrt__signs_init(lrt__signs *g, uint32_t neg_x, uint32_t neg_y)
         for (tall = 0; tall < 2u; ++tall) {
             float xe[8], xx[8], ye[8], yx[8];
             for (lane = 0; lane < 8u; ++lane) {
-                /* a wide node's lane k is column k&3, row k>>2; a tall one's column k&1, row k>>1 */
-                const uint32_t c = tall ? lane & 1u : lane & 3u, r = tall ? lane >> 1 : lane >> 2;
+                /* a wide node's slot k is column k&3, row k>>2; a tall one's column k&1, row k>>1 */
+                const uint32_t slot = lane ^ g->flip[tall];
+                const uint32_t c = tall ? slot & 1u : slot & 3u, r = tall ? slot >> 1 : slot >> 2;
                 xe[lane] = (float)(c + neg_x);
                 xx[lane] = (float)(c + 1u - neg_x);
                 ye[lane] = (float)(r + neg_y);
@@ -1899,6 +1913,8 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
     w->exact_codes = depth->format != LRT_FORMAT_FLOAT32 && lrt__format_bytes(depth->format) * 8u <= L->node_bits;
     w->row_prefetch_level = w->exact_codes ? ~0u : 3u;
     w->plain_float = depth->format == LRT_FORMAT_FLOAT32 && !(depth->flags & LRT_DEPTH_REVERSED_Z);
+    w->texels8_w = w->plain_float ? L->width / 4u : 0u;
+    w->texels8_h = w->plain_float ? L->height / 2u : 0u;
     for (i = 1; i <= L->level_count; ++i) {
         lrt__walk_level *v = &w->lv[i];
         v->offset = L->levels[i].offset;
@@ -2097,10 +2113,91 @@ LRT__FORCE_INLINE void lrt__child_slabs(const lrt__ray_setup *s, const lrt__walk
 #endif
 #endif
 
+#if LRT__AVX
+/* lrt__widen in 8 lanes */
+LRT__FORCE_INLINE __m256 lrt__widen8(__m256 ex)
+{
+    const __m256 grown = LRT__EXACT_MADD8(_mm256_andnot_ps(_mm256_set1_ps(-0.0f), ex), _mm256_set1_ps(LRT__WIDEN_EXIT), ex);
+    return _mm256_blendv_ps(ex, grown, _mm256_cmp_ps(grown, _mm256_set1_ps(3.40282347e38f), _CMP_LE_OQ));
+}
+
+/* The ray inside the x and y slabs of node (x0, y0)'s 8 children, in
+   visiting order: lane k's planes are x0 + k' * span with k' from the sign
+   set's tables (exact), then the same (plane - o) / v as every level's. */
+LRT__FORCE_INLINE void lrt__slabs8(const lrt__ray_setup *s, const lrt__walk_level *v, float x0, float y0, uint32_t tall,
+                                   __m256 *enter, __m256 *exit)
+{
+    const lrt__signs *g = s->sg;
+    const __m256 X0 = _mm256_set1_ps(x0), Y0 = _mm256_set1_ps(y0);
+    const __m256 sw = _mm256_set1_ps(v->child_span_w), sh = _mm256_set1_ps(v->child_span_h);
+    const __m256 xe = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->kx_enter[tall], sw, X0), s->vo[0]), s->viv[0]);
+    const __m256 xx = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->kx_exit[tall], sw, X0), s->vo[0]), s->viv[0]);
+    const __m256 ye = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->ky_enter[tall], sh, Y0), s->vo[1]), s->viv[1]);
+    const __m256 yx = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->ky_exit[tall], sh, Y0), s->vo[1]), s->viv[1]);
+    *enter = _mm256_max_ps(ye, _mm256_max_ps(xe, s->vt_lo));
+    *exit = _mm256_min_ps(yx, _mm256_min_ps(xx, s->vt_hi));
+}
+
+/* The z plane at t = tz of each lane: it leaves (v.z < 0) or enters; a NaN
+   tz keeps the other operand */
+LRT__FORCE_INLINE void lrt__z_plane8(__m256 tz, uint32_t neg_z, __m256 *enter, __m256 *exit)
+{
+    if (neg_z) *exit = _mm256_min_ps(tz, *exit);
+    else *enter = _mm256_max_ps(tz, *enter);
+}
+
+/* The exact boxes of node (x0, y0)'s 8 children (codes c16, in slot order)
+   in visiting order. */
+LRT__FORCE_INLINE void lrt__box8(const lrt__walk *w, const lrt__ray_setup *s, const lrt__walk_level *v, float x0, float y0,
+                                 __m128i c16, uint32_t tall, uint32_t neg_z, __m256 *enter, __m256 *exit)
+{
+    const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(c16), s->sg->order[tall]);
+    const __m256 dz = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), codes));
+    lrt__slabs8(s, v, x0, y0, tall, enter, exit);
+    lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(dz, _mm256_set1_ps(w->decode_scale)), s->vo[2]), s->viv[2]),
+                  neg_z, enter, exit);
+}
+
+/* Level-1 node (nx, ny) of plain float depth, wholly inside the map:
+   lrt__test_texel of its 8 texels at once (the same floats: the clamps,
+   (d - o.z) / v.z, lrt__widen), no branch per texel and no codes. The
+   texel loop of lrt__walk_down tests a texel only if its box with the
+   node's code passes too, but that box holds whenever the texel does: the
+   decoded plane is never deeper than the depth (lrt__walk_init), rounding
+   keeps that order, so its t bounds the ray no tighter. Returns the slot
+   of the first texel met in visiting order, the one that loop finds, and
+   its t; 8 if none. */
+LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup *s, uint32_t nx, uint32_t ny, uint32_t neg_z,
+                                        float *t)
+{
+    const unsigned char *row = (const unsigned char *)w->depth->data + w->stride * 2u * ny + 16u * (size_t)nx;
+    const __m128 row0 = _mm_loadu_ps((const float *)(const void *)row);
+    const __m128 row1 = _mm_loadu_ps((const float *)(const void *)(row + w->stride));
+    __m256 d = _mm256_permutevar8x32_ps(_mm256_insertf128_ps(_mm256_castps128_ps256(row0), row1, 1), s->sg->order[0]), en, ex;
+    float enter[8];
+    uint32_t mask;
+    lrt__slabs8(s, &w->lv[1], (float)(nx * 4u), (float)(ny * 2u), 0u, &en, &ex);
+    /* NaN and above 1: 1, then not above 0: 0 (minps / maxps keep the 2nd operand on NaN) */
+    d = _mm256_max_ps(_mm256_min_ps(d, _mm256_set1_ps(1.0f)), _mm256_setzero_ps());
+    lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(d, s->vo[2]), s->viv[2]), neg_z, &en, &ex);
+    /* lrt__widen as written there: the product, then the sum */
+    {
+        const __m256 grown = _mm256_add_ps(ex, _mm256_mul_ps(_mm256_andnot_ps(_mm256_set1_ps(-0.0f), ex), _mm256_set1_ps(LRT__WIDEN_EXIT)));
+        ex = _mm256_blendv_ps(ex, grown, _mm256_cmp_ps(grown, _mm256_set1_ps(3.40282347e38f), _CMP_LE_OQ));
+    }
+    mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, ex, _CMP_LE_OQ));
+    if (!mask) return 8u;
+    _mm256_storeu_ps(enter, en);
+    mask = lrt__lowest_bit(mask);
+    *t = enter[mask];
+    return mask ^ s->sg->flip[0];
+}
+#endif
+
 /* Children of node (nx, ny) at level lv whose boxes the ray meets, as a bit
    mask in visiting order (bit k is slot k ^ flip, lrt__order_mask);
-   enter[s] / exit[s] bound the ray inside child s.
-   Lane k of a wide (4x2) node is column k&3, row k>>2; of a tall (2x4) node
+   enter[k] / exit[k] bound the ray inside the child of lane k (LRT__LANE).
+   Slot k of a wide (4x2) node is column k&3, row k>>2; of a tall (2x4) node
    column k&1, row k>>1. Each plane's t is computed once, the same way at
    every level, which keeps the culling monotone. tall is a constant where
    this is inlined, so each shape gets its own straight code. */
@@ -2115,33 +2212,12 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
     const __m128i c16 = lrt__load_codes(w, slot0, wide);
 #endif
 #if LRT__AVX
-    {   /* all 8 children at once: lane k's planes are x0 + k' * span with k'
-           from the sign set's tables (exact), then the same (plane - o) / v */
-        const lrt__signs *g = s->sg;
-        const __m256 X0 = _mm256_set1_ps(x0), Y0 = _mm256_set1_ps(y0);
-        const __m256 sw = _mm256_set1_ps(v->child_span_w), sh = _mm256_set1_ps(v->child_span_h);
-        const __m256 xe = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->kx_enter[tall], sw, X0), s->vo[0]), s->viv[0]);
-        const __m256 xx = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->kx_exit[tall], sw, X0), s->vo[0]), s->viv[0]);
-        const __m256 ye = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->ky_enter[tall], sh, Y0), s->vo[1]), s->viv[1]);
-        const __m256 yx = _mm256_mul_ps(_mm256_sub_ps(LRT__EXACT_MADD8(g->ky_exit[tall], sh, Y0), s->vo[1]), s->viv[1]);
-        const __m256 dz = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), _mm256_cvtepu16_epi32(c16)));
-        const __m256 tz = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(dz, _mm256_set1_ps(w->decode_scale)), s->vo[2]), s->viv[2]);
-        __m256 en = _mm256_max_ps(xe, s->vt_lo), ex = _mm256_min_ps(xx, s->vt_hi);
-        __m256 grown;
-        en = _mm256_max_ps(ye, en);
-        ex = _mm256_min_ps(yx, ex);
-        /* the z plane leaves (v.z < 0) or enters; a NaN tz keeps the other
-           operand. A ray going deeper then widens its exits off the chain
-           that waits for the codes. */
-        if (neg_z) ex = _mm256_min_ps(tz, ex);
-        else en = _mm256_max_ps(tz, en);
+    {
+        __m256 en, ex;
+        lrt__box8(w, s, v, x0, y0, c16, tall, neg_z, &en, &ex);
         _mm256_storeu_ps(enter, en);
         _mm256_storeu_ps(exit, ex);
-        /* lrt__widen */
-        grown = LRT__EXACT_MADD8(_mm256_andnot_ps(_mm256_set1_ps(-0.0f), ex), _mm256_set1_ps(LRT__WIDEN_EXIT), ex);
-        grown = _mm256_blendv_ps(ex, grown, _mm256_cmp_ps(grown, _mm256_set1_ps(3.40282347e38f), _CMP_LE_OQ));
-        /* lane k of the answer is slot k ^ flip: front to back, as the walk takes them */
-        mask = (uint32_t)_mm256_movemask_ps(_mm256_permutevar8x32_ps(_mm256_cmp_ps(en, grown, _CMP_LE_OQ), s->sg->order[tall]));
+        mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
     }
 #elif LRT__SSE
     {
@@ -2220,11 +2296,12 @@ LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray
     const __m256 xx = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->kx_exit[tall], sw, X0), s->cull_iv[0], s->cull_exit[0]);
     const __m256 ye = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->ky_enter[tall], sh, Y0), s->cull_iv[1], s->cull_enter[1]);
     const __m256 yx = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->ky_exit[tall], sh, Y0), s->cull_iv[1], s->cull_exit[1]);
-    const __m256 tz = LRT__EXACT_MADD8(_mm256_cvtepi32_ps(_mm256_cvtepu16_epi32(lrt__load_codes(w, slot0, wide))),
-                                       s->cull_za, s->cull_zb);
+    const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(lrt__load_codes(w, slot0, wide)), g->order[tall]);
+    const __m256 tz = LRT__EXACT_MADD8(_mm256_cvtepi32_ps(codes), s->cull_za, s->cull_zb);
+    /* X0 and Y0 wait for the parent's test, the codes' load is ahead of them */
     const __m256 en = _mm256_max_ps(_mm256_max_ps(xe, ye), neg_z ? s->vt_lo : _mm256_max_ps(tz, s->vt_lo));
     const __m256 ex = _mm256_min_ps(_mm256_min_ps(xx, yx), neg_z ? _mm256_min_ps(tz, s->cull_hi) : s->cull_hi);
-    return (uint32_t)_mm256_movemask_ps(_mm256_permutevar8x32_ps(_mm256_cmp_ps(en, ex, _CMP_LE_OQ), g->order[tall]));
+    return (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, ex, _CMP_LE_OQ));
 }
 #endif
 
@@ -2429,7 +2506,8 @@ LRT__FORCE_INLINE uint32_t lrt__visit(const lrt__walk *w, const lrt__ray_setup *
 {
     const size_t children = lrt__children_slot(w, *lv, *nx, *ny);
     uint32_t mask;
-    lrt__prefetch_children(w, children, wide);
+    /* level 2 (tall) of plain float depth: lrt__texels8 reads no codes below */
+    if (!tall || *lv != 2u || !w->texels8_w) lrt__prefetch_children(w, children, wide);
 #if LRT__AVX
     mask = lrt__cull_children(w, s, *lv, *nx, *ny, *slot0, tall, wide, neg_z);
 #else
@@ -2461,14 +2539,26 @@ LRT__FORCE_INLINE void lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lr
         } else {
             const uint32_t flip = s->sg->flip[0];
             float enter[8], exit[8];
-            uint32_t mask = lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, 0u, wide, neg_z);
+            uint32_t mask;
+#if LRT__AVX
+            if (nx < w->texels8_w && ny < w->texels8_h && !s->zk) {
+                float t;
+                const uint32_t slot = lrt__texels8(w, s, nx, ny, neg_z, &t);
+                if (slot < 8u) {
+                    lrt__report_hit(ray, s, t_scale, t, nx * 4u + (slot & 3u), ny * 2u + (slot >> 2), hit);
+                    return;
+                }
+                mask = 0; /* no texel: on to the stack */
+            } else
+#endif
+                mask = lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, 0u, wide, neg_z);
             while (mask) { /* texels: the exact test, front to back */
-                uint32_t slot = lrt__lowest_bit(mask) ^ flip;
+                const uint32_t vis = lrt__lowest_bit(mask), slot = vis ^ flip, lane = LRT__LANE(vis, slot);
                 uint32_t code = lrt__code(w, slot0 + slot, wide);
                 uint32_t tx = nx * 4u + (slot & 3u), ty = ny * 2u + (slot >> 2);
                 float t;
                 mask &= mask - 1u;
-                if (lrt__test_texel(w, s, tx, ty, enter[slot], exit[slot], code, &t)) {
+                if (lrt__test_texel(w, s, tx, ty, enter[lane], exit[lane], code, &t)) {
                     lrt__report_hit(ray, s, t_scale, t, tx, ty, hit);
                     return;
                 }
