@@ -2114,10 +2114,10 @@ LRT__FORCE_INLINE void lrt__child_slabs(const lrt__ray_setup *s, const lrt__walk
 #endif
 
 #if LRT__AVX
-/* lrt__widen in 8 lanes */
+/* lrt__widen in 8 lanes, as written there: the product, then the sum */
 LRT__FORCE_INLINE __m256 lrt__widen8(__m256 ex)
 {
-    const __m256 grown = LRT__EXACT_MADD8(_mm256_andnot_ps(_mm256_set1_ps(-0.0f), ex), _mm256_set1_ps(LRT__WIDEN_EXIT), ex);
+    const __m256 grown = _mm256_add_ps(ex, _mm256_mul_ps(_mm256_andnot_ps(_mm256_set1_ps(-0.0f), ex), _mm256_set1_ps(LRT__WIDEN_EXIT)));
     return _mm256_blendv_ps(ex, grown, _mm256_cmp_ps(grown, _mm256_set1_ps(3.40282347e38f), _CMP_LE_OQ));
 }
 
@@ -2180,12 +2180,7 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
     /* NaN and above 1: 1, then not above 0: 0 (minps / maxps keep the 2nd operand on NaN) */
     d = _mm256_max_ps(_mm256_min_ps(d, _mm256_set1_ps(1.0f)), _mm256_setzero_ps());
     lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(d, s->vo[2]), s->viv[2]), neg_z, &en, &ex);
-    /* lrt__widen as written there: the product, then the sum */
-    {
-        const __m256 grown = _mm256_add_ps(ex, _mm256_mul_ps(_mm256_andnot_ps(_mm256_set1_ps(-0.0f), ex), _mm256_set1_ps(LRT__WIDEN_EXIT)));
-        ex = _mm256_blendv_ps(ex, grown, _mm256_cmp_ps(grown, _mm256_set1_ps(3.40282347e38f), _CMP_LE_OQ));
-    }
-    mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, ex, _CMP_LE_OQ));
+    mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
     if (!mask) return 8u;
     _mm256_storeu_ps(enter, en);
     mask = lrt__lowest_bit(mask);
@@ -2506,8 +2501,7 @@ LRT__FORCE_INLINE uint32_t lrt__visit(const lrt__walk *w, const lrt__ray_setup *
 {
     const size_t children = lrt__children_slot(w, *lv, *nx, *ny);
     uint32_t mask;
-    /* level 2 (tall) of plain float depth: lrt__texels8 reads no codes below */
-    if (!tall || *lv != 2u || !w->texels8_w) lrt__prefetch_children(w, children, wide);
+    lrt__prefetch_children(w, children, wide);
 #if LRT__AVX
     mask = lrt__cull_children(w, s, *lv, *nx, *ny, *slot0, tall, wide, neg_z);
 #else
