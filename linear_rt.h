@@ -2514,6 +2514,34 @@ LRT__FORCE_INLINE uint32_t lrt__visit(const lrt__walk *w, const lrt__ray_setup *
     return mask;
 }
 
+/* Level-1 node (nx, ny): the first texel under it that the ray hits, in
+   visiting order (returns 0 if none). wide and neg_z are constants where
+   this is inlined. */
+LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *s, uint32_t nx, uint32_t ny, size_t slot0,
+                                      uint32_t wide, uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t)
+{
+    const uint32_t flip = s->sg->flip[0];
+    float enter[8], exit[8];
+    uint32_t mask;
+#if LRT__AVX
+    if (nx < w->texels8_w && ny < w->texels8_h && !s->zk) {
+        const uint32_t slot = lrt__texels8(w, s, nx, ny, neg_z, t);
+        *tx = nx * 4u + (slot & 3u);
+        *ty = ny * 2u + (slot >> 2);
+        return slot < 8u;
+    }
+#endif
+    mask = lrt__test_children(w, s, 1u, nx, ny, slot0, enter, exit, 0u, wide, neg_z);
+    while (mask) { /* texels: the exact test, front to back */
+        const uint32_t vis = lrt__lowest_bit(mask), slot = vis ^ flip, lane = LRT__LANE(vis, slot);
+        *tx = nx * 4u + (slot & 3u);
+        *ty = ny * 2u + (slot >> 2);
+        mask &= mask - 1u;
+        if (lrt__test_texel(w, s, *tx, *ty, enter[lane], exit[lane], lrt__code(w, slot0 + slot, wide), t)) return 1;
+    }
+    return 0;
+}
+
 /* The walk from node (nx, ny) of level lv >= 1 down to the first texel hit;
    wide and neg_z (s->neg_z) are constants where this is inlined. */
 LRT__FORCE_INLINE void lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
@@ -2531,31 +2559,11 @@ LRT__FORCE_INLINE void lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lr
                           : lrt__visit(w, s, 1u, wide, neg_z, &lv, &nx, &ny, &slot0, stack, &sp))
                 continue;
         } else {
-            const uint32_t flip = s->sg->flip[0];
-            float enter[8], exit[8];
-            uint32_t mask;
-#if LRT__AVX
-            if (nx < w->texels8_w && ny < w->texels8_h && !s->zk) {
-                float t;
-                const uint32_t slot = lrt__texels8(w, s, nx, ny, neg_z, &t);
-                if (slot < 8u) {
-                    lrt__report_hit(ray, s, t_scale, t, nx * 4u + (slot & 3u), ny * 2u + (slot >> 2), hit);
-                    return;
-                }
-                mask = 0; /* no texel: on to the stack */
-            } else
-#endif
-                mask = lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, 0u, wide, neg_z);
-            while (mask) { /* texels: the exact test, front to back */
-                const uint32_t vis = lrt__lowest_bit(mask), slot = vis ^ flip, lane = LRT__LANE(vis, slot);
-                uint32_t code = lrt__code(w, slot0 + slot, wide);
-                uint32_t tx = nx * 4u + (slot & 3u), ty = ny * 2u + (slot >> 2);
-                float t;
-                mask &= mask - 1u;
-                if (lrt__test_texel(w, s, tx, ty, enter[lane], exit[lane], code, &t)) {
-                    lrt__report_hit(ray, s, t_scale, t, tx, ty, hit);
-                    return;
-                }
+            uint32_t tx, ty;
+            float t;
+            if (lrt__level1_hit(w, s, nx, ny, slot0, wide, neg_z, &tx, &ty, &t)) {
+                lrt__report_hit(ray, s, t_scale, t, tx, ty, hit);
+                return;
             }
         }
         if (sp == 0) break;
