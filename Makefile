@@ -1,7 +1,11 @@
 # Makefile of linear_rt (GNU make).
-#   make demo    build build/demo (-O3): the headline workload, and the pictures in out/
+#   make demo    install what the demo needs (tools/install-deps.sh demo), build
+#                build/demo (-O3) and run it: the headline workload, pictures in out/
+#   make test    install what the tests need (tools/install-deps.sh test), then
+#                every test; ends with one line "N passed, M failed". A test
+#                whose tool is missing fails (ALLOW_SKIP=1: it skips instead)
+#   make bench   install gnuplot and Embree too, then the benchmark (bench/)
 #   make examples  build/minimal, ssr, ao, shadows, vulkan_inline
-#   make test    every test; ends with one line "N passed, M failed"
 #   make spv     compile shaders/*.comp and regenerate shaders_spv.h (needs glslang)
 #   make clean
 CC ?= cc
@@ -55,7 +59,7 @@ include tests/hardening.mk
 include tests/fuzz/fuzz.mk
 include examples/vulkan_inline/vulkan_inline.mk
 
-.PHONY: all demo examples pictures test deps clean spv spv-check bench bench-deps $(TESTS) test-sanitize
+.PHONY: FORCE all demo examples pictures test test-all deps clean spv spv-check bench bench-deps $(TESTS) test-sanitize
 
 all: $(B)/demo $(B)/test_reference $(B)/test_core
 
@@ -68,15 +72,27 @@ deps:
 $(B):
 	@mkdir -p $(B)
 
+# The optional parts this make found. The demo and the benchmark build them in
+# or leave them out, so they are rebuilt when this line changes (a package
+# installed since the last build).
+CONFIG_LINE = vulkan=$(HAVE_VULKAN) embree=$(HAVE_EMBREE) glslang=$(HAVE_GLSLANG)
+$(B)/config.stamp: FORCE | $(B)
+	@echo '$(CONFIG_LINE)' | cmp -s - $@ || echo '$(CONFIG_LINE)' > $@
+FORCE:
+
 # ---- demo and examples ----------------------------------------------------------
 # The examples' shared code, and what the demo adds: the benchmark's march.
 EXAMPLE_HDR := examples/example.h examples/depth_file.h examples/surface.h $(SCENE) $(LIB)
 EXAMPLES := minimal ssr ao shadows
 
-$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c bench/m_march_cpu.c bench/bench.h bench/march_common.h $(EXAMPLE_HDR) $(REF) $(DEMO_VK_DEPS) | deps $(B)
+$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c bench/m_march_cpu.c bench/bench.h bench/march_common.h $(EXAMPLE_HDR) $(REF) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
 	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" examples/demo.c bench/m_march_cpu.c -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
 
-demo: $(B)/demo
+# install first, then a new make: HAVE_VULKAN and the like are read when make
+# reads this file, so the build must come from a make started after the install
+demo:
+	@tools/install-deps.sh demo
+	@$(MAKE) --no-print-directory $(B)/demo
 	$(B)/demo
 
 # each example is one file: make examples builds them all into build/
@@ -292,11 +308,11 @@ $(B)/bench_vk_spv.h: $(wildcard bench/shaders/*.comp bench/shaders/*.glsl) $(B)/
 	done
 	$(B)/spv2h $@ $(foreach k,$(VKP_KERNELS),vkp_spv_$(k)=$(B)/bench_spv/vkp_$(k).spv)
 
-$(B)/bench: $(BENCH_SRC) $(BENCH_HDR) $(BENCH_DEPS) | deps $(B)
+$(B)/bench: $(BENCH_SRC) $(BENCH_HDR) $(BENCH_DEPS) $(B)/config.stamp | deps $(B)
 	$(CC) $(BENCH_FLAGS) $(BENCH_SRC) -o $@ $(BENCH_LIBS)
 
 bench-deps:
-	@tools/install-deps.sh --bench
+	@tools/install-deps.sh bench
 
 bench: bench-deps
 	@$(MAKE) --no-print-directory $(B)/bench
@@ -308,7 +324,13 @@ test-bench: $(B)/bench
 	$(B)/bench --quick --out $(B)
 
 # Every test, each run even when an earlier one failed; then one summary line.
-test: deps
+# As for the demo: install, then a new make. CI=true turns every "skipped:
+# TOOL is missing" of the tests into a failure; ALLOW_SKIP=1 keeps skips.
+test:
+	@tools/install-deps.sh test
+	@$(if $(ALLOW_SKIP),,CI=true) $(MAKE) --no-print-directory test-all
+
+test-all:
 	@pass=0; fail=0; failed=; start=$$(date +%s); \
 	for t in $(TESTS); do \
 	  echo "== $$t"; \

@@ -27,6 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h> /* isatty: the progress line only on a terminal */
 #include <time.h>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -166,6 +167,8 @@ EXAMPLE_FN int example_parse_args(example_options *o, int argc, char **argv, con
 }
 
 /* ---- rows in parallel, with a progress line past one second ------------------- */
+/* The line is redrawn in place with '\r', so it is drawn only when stderr is a
+   terminal: in a log it would run into the lines around it. */
 typedef void (*example_rows_fn)(void *ctx, uint32_t row);
 
 typedef struct example__pool {
@@ -216,6 +219,8 @@ EXAMPLE_FN void example_parallel_rows(uint32_t rows, int threads, const char *wh
     p.rows = rows;
     p.what = what;
     p.start = p.last_print = example_now_ms();
+    if (!isatty(fileno(stderr))) p.what = NULL;
+    else fflush(stdout); /* the heading above the line comes first */
     pthread_mutex_init(&p.lock, NULL);
     if (threads > 64) threads = 64;
     for (k = 1; k < threads; ++k)

@@ -1,17 +1,20 @@
 #!/usr/bin/env bash
-# tools/install-deps.sh - make sure the tools that `make test` uses are here:
-# make, gcc, g++, clang (and the C library headers), and for the Vulkan path
-# the Vulkan headers and loader, the Khronos validation layer, glslang and
-# spirv-tools, and Mesa's lavapipe (a Vulkan device on the CPU) new enough to
-# have ray query: Mesa 25 from bookworm-backports on Debian 12. Does nothing,
-# and needs no network, when they all are; otherwise installs the missing
-# ones with apt-get (Debian/Ubuntu), as root or through sudo.
-# stb_image / stb_image_write (libstb-dev) read and write the examples' PNGs.
-# The hardening tests and fuzzers add valgrind, cppcheck, clang-tidy, clang's
-# sanitizer and libFuzzer runtime (libclang-rt-14-dev on Debian 12) and, on
-# amd64, gcc-multilib (32-bit builds).
-# `install-deps.sh --bench` adds what `make bench` needs on top: gnuplot
-# (gnuplot-nox) and Embree 3 (libembree-dev).
+# tools/install-deps.sh [demo|test|bench] - make sure what a make target needs
+# is here, and install what is missing. The Makefile calls it first thing in
+# `make demo`, `make test` and `make bench`; it does nothing, in well under a
+# second and with no network, when everything is there.
+#   demo   make, a C compiler and its library headers, stb (libstb-dev: the
+#          examples' PNG in and out), the Vulkan headers and loader and Mesa's
+#          lavapipe (a Vulkan device on the CPU) new enough to have ray query:
+#          Mesa 25 from bookworm-backports on Debian 12.
+#   test   (the default) the demo's, and g++ and clang, the Khronos validation
+#          layer, glslang and spirv-tools, valgrind, cppcheck, clang-tidy,
+#          clang's sanitizer and libFuzzer runtime (libclang-rt-14-dev on
+#          Debian 12) and, on amd64, gcc-multilib (32-bit builds).
+#   bench  the tests', and gnuplot (gnuplot-nox) and Embree 3 (libembree-dev).
+# Installs with apt-get (Debian/Ubuntu) as root, or through sudo. Without
+# either it prints one line naming the packages and the command that
+# installs them, and exits 2.
 #
 # bookworm-backports: when no apt source has that suite yet, the script adds
 # it in /etc/apt/sources.list.d/linear-rt-backports.sources, reusing the URI
@@ -22,6 +25,23 @@ set -euo pipefail
 BACKPORTS_FILE=/etc/apt/sources.list.d/linear-rt-backports.sources
 MESA_MIN=25 # lavapipe with VK_KHR_ray_query
 
+profile=${1:-test}
+case $profile in
+demo | test | bench) ;;
+--bench) profile=bench ;; # the older spelling
+*)
+    echo "usage: tools/install-deps.sh [demo|test|bench]" >&2
+    exit 2
+    ;;
+esac
+wants() { # does this profile need what <profile> needs?
+    case $1 in
+    demo) return 0 ;;
+    test) [ "$profile" != demo ] ;;
+    bench) [ "$profile" = bench ] ;;
+    esac
+}
+
 main_pkgs=() # from the release's own suites
 bpo_pkgs=()  # from <codename>-backports
 
@@ -29,7 +49,9 @@ installed() { # a Debian package, installed (not just known)
     [ "$(dpkg-query -W -f='${Status}' "$1" 2>/dev/null)" = "install ok installed" ]
 }
 
-for tool in make gcc g++ clang; do
+tools=(make gcc)
+wants test && tools+=(g++ clang)
+for tool in "${tools[@]}"; do
     command -v "$tool" >/dev/null 2>&1 || main_pkgs+=("$tool")
 done
 # libc6-dev: a compiler without the C library headers cannot build anything
@@ -46,27 +68,29 @@ if [ -r /etc/os-release ]; then
 fi
 
 if command -v dpkg-query >/dev/null 2>&1; then
-    installed libvulkan-dev || main_pkgs+=("libvulkan-dev")
-    installed vulkan-validationlayers || main_pkgs+=("vulkan-validationlayers")
-    command -v glslangValidator >/dev/null 2>&1 || main_pkgs+=("glslang-tools")
-    command -v spirv-val >/dev/null 2>&1 || main_pkgs+=("spirv-tools")
     installed libstb-dev || main_pkgs+=("libstb-dev") # the examples' PNG in and out
-    # tests/hardening.mk and tests/fuzz: valgrind, the static checkers, clang's
-    # sanitizer and libFuzzer runtimes (of the clang installed, or of the
-    # distribution's clang), and 32-bit builds on amd64
-    command -v valgrind >/dev/null 2>&1 || main_pkgs+=("valgrind")
-    command -v cppcheck >/dev/null 2>&1 || main_pkgs+=("cppcheck")
-    command -v clang-tidy >/dev/null 2>&1 || main_pkgs+=("clang-tidy")
-    if ! command -v clang >/dev/null 2>&1; then
-        main_pkgs+=("libclang-rt-dev")
-    elif ! printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n) { (void)d; (void)n; return 0; }\n' |
-        clang -x c -fsanitize=fuzzer,address,undefined - -o /dev/null >/dev/null 2>&1; then
-        main_pkgs+=("libclang-rt-$(clang -dumpversion | cut -d. -f1)-dev") # Debian 12: libclang-rt-14-dev
+    installed libvulkan-dev || main_pkgs+=("libvulkan-dev")
+    if wants test; then
+        installed vulkan-validationlayers || main_pkgs+=("vulkan-validationlayers")
+        command -v glslangValidator >/dev/null 2>&1 || main_pkgs+=("glslang-tools")
+        command -v spirv-val >/dev/null 2>&1 || main_pkgs+=("spirv-tools")
+        # tests/hardening.mk and tests/fuzz: valgrind, the static checkers,
+        # clang's sanitizer and libFuzzer runtimes (of the clang installed, or
+        # of the distribution's clang), and 32-bit builds on amd64
+        command -v valgrind >/dev/null 2>&1 || main_pkgs+=("valgrind")
+        command -v cppcheck >/dev/null 2>&1 || main_pkgs+=("cppcheck")
+        command -v clang-tidy >/dev/null 2>&1 || main_pkgs+=("clang-tidy")
+        if ! command -v clang >/dev/null 2>&1; then
+            main_pkgs+=("libclang-rt-dev")
+        elif ! printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n) { (void)d; (void)n; return 0; }\n' |
+            clang -x c -fsanitize=fuzzer,address,undefined - -o /dev/null >/dev/null 2>&1; then
+            main_pkgs+=("libclang-rt-$(clang -dumpversion | cut -d. -f1)-dev") # Debian 12: libclang-rt-14-dev
+        fi
+        if [ "$(dpkg --print-architecture 2>/dev/null)" = amd64 ]; then
+            installed gcc-multilib || main_pkgs+=("gcc-multilib") # gcc -m32: test-m32
+        fi
     fi
-    if [ "$(dpkg --print-architecture 2>/dev/null)" = amd64 ]; then
-        installed gcc-multilib || main_pkgs+=("gcc-multilib") # gcc -m32: test-m32
-    fi
-    if [ "${1:-}" = --bench ]; then
+    if wants bench; then
         command -v gnuplot >/dev/null 2>&1 || main_pkgs+=("gnuplot-nox")
         installed libembree-dev || main_pkgs+=("libembree-dev")
     fi
@@ -79,29 +103,29 @@ if command -v dpkg-query >/dev/null 2>&1; then
         fi
     fi
 else
-    for tool in glslangValidator spirv-val; do
-        command -v "$tool" >/dev/null 2>&1 ||
-            echo "install-deps: note: $tool is missing (not Debian: install glslang and spirv-tools by hand)" >&2
-    done
+    echo "install-deps: not a Debian system: install by hand what tools/install-deps.sh lists for '$profile'" >&2
+    exit 0
 fi
 
 if [ ${#main_pkgs[@]} -eq 0 ] && [ ${#bpo_pkgs[@]} -eq 0 ]; then
     exit 0
 fi
 
-echo "install-deps: missing:$(printf ' %s' "${main_pkgs[@]}" "${bpo_pkgs[@]}"); installing with apt-get" >&2
-if ! command -v apt-get >/dev/null 2>&1; then
-    echo "install-deps: no apt-get here; install them by hand" >&2
-    exit 1
-fi
+missing="${main_pkgs[*]}${bpo_pkgs[*]:+ ${bpo_pkgs[*]} (from $codename-backports)}"
+missing=${missing# }
 if [ "$(id -u)" -eq 0 ]; then
     as_root=()
-elif command -v sudo >/dev/null 2>&1; then
+elif command -v sudo >/dev/null 2>&1 && { sudo -n true 2>/dev/null || [ -t 0 ]; }; then
     as_root=(sudo)
 else
-    echo "install-deps: not root and no sudo; install them by hand" >&2
-    exit 1
+    echo "install-deps: missing $missing; not root and no sudo: as root run  $0 $profile  (or apt-get install them yourself)" >&2
+    exit 2
 fi
+if ! command -v apt-get >/dev/null 2>&1; then
+    echo "install-deps: missing $missing and no apt-get here: install them by hand" >&2
+    exit 2
+fi
+echo "install-deps: missing $missing; installing with apt-get" >&2
 run_root() { ${as_root[@]+"${as_root[@]}"} "$@"; }
 
 # Is <suite> already an apt source? (one-line .list and deb822 .sources)
@@ -184,10 +208,10 @@ if [ ${#bpo_pkgs[@]} -gt 0 ] && ! has_suite "$codename-backports"; then
         if [ -n "$key" ]; then echo "Signed-By: $key"; fi
     } | run_root tee "$BACKPORTS_FILE" >/dev/null
 fi
-run_root apt-get update
+run_root apt-get -q update
 if [ ${#bpo_pkgs[@]} -gt 0 ]; then
-    run_root apt-get install -y --no-install-recommends -t "$codename-backports" "${bpo_pkgs[@]}"
+    run_root apt-get -q install -y --no-install-recommends -t "$codename-backports" "${bpo_pkgs[@]}"
 fi
 if [ ${#main_pkgs[@]} -gt 0 ]; then
-    run_root apt-get install -y --no-install-recommends "${main_pkgs[@]}"
+    run_root apt-get -q install -y --no-install-recommends "${main_pkgs[@]}"
 fi
