@@ -314,9 +314,10 @@ $(B)/bench: $(BENCH_SRC) $(BENCH_HDR) $(BENCH_DEPS) $(B)/config.stamp | deps $(B
 bench-deps:
 	@tools/install-deps.sh bench
 
+# BENCH_ARGS: options of build/bench (build/bench --help), e.g. --quick
 bench: bench-deps
 	@$(MAKE) --no-print-directory $(B)/bench
-	$(B)/bench
+	$(B)/bench $(BENCH_ARGS)
 
 # the benchmark at a small size, so that it keeps building and its exact
 # methods keep agreeing with the reference (it exits non-zero otherwise)
