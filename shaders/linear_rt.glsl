@@ -14,8 +14,11 @@
 // answers up to float rounding: every plane crossing is (plane - o) * (1/v)
 // in float; a unorm depth plane's distance v/max - o.z is taken exactly
 // with Dekker's product (linear_rt.h uses double); a zero direction
-// component is a closed slab (handled without NaN or inf arithmetic); and
-// children are visited front to back, so the first texel hit is the closest.
+// component is a closed slab (handled without NaN or inf arithmetic). The
+// walk (lrt_walk_origin) starts at the ray's origin and keeps a texel
+// position, a level and t, no stack: texels are met in the ray's order, so
+// the first one hit is the closest. Its hits are those of linear_rt.h's
+// lrt_trace with LRT_TRACE_FROM_ORIGIN (lrt__walk_origin, the same steps).
 // `precise` keeps compilers from fusing or reordering what must round the
 // way it is written.
 
@@ -23,7 +26,6 @@
 #define LINEAR_RT_GLSL
 
 #define LRT_MAX_LEVELS 16
-#define LRT_STACK (LRT_MAX_LEVELS * 7 + 1)
 #define LRT_HIT 1u
 #define LRT_MISS_TMAX 2u
 #define LRT_MISS_OFF_SCREEN 3u
@@ -677,6 +679,132 @@ LrtHit lrt_report(LrtSetup s, float t_scale, float t, float tmin, float tmax, ui
     return h;
 }
 
+// ---- the walk from the ray's origin (linear_rt.h: lrt__walk_origin) ----
+
+// the texel along one axis that holds o + t v, taken from behind (a point on
+// an edge belongs to the texel the ray leaves); v = 0: the caller's
+int lrt_axis_texel(float o, float v, float t, int kept)
+{
+    if (v == 0.0) return kept;
+    precise float p = o + t * v;
+    p = p > -2.0 ? p : -2.0;
+    p = p < 1073741824.0 ? p : 1073741824.0;
+    float f = floor(p);
+    return int(f) - ((v > 0.0 && f == p) ? 1 : 0);
+}
+
+int lrt_clamp_cell(int q, int c, uint span)
+{
+    int lo = int((uint(c) >> span) << span), hi = lo + (1 << span) - 1;
+    return q < lo ? lo : q > hi ? hi : q;
+}
+
+uint lrt_texel_code_at(LrtLayout L, uint node_bits, uint x, uint y)
+{
+    return lrt_code(node_bits, lrt_node_slot(L, 1u, x >> 2, y >> 1) + (((y & 1u) << 2) | (x & 3u)));
+}
+
+bool lrt_corner_texel(LrtParams p, LrtSetup s, int x, int y, out float t)
+{
+    t = 0.0;
+    if (x < 0 || y < 0 || x >= int(p.width) || y >= int(p.height)) return false;
+    float en = s.t_lo, ex = s.t_hi;
+    lrt_slab(float(x), float(x + 1), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
+    lrt_slab(float(y), float(y + 1), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
+    return lrt_test_texel(p, s, uint(x), uint(y), en, ex, t);
+}
+
+bool lrt_walk_origin(LrtParams p, LrtLayout L, LrtSetup s, int px, int py, out float t_hit, out uint tx, out uint ty)
+{
+    int W = int(p.width), H = int(p.height);
+    uint top = L.count - 1u;
+    int dx = s.neg.x != 0u ? -1 : 1, dy = s.neg.y != 0u ? -1 : 1;
+    int fx = px, fy = py;
+    float decode_scale = p.node_bits == 16u ? uintBitsToFloat(0x37800078u) : uintBitsToFloat(0x3b808079u);
+    float qmaxf = p.node_bits == 16u ? 65535.0 : 255.0;
+    float t = s.t_lo;
+    uint lv = 0u;
+    t_hit = 0.0;
+    tx = 0u;
+    ty = 0u;
+    for (;;) {
+        uint sw = lrt_span_w_log2(lv), sh = lrt_span_h_log2(lv);
+        uint cx = uint(px) >> sw, cy = uint(py) >> sh;
+        float x0 = float(cx << sw), x1 = float((cx + 1u) << sw);
+        float y0 = float(cy << sh), y1 = float((cy + 1u) << sh);
+        uint bwl = lrt_bw_log2(lv), bhl = 3u - bwl;
+        float en = lv != 0u ? t : s.t_lo, ex = s.t_hi;
+        lrt_slab(x0, x1, s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
+        lrt_slab(y0, y1, s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
+        if (lv == 0u) {
+            if (lrt_test_texel(p, s, uint(px), uint(py), en, ex, t_hit)) {
+                tx = uint(px);
+                ty = uint(py);
+                return true;
+            }
+        } else {
+            uint code = lrt_code(p.node_bits, lrt_node_slot(L, lv + 1u, cx >> bwl, cy >> bhl) +
+                                                  (((cy & ((1u << bhl) - 1u)) << bwl) | (cx & ((1u << bwl) - 1u))));
+            float tz;
+            if (s.zero.z) {
+                float dz = (qmaxf - float(code)) * decode_scale;
+                bool inside = dz <= s.o.z;
+                tz = (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
+            } else {
+                precise float dz = (qmaxf - float(code)) * decode_scale;
+                precise float tt = (dz - s.o.z) * s.iv.z;
+                tz = tt;
+            }
+            if (s.neg.z != 0u) ex = min(tz, ex);
+            else en = max(tz, en);
+            if (en <= lrt_widen(ex)) { // met: down into the child that holds the ray at en
+                t = en > t ? en : t;
+                int qx = lrt_axis_texel(s.o.x, s.v.x, t, fx), qy = lrt_axis_texel(s.o.y, s.v.y, t, fy);
+                qx = dx > 0 ? max(qx, px) : min(qx, px);
+                qy = dy > 0 ? max(qy, py) : min(qy, py);
+                px = lrt_clamp_cell(qx, px, sw);
+                py = lrt_clamp_cell(qy, py, sh);
+                lv -= 1u;
+                continue;
+            }
+        }
+        // missed: across the nearer exit plane, then up while that left the parent too
+        float ex_x = LRT_INF, ex_y = LRT_INF;
+        if (!s.zero.x) { precise float e = ((dx > 0 ? x1 : x0) - s.o.x) * s.iv.x; ex_x = e; }
+        if (!s.zero.y) { precise float e = ((dy > 0 ? y1 : y0) - s.o.y) * s.iv.y; ex_y = e; }
+        if (ex_x <= ex_y) {
+            if (!(ex_x <= s.t_hi)) return false;
+            if (ex_y <= lrt_widen(ex_x)) { // through a corner: the texel across it in y
+                int cxl = dx > 0 ? int((cx + 1u) << sw) - 1 : int(cx << sw);
+                int cyl = dy > 0 ? int((cy + 1u) << sh) : int(cy << sh) - 1;
+                if (lrt_corner_texel(p, s, cxl, cyl, t_hit)) { tx = uint(cxl); ty = uint(cyl); return true; }
+            }
+            t = ex_x > t ? ex_x : t;
+            px = dx > 0 ? int((cx + 1u) << sw) : int(cx << sw) - 1;
+            if (px < 0 || px >= W) return false;
+            int qy = lrt_axis_texel(s.o.y, s.v.y, t, fy);
+            qy = dy > 0 ? max(qy, py) : min(qy, py);
+            py = min(lrt_clamp_cell(qy, py, sh), H - 1);
+            while (lv < top && (uint(px) >> lrt_span_w_log2(lv + 1u)) != (uint(px - dx) >> lrt_span_w_log2(lv + 1u))) lv += 1u;
+        } else {
+            if (!(ex_y <= s.t_hi)) return false;
+            if (ex_x <= lrt_widen(ex_y)) {
+                int cxl = dx > 0 ? int((cx + 1u) << sw) : int(cx << sw) - 1;
+                int cyl = dy > 0 ? int((cy + 1u) << sh) - 1 : int(cy << sh);
+                if (lrt_corner_texel(p, s, cxl, cyl, t_hit)) { tx = uint(cxl); ty = uint(cyl); return true; }
+            }
+            t = ex_y > t ? ex_y : t;
+            py = dy > 0 ? int((cy + 1u) << sh) : int(cy << sh) - 1;
+            if (py < 0 || py >= H) return false;
+            int qx = lrt_axis_texel(s.o.x, s.v.x, t, fx);
+            qx = dx > 0 ? max(qx, px) : min(qx, px);
+            px = min(lrt_clamp_cell(qx, px, sw), W - 1);
+            while (lv < top && (uint(py) >> lrt_span_h_log2(lv + 1u)) != (uint(py - dy) >> lrt_span_h_log2(lv + 1u))) lv += 1u;
+        }
+    }
+    return false;
+}
+
 // Traces one ray (screen space: x, y in texels, z depth, 0 near) through the
 // BVH; any_hit only stops at the first hit found, which here is the closest.
 LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, bool any_hit)
@@ -703,95 +831,39 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
         return hit;
     }
     LrtLayout L = lrt_layout(p.width, p.height);
-    // just below 1/qmax, the same float as linear_rt.h's decode_scale
-    float decode_scale = p.node_bits == 16u ? uintBitsToFloat(0x37800078u) : uintBitsToFloat(0x3b808079u);
-    float qmaxf = p.node_bits == 16u ? 65535.0 : 255.0;
-    uint stack[LRT_STACK];
-    uint sp = 0u;
-    for (;;) {
-        // the node's children: x/y planes (5+3 or 3+5 shared), then z per child
-        uint cl = lv - 1u;                       // level of the children
-        bool tall = lrt_bw_log2(cl) == 1u;
-        uint bw = tall ? 2u : 4u, bh = tall ? 4u : 2u;
-        float sw = float(1u << lrt_span_w_log2(cl)), sh = float(1u << lrt_span_h_log2(cl));
-        float x0 = float((nx * bw) << lrt_span_w_log2(cl)), y0 = float((ny * bh) << lrt_span_h_log2(cl));
-        float px[5], py[5];
-        for (uint k = 0u; k <= bw; ++k) { precise float P = x0 + float(k) * sw; precise float t = (P - s.o.x) * s.iv.x; px[k] = t; }
-        for (uint k = 0u; k <= bh; ++k) { precise float P = y0 + float(k) * sh; precise float t = (P - s.o.y) * s.iv.y; py[k] = t; }
-        uint slot0 = lrt_node_slot(L, lv, nx, ny);
-        uint flip = (s.neg.x != 0u ? (tall ? 1u : 3u) : 0u) | (s.neg.y != 0u ? (tall ? 6u : 4u) : 0u);
-        float en8[8], ex8[8];
-        uint mask = 0u;
-        for (uint k = 0u; k < 8u; ++k) {
-            uint slot = k ^ flip;                         // front to back
-            uint c = tall ? (slot & 1u) : (slot & 3u), r = tall ? (slot >> 1) : (slot >> 2);
-            float en = s.t_lo, ex = s.t_hi;
-            float xa = px[c], xb = px[c + 1u], ya = py[r], yb = py[r + 1u];
-            if (s.zero.x) {
-                bool in_x = x0 + float(c) * sw <= s.o.x && s.o.x <= x0 + float(c + 1u) * sw;
-                xa = in_x ? -LRT_INF : LRT_INF;
-                xb = in_x ? LRT_INF : -LRT_INF;
-            }
-            if (s.zero.y) {
-                bool in_y = y0 + float(r) * sh <= s.o.y && s.o.y <= y0 + float(r + 1u) * sh;
-                ya = in_y ? -LRT_INF : LRT_INF;
-                yb = in_y ? LRT_INF : -LRT_INF;
-            }
-            bool nx_ = s.neg.x != 0u && !s.zero.x, ny_ = s.neg.y != 0u && !s.zero.y;
-            en = max(nx_ ? xb : xa, en);
-            ex = min(nx_ ? xa : xb, ex);
-            en = max(ny_ ? yb : ya, en);
-            ex = min(ny_ ? ya : yb, ex);
-            { // the child's compressed bound, in float as the CPU's node test
-                uint code = lrt_code(p.node_bits, slot0 + slot);
-                float tz;
-                if (s.zero.z) {
-                    float dz = (qmaxf - float(code)) * decode_scale;
-                    bool inside = dz <= s.o.z;
-                    tz = (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
-                } else {
-                    precise float dz = (qmaxf - float(code)) * decode_scale;
-                    precise float tt = (dz - s.o.z) * s.iv.z;
-                    tz = tt;
-                }
-                if (s.neg.z != 0u) ex = min(tz, ex);
-                else en = max(tz, en);
-            }
-            en8[k] = en;
-            ex8[k] = ex;
-            if (en <= lrt_widen(ex)) mask |= 1u << k;
-        }
-        if (lv == 1u) { // texels: the exact test, front to back
-            for (uint k = 0u; k < 8u; ++k) {
-                if ((mask & (1u << k)) == 0u) continue;
-                uint slot = k ^ flip;
-                uint tx = nx * 4u + (slot & 3u), ty = ny * 2u + (slot >> 2);
+    // the walk from the origin, once per start texel: a ray that does not
+    // move along x (or y) and lies on a texel edge there touches two columns
+    // (rows) all along, and each is walked (linear_rt.h: lrt__trace_origin)
+    {
+        int W = int(p.width), H = int(p.height);
+        int xs0 = lrt_axis_texel(s.o.x, s.v.x, s.t_lo, lrt_axis_texel(s.o.x, 1.0, 0.0, 0));
+        int ys0 = lrt_axis_texel(s.o.y, s.v.y, s.t_lo, lrt_axis_texel(s.o.y, 1.0, 0.0, 0));
+        int nxs = (s.v.x == 0.0 && float(xs0 + 1) == s.o.x) ? 2 : 1;
+        int nys = (s.v.y == 0.0 && float(ys0 + 1) == s.o.y) ? 2 : 1;
+        bool found = false;
+        float best = 0.0;
+        uint bx = 0u, by = 0u;
+        for (int i = 0; i < nxs; ++i) {
+            for (int j = 0; j < nys; ++j) {
+                int px = xs0 + i, py = ys0 + j;
+                if ((px < 0 || px >= W) && s.v.x == 0.0) continue;
+                if ((py < 0 || py >= H) && s.v.y == 0.0) continue;
+                px = clamp(px, 0, W - 1);
+                py = clamp(py, 0, H - 1);
                 float t;
-                if (lrt_test_texel(p, s, tx, ty, en8[k], ex8[k], t)) return lrt_report(s, t_scale, t, tmin, tmax, tx, ty);
+                uint tx, ty;
+                if (lrt_walk_origin(p, L, s, px, py, t, tx, ty) && (!found || t < best)) {
+                    found = true;
+                    best = t;
+                    bx = tx;
+                    by = ty;
+                }
             }
-        } else if (mask != 0u) {
-            // descend into the first child; push the rest, last first
-            uint bwl = tall ? 1u : 2u, cm = tall ? 1u : 3u;
-            uint first = findLSB(mask), rest = mask & (mask - 1u);
-            while (rest != 0u) {
-                uint hi = uint(findMSB(rest)), slot = hi ^ flip;
-                rest &= ~(1u << hi);
-                stack[sp++] = ((lv - 1u) << 28) | (((nx << bwl) + (slot & cm)) << 14) | ((ny << (3u - bwl)) + (slot >> bwl));
-            }
-            uint fs = first ^ flip;
-            nx = (nx << bwl) + (fs & cm);
-            ny = (ny << (3u - bwl)) + (fs >> bwl);
-            lv -= 1u;
-            continue;
         }
-        if (sp == 0u) break;
-        --sp;
-        lv = stack[sp] >> 28;
-        nx = (stack[sp] >> 14) & 0x3fffu;
-        ny = stack[sp] & 0x3fffu;
+        if (found) return lrt_report(s, t_scale, best, tmin, tmax, bx, by);
+        hit.kind = kind;
+        return hit;
     }
-    hit.kind = kind;
-    return hit;
 }
 
 #endif
