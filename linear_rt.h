@@ -22,8 +22,7 @@
        lrt_result r = lrt_bvh_build(&bvh, &depth, NULL, NULL); // once per size
        ...each frame, after the depth changed:
        r = lrt_bvh_update(&bvh, &depth, NULL);                 // whole map, or a dirty rect
-       r = lrt_trace(&bvh, &depth, rays, hits, ray_count, 0);  // or LRT_TRACE_ANY_HIT,
-                                                               // LRT_TRACE_FROM_ORIGIN (the GPU's walk)
+       r = lrt_trace(&bvh, &depth, rays, hits, ray_count, 0);  // or LRT_TRACE_ANY_HIT
        ...
        lrt_bvh_destroy(&bvh);
    Rays live in screen space: x in [0,W], y in [0,H] in texels, z = depth in
@@ -64,11 +63,10 @@
    the recording functions only read the context and the BVH, so several
    threads may record with one context at once. The GPU tree is the CPU's
    node array byte for byte (lrt_vk_bvh.layout is an lrt_layout), and the
-   kernels walk the tree from each ray's origin with no stack: their hits
-   are those of lrt_trace with LRT_TRACE_FROM_ORIGIN (same kind and texel,
-   t within float rounding); the CPU's default walk agrees with them on the
-   kind of every ray, and on the texel but where several texels' boxes meet
-   at the hit point (MODEL.md lets either answer).
+   kernels answer what the CPU answers (MODEL.md: same kind and texel, t
+   within float rounding): the CPU walks down from the top, the kernels
+   walk up and down from each ray's origin with no stack, and both find the
+   first texel hit in the same visiting order.
    Host-side helper for tools, tests and examples (not for engines, which
    have a device): #define LINEAR_RT_VULKAN_DEVICE_HELPER as well and
    lrt_vk_device_create loads the Vulkan loader at run time (dlopen: link
@@ -336,17 +334,8 @@ typedef struct lrt_hit {
 } lrt_hit;
 
 enum {
-    LRT_TRACE_ANY_HIT = 1u,  /* occlusion: stop at the first hit found (its t is a
+    LRT_TRACE_ANY_HIT = 1u   /* occlusion: stop at the first hit found (its t is a
                                 real hit, not promised to be the closest) */
-    LRT_TRACE_FROM_ORIGIN = 2u /* the Vulkan kernels' walk on the CPU: it starts at
-                                the ray's origin and climbs and descends the tree
-                                with no stack. Its hits equal the kernels' bit for
-                                bit. Without it the CPU walks from the top with 8
-                                children a test: faster on the CPU, the same kind
-                                of answer on every ray, and the same texel except
-                                where the ray touches several texels' boxes at the
-                                hit point (a corner or an edge: MODEL.md lets
-                                either answer) */
 };
 
 /* Trace count rays into hits (one lrt_hit per ray). depth must be the map
@@ -580,9 +569,7 @@ LINEAR_RT_API lrt_result lrt_vk_cmd_build(lrt_vk_context *ctx, VkCommandBuffer c
 LINEAR_RT_API lrt_result lrt_vk_cmd_update(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
                                            const lrt_vk_depth *depth, const lrt_rect *dirty);
 /* Traces count lrt_ray at rays_offset into count lrt_hit at hits_offset
-   (storage buffers), flags 0, LRT_TRACE_ANY_HIT or LRT_TRACE_FROM_ORIGIN
-   (what the kernels do anyway), one invocation per ray; the hits are those
-   of lrt_trace with LRT_TRACE_FROM_ORIGIN, bit for bit.
+   (storage buffers), flags 0 or LRT_TRACE_ANY_HIT, one invocation per ray.
    Offsets: multiples of minStorageBufferOffsetAlignment; else the library
    binds lower and starts at a later ray, which works when the two offsets
    are the same ray index away from aligned offsets (a slice [first, end) of
@@ -2598,181 +2585,6 @@ LRT__FORCE_INLINE void lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lr
     hit->kind = kind;
 }
 
-/* The walk from the ray's origin (stackless). Its state is a texel
-   position (px, py), a level lv and a time t: the cell of level lv that
-   holds the position is tested (its footprint's x/y slabs, the ray's
-   [t_lo, t_hi] and the z plane of its height code, kept in its parent);
-   met, the walk goes down one level into the child that holds the ray at
-   the time it meets the cell; missed, it steps into the next cell along
-   the ray (across the nearer of the cell's two exit planes) and climbs
-   while the step also left the parent. The position only moves forward
-   along each axis, so the walk ends. The texel test is lrt__test_texel's,
-   a function of the texel alone, and texels are met in the ray's order,
-   so the first one that passes is the hit. */
-/* The texel along one axis that holds the ray's point p = o + t v, taken
-   from behind: a point on a texel edge belongs to the texel the ray is
-   leaving (the walk then tests it and steps on). v = 0: fixed (the caller's). */
-LRT__INLINE int32_t lrt__axis_texel(float o, float v, float t, int32_t fixed)
-{
-    float p = o + t * v, f;
-    if (v == 0.0f) return fixed;
-    p = p > -2.0f ? p : -2.0f; /* positions stay within a texel of the screen */
-    p = p < 1073741824.0f ? p : 1073741824.0f;
-    f = floorf(p);
-    return (int32_t)f - (v > 0.0f && f == p);
-}
-
-/* Texel range of the cell of span 2^span that holds texel c, as [lo, hi]. */
-LRT__INLINE int32_t lrt__clamp_cell(int32_t q, int32_t c, uint32_t span)
-{
-    const int32_t lo = (int32_t)(((uint32_t)c >> span) << span), hi = lo + (1 << span) - 1;
-    return q < lo ? lo : q > hi ? hi : q;
-}
-
-/* The exact test of texel (x, y) on its own (its slabs, then its depth):
-   the texel across a corner the ray passes through, which the walk's
-   steps (one axis at a time) would not enter. */
-static int lrt__corner_texel(const lrt__walk *w, const lrt__ray_setup *s, int32_t x, int32_t y, float *t, uint32_t *tx,
-                             uint32_t *ty)
-{
-    float en = s->t_lo, ex = s->t_hi;
-    if (x < 0 || y < 0 || x >= (int32_t)w->L->width || y >= (int32_t)w->L->height) return 0;
-    lrt__slab((float)x, (float)(x + 1), s->o[0], s->iv[0], s->neg_x, &en, &ex);
-    lrt__slab((float)y, (float)(y + 1), s->o[1], s->iv[1], s->neg_y, &en, &ex);
-    if (!lrt__test_texel(w, s, (uint32_t)x, (uint32_t)y, en, ex,
-                         lrt__code(w, lrt__node_slot(w, 1, (uint32_t)x >> 2, (uint32_t)y >> 1) + ((((uint32_t)y & 1u) << 2) | ((uint32_t)x & 3u)),
-                                   w->wide_codes),
-                         t))
-        return 0;
-    *tx = (uint32_t)x;
-    *ty = (uint32_t)y;
-    return 1;
-}
-
-/* One walk from texel (px, py); returns 1 and the hit's t and texel, or 0. */
-LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt__ray_setup *s, uint32_t wide, int32_t px, int32_t py,
-                                       float *t_hit, uint32_t *tx, uint32_t *ty)
-{
-    const lrt_layout *L = w->L;
-    const int32_t W = (int32_t)L->width, H = (int32_t)L->height;
-    const uint32_t top = L->level_count - 1u; /* the root's children: the highest cells with a stored height */
-    const int32_t dx = s->neg_x ? -1 : 1, dy = s->neg_y ? -1 : 1;
-    const int32_t fx = px, fy = py; /* an axis the ray does not move along keeps its texel */
-    const float qmaxf = (float)w->qmax;
-    float t = s->t_lo;
-    uint32_t lv = 0;
-    for (;;) {
-        const uint32_t sw = L->levels[lv].span_w_log2, sh = L->levels[lv].span_h_log2;
-        const uint32_t cx = (uint32_t)px >> sw, cy = (uint32_t)py >> sh;
-        const float x0 = (float)(cx << sw), x1 = (float)((cx + 1u) << sw);
-        const float y0 = (float)(cy << sh), y1 = (float)((cy + 1u) << sh);
-        const uint32_t bwl = (lv & 1u) ? 1u : 2u, bhl = 3u - bwl;
-        const size_t code_at = lrt__node_slot(w, lv + 1u, cx >> bwl, cy >> bhl) +
-                               (((cy & ((1u << bhl) - 1u)) << bwl) | (cx & ((1u << bwl) - 1u)));
-        const uint32_t code = lrt__code(w, code_at, wide);
-        float en = lv ? t : s->t_lo, ex = s->t_hi, ex_x, ex_y; /* a cell from where the walk is; a texel as it is */
-        lrt__slab(x0, x1, s->o[0], s->iv[0], s->neg_x, &en, &ex);
-        lrt__slab(y0, y1, s->o[1], s->iv[1], s->neg_y, &en, &ex);
-        if (lv == 0) {
-            if (lrt__test_texel(w, s, (uint32_t)px, (uint32_t)py, en, ex, code, t_hit)) {
-                *tx = (uint32_t)px;
-                *ty = (uint32_t)py;
-                return 1;
-            }
-        } else {
-            const float tz = (((qmaxf - (float)code) * w->decode_scale) - s->o[2]) * s->iv[2];
-            if (s->neg_z) ex = LRT__MIN_KEEP(tz, ex);
-            else en = LRT__MAX_KEEP(tz, en);
-            if (en <= lrt__widen(ex)) { /* met: down into the child that holds the ray at en */
-                int32_t qx, qy;
-                t = en > t ? en : t;
-                qx = lrt__axis_texel(s->o[0], s->v[0], t, fx);
-                qy = lrt__axis_texel(s->o[1], s->v[1], t, fy);
-                qx = dx > 0 ? (qx > px ? qx : px) : (qx < px ? qx : px); /* forward only, and inside the cell */
-                qy = dy > 0 ? (qy > py ? qy : py) : (qy < py ? qy : py);
-                px = lrt__clamp_cell(qx, px, sw);
-                py = lrt__clamp_cell(qy, py, sh);
-                --lv;
-                continue;
-            }
-        }
-        /* missed: across the nearer exit plane, then up while that left the parent too */
-        ex_x = s->v[0] == 0.0f ? INFINITY : ((dx > 0 ? x1 : x0) - s->o[0]) * s->iv[0];
-        ex_y = s->v[1] == 0.0f ? INFINITY : ((dy > 0 ? y1 : y0) - s->o[1]) * s->iv[1];
-        if (ex_x <= ex_y) {
-            int32_t qy;
-            if (!(ex_x <= s->t_hi)) return 0;
-            if (ex_y <= lrt__widen(ex_x) && /* through a corner: the texel across it in y is touched there */
-                lrt__corner_texel(w, s, dx > 0 ? (int32_t)((cx + 1u) << sw) - 1 : (int32_t)(cx << sw),
-                                  dy > 0 ? (int32_t)((cy + 1u) << sh) : (int32_t)(cy << sh) - 1, t_hit, tx, ty))
-                return 1;
-            t = ex_x > t ? ex_x : t;
-            px = dx > 0 ? (int32_t)((cx + 1u) << sw) : (int32_t)(cx << sw) - 1;
-            if (px < 0 || px >= W) return 0;
-            qy = lrt__axis_texel(s->o[1], s->v[1], t, fy);
-            qy = dy > 0 ? (qy > py ? qy : py) : (qy < py ? qy : py);
-            py = lrt__clamp_cell(qy, py, sh);
-            py = py < H ? py : H - 1;
-            while (lv < top &&
-                   ((uint32_t)px >> L->levels[lv + 1u].span_w_log2) != (uint32_t)(px - dx) >> L->levels[lv + 1u].span_w_log2)
-                ++lv;
-        } else {
-            int32_t qx;
-            if (!(ex_y <= s->t_hi)) return 0;
-            if (ex_x <= lrt__widen(ex_y) &&
-                lrt__corner_texel(w, s, dx > 0 ? (int32_t)((cx + 1u) << sw) : (int32_t)(cx << sw) - 1,
-                                  dy > 0 ? (int32_t)((cy + 1u) << sh) - 1 : (int32_t)(cy << sh), t_hit, tx, ty))
-                return 1;
-            t = ex_y > t ? ex_y : t;
-            py = dy > 0 ? (int32_t)((cy + 1u) << sh) : (int32_t)(cy << sh) - 1;
-            if (py < 0 || py >= H) return 0;
-            qx = lrt__axis_texel(s->o[0], s->v[0], t, fx);
-            qx = dx > 0 ? (qx > px ? qx : px) : (qx < px ? qx : px);
-            px = lrt__clamp_cell(qx, px, sw);
-            px = px < W ? px : W - 1;
-            while (lv < top &&
-                   ((uint32_t)py >> L->levels[lv + 1u].span_h_log2) != (uint32_t)(py - dy) >> L->levels[lv + 1u].span_h_log2)
-                ++lv;
-        }
-    }
-}
-
-/* The walk from the origin: the start texel is the one that holds the ray
-   at t_lo from behind. A ray that does not move along x (or y) and lies on
-   a texel edge there touches two columns (rows) all along: each is walked,
-   and the earlier hit kept. */
-LRT__FORCE_INLINE void lrt__trace_origin(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
-                                         float t_scale, uint32_t kind, uint32_t wide)
-{
-    const int32_t W = (int32_t)w->L->width, H = (int32_t)w->L->height;
-    int32_t xs[2], ys[2], nxs = 1, nys = 1, i, j, found = 0;
-    float best = 0.0f;
-    uint32_t bx = 0, by = 0;
-    xs[0] = lrt__axis_texel(s->o[0], s->v[0], s->t_lo, lrt__axis_texel(s->o[0], 1.0f, 0.0f, 0));
-    ys[0] = lrt__axis_texel(s->o[1], s->v[1], s->t_lo, lrt__axis_texel(s->o[1], 1.0f, 0.0f, 0));
-    if (s->v[0] == 0.0f && (float)(xs[0] + 1) == s->o[0]) xs[nxs++] = xs[0] + 1; /* on an edge: both sides */
-    if (s->v[1] == 0.0f && (float)(ys[0] + 1) == s->o[1]) ys[nys++] = ys[0] + 1;
-    for (i = 0; i < nxs; ++i) {
-        for (j = 0; j < nys; ++j) {
-            int32_t px = xs[i], py = ys[j];
-            float t;
-            uint32_t tx, ty;
-            if ((px < 0 || px >= W) && s->v[0] == 0.0f) continue;
-            if ((py < 0 || py >= H) && s->v[1] == 0.0f) continue;
-            px = px < 0 ? 0 : px >= W ? W - 1 : px;
-            py = py < 0 ? 0 : py >= H ? H - 1 : py;
-            if (lrt__walk_origin(w, s, wide, px, py, &t, &tx, &ty) && (!found || t < best)) {
-                found = 1;
-                best = t;
-                bx = tx;
-                by = ty;
-            }
-        }
-    }
-    if (found) lrt__report_hit(ray, s, t_scale, best, bx, by, hit);
-    else hit->kind = kind;
-}
-
 /* The trace of a set-up ray from node (nx, ny) of level lv (lrt__start_node);
    cull: lrt__cull_constants, stride floats apart, where AVX2 builds them
    (NULL: made here). wide is a constant where this is inlined. */
@@ -2827,23 +2639,6 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
     }
     lv = lrt__start_node(w, &s, &nx, &ny);
     lrt__trace_from(w, ray, hit, &s, t_scale, kind, lv, nx, ny, NULL, 0, wide);
-}
-
-/* The ray by the walk from its origin (LRT_TRACE_FROM_ORIGIN): the same
-   set-up, and a segment inside one texel is that texel's test, as above. */
-static void lrt__trace_one_origin(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
-{
-    lrt__ray_setup s;
-    float t_scale;
-    uint32_t kind, nx, ny;
-    hit->t = 0.0f;
-    hit->x = hit->y = 0;
-    if (!lrt__setup_ray(ray, w->L->width, w->L->height, &s, &t_scale, &kind)) {
-        hit->kind = kind;
-        return;
-    }
-    if (lrt__start_node(w, &s, &nx, &ny) == 0) lrt__trace_from(w, ray, hit, &s, t_scale, kind, 0, nx, ny, NULL, 0, w->wide_codes);
-    else lrt__trace_origin(w, ray, hit, &s, t_scale, kind, w->wide_codes);
 }
 
 #if LRT__AVX
@@ -3067,16 +2862,11 @@ LINEAR_RT_DEF lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *de
     size_t stride;
     lrt_result r;
     if ((r = lrt__check_pair(bvh, depth, &stride)) != LRT_SUCCESS) return r;
-    if (flags & ~(uint32_t)(LRT_TRACE_ANY_HIT | LRT_TRACE_FROM_ORIGIN)) return LRT_ERROR_INVALID_OPTION;
+    if (flags & ~(uint32_t)LRT_TRACE_ANY_HIT) return LRT_ERROR_INVALID_OPTION;
     if (first > end || end - first > LINEAR_RT_MAX_RAYS_PER_CALL) return LRT_ERROR_TOO_MANY_RAYS;
     if (first == end) return LRT_SUCCESS;
     if (!rays || !hits) return LRT_ERROR_NULL_POINTER;
     lrt__walk_init(&w, bvh, depth, stride);
-    if (flags & LRT_TRACE_FROM_ORIGIN) {
-        size_t i;
-        for (i = first; i < end; ++i) lrt__trace_one_origin(&w, &rays[i], &hits[i]);
-        return LRT_SUCCESS;
-    }
     /* The walk already stops at the first (closest) hit, so any-hit needs no
        separate path: the flag is accepted for what a caller means. */
     if (w.wide_codes) lrt__trace_rays(&w, rays, hits, first, end, 1u);
@@ -4013,8 +3803,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer c
     uint32_t gx, gy;
     lrt_result r;
     if ((r = lrt__vk_check(ctx, cmd, bvh, depth, &src)) != LRT_SUCCESS) return r;
-    /* the kernels always walk from the origin: LRT_TRACE_FROM_ORIGIN changes nothing here */
-    if (flags & ~(uint32_t)(LRT_TRACE_ANY_HIT | LRT_TRACE_FROM_ORIGIN)) return LRT_ERROR_INVALID_OPTION;
+    if (flags & ~(uint32_t)LRT_TRACE_ANY_HIT) return LRT_ERROR_INVALID_OPTION;
     if (count > LINEAR_RT_MAX_RAYS_PER_CALL) return LRT_ERROR_TOO_MANY_RAYS;
     if (count == 0) return LRT_SUCCESS;
     if (rays == VK_NULL_HANDLE || hits == VK_NULL_HANDLE) return LRT_ERROR_NULL_POINTER;

@@ -659,11 +659,7 @@ int main(int argc, char **argv)
 
     memset(&gpu, 0, sizeof gpu);
 #ifdef LINEAR_RT_VULKAN
-    if (use_gpu) { /* the kernels walk from the origin: compare with the CPU's walk from the origin */
-        lrt_trace(&bvh, &depth, prim, hits2, n, LRT_TRACE_FROM_ORIGIN);
-        lrt_trace(&bvh, &depth, seg, seg_hits2, n, LRT_TRACE_FROM_ORIGIN);
-        run_vulkan(&gpu, &depth, prim, hits2, seg, seg_hits2, n, &m, sample);
-    }
+    if (use_gpu) run_vulkan(&gpu, &depth, prim, hits1, seg, seg_hits1, n, &m, sample);
     else snprintf(gpu.why, sizeof gpu.why, "--no-gpu");
 #else
     (void)use_gpu;
@@ -723,7 +719,7 @@ int main(int argc, char **argv)
         } else {
             printf("  (this queue has no timestamps: no GPU timings)\n");
         }
-        printf("  GPU hits == CPU hits of LRT_TRACE_FROM_ORIGIN (kind, texel, t within 1e-5*(1+|t|)): primary %lu / %lu, segments %lu / %lu\n",
+        printf("  GPU hits == CPU hits (kind, texel, t within 1e-5*(1+|t|)): primary %lu / %lu, segments %lu / %lu\n",
                (unsigned long)gpu.prim_same, (unsigned long)n, (unsigned long)gpu.seg_same, (unsigned long)n);
         if (gpu.seg_same != n)
             printf("  segments that differ, right by the reference: %lu of the %lu judged\n", (unsigned long)gpu.seg_right,

@@ -15,10 +15,9 @@
 // in float; a unorm depth plane's distance v/max - o.z is taken exactly
 // with Dekker's product (linear_rt.h uses double); a zero direction
 // component is a closed slab (handled without NaN or inf arithmetic). The
-// walk (lrt_walk_origin) starts at the ray's origin and keeps a texel
-// position, a level and t, no stack: texels are met in the ray's order, so
-// the first one hit is the closest. Its hits are those of linear_rt.h's
-// lrt_trace with LRT_TRACE_FROM_ORIGIN (lrt__walk_origin, the same steps).
+// walk (lrt_trace_ray, below) starts at the ray's origin and needs no
+// stack; it visits children in the CPU walk's front-to-back order, so the
+// first texel hit is the closest and the CPU's.
 // `precise` keeps compilers from fusing or reordering what must round the
 // way it is written.
 
@@ -679,134 +678,108 @@ LrtHit lrt_report(LrtSetup s, float t_scale, float t, float tmin, float tmax, ui
     return h;
 }
 
-// ---- the walk from the ray's origin (linear_rt.h: lrt__walk_origin) ----
+// nodes (texels at 0) in a row / column of level lv's grid: ceil(size / span)
+// (nested ceilings of divisions are one ceiling), no per-level table
+uint lrt_grid_w(uint width, uint lv) { return (width + (1u << lrt_span_w_log2(lv)) - 1u) >> lrt_span_w_log2(lv); }
+uint lrt_grid_h(uint height, uint lv) { return (height + (1u << lrt_span_h_log2(lv)) - 1u) >> lrt_span_h_log2(lv); }
 
-// the texel along one axis that holds o + t v, taken from behind (a point on
-// an edge belongs to the texel the ray leaves); v = 0: the caller's
-int lrt_axis_texel(float o, float v, float t, int kept)
+// node slots of stored level lv (every block of the level above holds 8)
+uint lrt_level_slots(LrtParams p, uint lv)
 {
-    if (v == 0.0) return kept;
-    precise float p = o + t * v;
-    p = p > -2.0 ? p : -2.0;
-    p = p < 1073741824.0 ? p : 1073741824.0;
-    float f = floor(p);
-    return int(f) - ((v > 0.0 && f == p) ? 1 : 0);
+    return lv >= p.level_count ? 1u : lrt_grid_w(p.width, lv + 1u) * lrt_grid_h(p.height, lv + 1u) * 8u;
 }
 
-int lrt_clamp_cell(int q, int c, uint span)
+// first code of node (nx, ny) of stored level lv, whose first node is at
+// off: its Morton index in the level (no table: from the push constants)
+uint lrt_node_code0(LrtParams p, uint lv, uint off, uint nx, uint ny)
 {
-    int lo = int((uint(c) >> span) << span), hi = lo + (1 << span) - 1;
-    return q < lo ? lo : q > hi ? hi : q;
-}
-
-uint lrt_texel_code_at(LrtLayout L, uint node_bits, uint x, uint y)
-{
-    return lrt_code(node_bits, lrt_node_slot(L, 1u, x >> 2, y >> 1) + (((y & 1u) << 2) | (x & 3u)));
-}
-
-bool lrt_corner_texel(LrtParams p, LrtSetup s, int x, int y, out float t)
-{
-    t = 0.0;
-    if (x < 0 || y < 0 || x >= int(p.width) || y >= int(p.height)) return false;
-    float en = s.t_lo, ex = s.t_hi;
-    lrt_slab(float(x), float(x + 1), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
-    lrt_slab(float(y), float(y + 1), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
-    return lrt_test_texel(p, s, uint(x), uint(y), en, ex, t);
-}
-
-bool lrt_walk_origin(LrtParams p, LrtLayout L, LrtSetup s, int px, int py, out float t_hit, out uint tx, out uint ty)
-{
-    int W = int(p.width), H = int(p.height);
-    uint top = L.count - 1u;
-    int dx = s.neg.x != 0u ? -1 : 1, dy = s.neg.y != 0u ? -1 : 1;
-    int fx = px, fy = py;
-    float decode_scale = p.node_bits == 16u ? uintBitsToFloat(0x37800078u) : uintBitsToFloat(0x3b808079u);
-    float qmaxf = p.node_bits == 16u ? 65535.0 : 255.0;
-    float t = s.t_lo;
-    uint lv = 0u;
-    t_hit = 0.0;
-    tx = 0u;
-    ty = 0u;
-    for (;;) {
-        uint sw = lrt_span_w_log2(lv), sh = lrt_span_h_log2(lv);
-        uint cx = uint(px) >> sw, cy = uint(py) >> sh;
-        float x0 = float(cx << sw), x1 = float((cx + 1u) << sw);
-        float y0 = float(cy << sh), y1 = float((cy + 1u) << sh);
+    uint index = 0u;
+    if (lv < p.level_count) {
         uint bwl = lrt_bw_log2(lv), bhl = 3u - bwl;
-        float en = lv != 0u ? t : s.t_lo, ex = s.t_hi;
-        lrt_slab(x0, x1, s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
-        lrt_slab(y0, y1, s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
-        if (lv == 0u) {
-            if (lrt_test_texel(p, s, uint(px), uint(py), en, ex, t_hit)) {
-                tx = uint(px);
-                ty = uint(py);
-                return true;
-            }
-        } else {
-            uint code = lrt_code(p.node_bits, lrt_node_slot(L, lv + 1u, cx >> bwl, cy >> bhl) +
-                                                  (((cy & ((1u << bhl) - 1u)) << bwl) | (cx & ((1u << bwl) - 1u))));
-            float tz;
-            if (s.zero.z) {
-                float dz = (qmaxf - float(code)) * decode_scale;
-                bool inside = dz <= s.o.z;
-                tz = (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
-            } else {
-                precise float dz = (qmaxf - float(code)) * decode_scale;
-                precise float tt = (dz - s.o.z) * s.iv.z;
-                tz = tt;
-            }
-            if (s.neg.z != 0u) ex = min(tz, ex);
-            else en = max(tz, en);
-            if (en <= lrt_widen(ex)) { // met: down into the child that holds the ray at en
-                t = en > t ? en : t;
-                int qx = lrt_axis_texel(s.o.x, s.v.x, t, fx), qy = lrt_axis_texel(s.o.y, s.v.y, t, fy);
-                qx = dx > 0 ? max(qx, px) : min(qx, px);
-                qy = dy > 0 ? max(qy, py) : min(qy, py);
-                px = lrt_clamp_cell(qx, px, sw);
-                py = lrt_clamp_cell(qy, py, sh);
-                lv -= 1u;
-                continue;
-            }
-        }
-        // missed: across the nearer exit plane, then up while that left the parent too
-        float ex_x = LRT_INF, ex_y = LRT_INF;
-        if (!s.zero.x) { precise float e = ((dx > 0 ? x1 : x0) - s.o.x) * s.iv.x; ex_x = e; }
-        if (!s.zero.y) { precise float e = ((dy > 0 ? y1 : y0) - s.o.y) * s.iv.y; ex_y = e; }
-        if (ex_x <= ex_y) {
-            if (!(ex_x <= s.t_hi)) return false;
-            if (ex_y <= lrt_widen(ex_x)) { // through a corner: the texel across it in y
-                int cxl = dx > 0 ? int((cx + 1u) << sw) - 1 : int(cx << sw);
-                int cyl = dy > 0 ? int((cy + 1u) << sh) : int(cy << sh) - 1;
-                if (lrt_corner_texel(p, s, cxl, cyl, t_hit)) { tx = uint(cxl); ty = uint(cyl); return true; }
-            }
-            t = ex_x > t ? ex_x : t;
-            px = dx > 0 ? int((cx + 1u) << sw) : int(cx << sw) - 1;
-            if (px < 0 || px >= W) return false;
-            int qy = lrt_axis_texel(s.o.y, s.v.y, t, fy);
-            qy = dy > 0 ? max(qy, py) : min(qy, py);
-            py = min(lrt_clamp_cell(qy, py, sh), H - 1);
-            while (lv < top && (uint(px) >> lrt_span_w_log2(lv + 1u)) != (uint(px - dx) >> lrt_span_w_log2(lv + 1u))) lv += 1u;
-        } else {
-            if (!(ex_y <= s.t_hi)) return false;
-            if (ex_x <= lrt_widen(ex_y)) {
-                int cxl = dx > 0 ? int((cx + 1u) << sw) : int(cx << sw) - 1;
-                int cyl = dy > 0 ? int((cy + 1u) << sh) - 1 : int(cy << sh);
-                if (lrt_corner_texel(p, s, cxl, cyl, t_hit)) { tx = uint(cxl); ty = uint(cyl); return true; }
-            }
-            t = ex_y > t ? ex_y : t;
-            py = dy > 0 ? int((cy + 1u) << sh) : int(cy << sh) - 1;
-            if (py < 0 || py >= H) return false;
-            int qx = lrt_axis_texel(s.o.x, s.v.x, t, fx);
-            qx = dx > 0 ? max(qx, px) : min(qx, px);
-            px = min(lrt_clamp_cell(qx, px, sw), W - 1);
-            while (lv < top && (uint(py) >> lrt_span_h_log2(lv + 1u)) != (uint(py - dy) >> lrt_span_h_log2(lv + 1u))) lv += 1u;
-        }
+        index = ((ny >> bhl) * lrt_grid_w(p.width, lv + 1u) + (nx >> bwl)) * 8u +
+                (((ny & ((1u << bhl) - 1u)) << bwl) | (nx & ((1u << bwl) - 1u)));
     }
-    return false;
+    return (off + index) * 8u;
 }
 
-// Traces one ray (screen space: x, y in texels, z depth, 0 near) through the
-// BVH; any_hit only stops at the first hit found, which here is the closest.
+// ---- the walk: from the ray's origin up and down the tree, no stack ----
+//
+// The CPU's walk (linear_rt.h) goes down from the top and visits children
+// in visiting order (row-major with the axes flipped by the direction's
+// signs, front to back along any straight line), so its hit is the first
+// texel in that order that passes its exact test. This walk finds the same
+// texel without descending at the origin: it starts at the level-1 node of
+// the first texel the ray touches (every texel the ray can touch comes at
+// or after it in visiting order), takes that node's children, and when a
+// node is done goes to its next pending sibling, or up to its parent to
+// take the children after it. Its state is the position (a texel of the
+// current node), the level, and per level the 8 bits of the children still
+// to visit (a uvec4): registers, no array.
+
+// the first texel along one axis that the ray touches at t_lo: the one
+// holding o + t_lo v, or one behind it whose edge lies within the widening
+// of t_lo (MODEL.md: a touch is a hit), found with the planes' own t
+int lrt_first_texel(float o, float v, float iv, uint neg, bool zero, float t_lo, int size)
+{
+    precise float p = o + t_lo * v;
+    p = p > -2.0 ? p : -2.0;
+    p = p < float(size) + 2.0 ? p : float(size) + 2.0;
+    int c = int(floor(p));
+    if (zero) return clamp(c - ((neg == 0u && float(c) == o) ? 1 : 0), 0, size - 1); // on an edge: the first in order
+    c = clamp(c, 0, size - 1);
+    for (;;) { // while the texel behind it is touched at t_lo
+        int b = neg != 0u ? c + 1 : c - 1;
+        if (b < 0 || b >= size) break;
+        precise float e = (float(neg != 0u ? c + 1 : c) - o) * iv; // the plane between them
+        if (!(t_lo <= lrt_widen(e))) break;
+        c = b;
+    }
+    return c;
+}
+
+uint lrt_mask_get(uvec4 m, uint lv) { return (m[lv >> 2] >> ((lv & 3u) * 8u)) & 0xffu; }
+uvec4 lrt_mask_set(uvec4 m, uint lv, uint bits)
+{
+    uint sh = (lv & 3u) * 8u;
+    m[lv >> 2] = (m[lv >> 2] & ~(0xffu << sh)) | (bits << sh);
+    return m;
+}
+
+// the children of node (nx, ny) of level lv >= 1 that the ray meets, bit k
+// for the child met k-th in visiting order (slot k ^ flip); as the CPU's
+// node test: the same planes, the decoded bounds, exits widened
+uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint ny, uint flip, float decode_scale, float qmaxf)
+{
+    uint cl = lv - 1u;
+    bool tall = lrt_bw_log2(cl) == 1u;
+    float sw = float(1u << lrt_span_w_log2(cl)), sh = float(1u << lrt_span_h_log2(cl));
+    float x0 = float((nx << lrt_bw_log2(cl)) << lrt_span_w_log2(cl)), y0 = float((ny << lrt_bh_log2(cl)) << lrt_span_h_log2(cl));
+    uint slot0 = lrt_node_code0(p, lv, off, nx, ny);
+    uint mask = 0u;
+    for (uint k = 0u; k < 8u; ++k) {
+        uint slot = k ^ flip;
+        uint c = tall ? (slot & 1u) : (slot & 3u), r = tall ? (slot >> 1) : (slot >> 2);
+        float en = s.t_lo, ex = s.t_hi;
+        lrt_slab(x0 + float(c) * sw, x0 + float(c + 1u) * sw, s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
+        lrt_slab(y0 + float(r) * sh, y0 + float(r + 1u) * sh, s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
+        uint code = lrt_code(p.node_bits, slot0 + slot);
+        float tz;
+        if (s.zero.z) {
+            float dz = (qmaxf - float(code)) * decode_scale;
+            bool inside = dz <= s.o.z;
+            tz = (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
+        } else {
+            precise float dz = (qmaxf - float(code)) * decode_scale;
+            precise float tt = (dz - s.o.z) * s.iv.z;
+            tz = tt;
+        }
+        if (s.neg.z != 0u) ex = min(tz, ex);
+        else en = max(tz, en);
+        if (en <= lrt_widen(ex)) mask |= 1u << k;
+    }
+    return mask;
+}
+
 LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, bool any_hit)
 {
     LrtHit hit;
@@ -821,8 +794,7 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
         return hit;
     }
     uint nx, ny;
-    uint lv = lrt_start_node(p, s, nx, ny);
-    if (lv == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
+    if (lrt_start_node(p, s, nx, ny) == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
         float en = s.t_lo, ex = s.t_hi, t;
         lrt_slab(float(nx), float(nx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
         lrt_slab(float(ny), float(ny + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
@@ -830,40 +802,91 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
         hit.kind = kind;
         return hit;
     }
-    LrtLayout L = lrt_layout(p.width, p.height);
-    // the walk from the origin, once per start texel: a ray that does not
-    // move along x (or y) and lies on a texel edge there touches two columns
-    // (rows) all along, and each is walked (linear_rt.h: lrt__trace_origin)
-    {
-        int W = int(p.width), H = int(p.height);
-        int xs0 = lrt_axis_texel(s.o.x, s.v.x, s.t_lo, lrt_axis_texel(s.o.x, 1.0, 0.0, 0));
-        int ys0 = lrt_axis_texel(s.o.y, s.v.y, s.t_lo, lrt_axis_texel(s.o.y, 1.0, 0.0, 0));
-        int nxs = (s.v.x == 0.0 && float(xs0 + 1) == s.o.x) ? 2 : 1;
-        int nys = (s.v.y == 0.0 && float(ys0 + 1) == s.o.y) ? 2 : 1;
-        bool found = false;
-        float best = 0.0;
-        uint bx = 0u, by = 0u;
-        for (int i = 0; i < nxs; ++i) {
-            for (int j = 0; j < nys; ++j) {
-                int px = xs0 + i, py = ys0 + j;
-                if ((px < 0 || px >= W) && s.v.x == 0.0) continue;
-                if ((py < 0 || py >= H) && s.v.y == 0.0) continue;
-                px = clamp(px, 0, W - 1);
-                py = clamp(py, 0, H - 1);
-                float t;
-                uint tx, ty;
-                if (lrt_walk_origin(p, L, s, px, py, t, tx, ty) && (!found || t < best)) {
-                    found = true;
-                    best = t;
-                    bx = tx;
-                    by = ty;
+    // just below 1/qmax, the same float as linear_rt.h's decode_scale
+    float decode_scale = p.node_bits == 16u ? uintBitsToFloat(0x37800078u) : uintBitsToFloat(0x3b808079u);
+    float qmaxf = p.node_bits == 16u ? 65535.0 : 255.0;
+    uint flip_wide = (s.neg.x != 0u ? 3u : 0u) | (s.neg.y != 0u ? 4u : 0u); // children in 4x2 blocks
+    uint flip_tall = (s.neg.x != 0u ? 1u : 0u) | (s.neg.y != 0u ? 6u : 0u); // in 2x4 blocks
+    // the position: a texel of the current node (of level lv)
+    uint px = uint(lrt_first_texel(s.o.x, s.v.x, s.iv.x, s.neg.x, s.zero.x, s.t_lo, int(p.width)));
+    uint py = uint(lrt_first_texel(s.o.y, s.v.y, s.iv.y, s.neg.y, s.zero.y, s.t_lo, int(p.height)));
+    uint lv = 1u, off = 0u; // the level, and its first node
+    uint eligible = 0xffu, tested = 0u; // tested: bit lv set when masks holds level lv's pending children
+    uvec4 masks = uvec4(0u);
+    for (;;) {
+        uint nxl = px >> lrt_span_w_log2(lv), nyl = py >> lrt_span_h_log2(lv);
+        uint flip = lrt_bw_log2(lv - 1u) == 1u ? flip_tall : flip_wide;
+        uint m = lrt_test_children(p, s, lv, off, nxl, nyl, flip, decode_scale, qmaxf) & eligible;
+        if (lv == 1u) { // texels: the exact test, in visiting order
+            while (m != 0u) {
+                uint k = uint(findLSB(m)), slot = k ^ flip;
+                m &= m - 1u;
+                uint tx = nxl * 4u + (slot & 3u), ty = nyl * 2u + (slot >> 2);
+                float en = s.t_lo, ex = s.t_hi, t;
+                lrt_slab(float(tx), float(tx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
+                lrt_slab(float(ty), float(ty + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
+                if (lrt_test_texel(p, s, tx, ty, en, ex, t)) return lrt_report(s, t_scale, t, tmin, tmax, tx, ty);
+            }
+        } else if (m != 0u) { // down into the first child met; the others wait in masks
+            uint k = uint(findLSB(m)), slot = k ^ flip;
+            masks = lrt_mask_set(masks, lv, m & (m - 1u));
+            tested |= 1u << lv;
+            uint cl = lv - 1u, bwl = lrt_bw_log2(cl), bhl = 3u - bwl;
+            uint cx = (nxl << bwl) + (slot & ((1u << bwl) - 1u)), cy = (nyl << bhl) + (slot >> bwl);
+            px = cx << lrt_span_w_log2(cl);
+            py = cy << lrt_span_h_log2(cl);
+            lv = cl;
+            off -= lrt_level_slots(p, cl);
+            eligible = 0xffu;
+            continue;
+        }
+        // this node is done: its next pending sibling, or up
+        for (;;) {
+            if (lv >= p.level_count) { hit.kind = kind; return hit; } // the root is done
+            uint up = lv + 1u;
+            if ((tested & (1u << up)) != 0u) {
+                uint pend = lrt_mask_get(masks, up);
+                if (pend != 0u) { // the next sibling
+                    uint ufl = lrt_bw_log2(lv) == 1u ? flip_tall : flip_wide;
+                    uint k = uint(findLSB(pend)), slot = k ^ ufl;
+                    masks = lrt_mask_set(masks, up, pend & (pend - 1u));
+                    uint bwl = lrt_bw_log2(lv), bhl = 3u - bwl;
+                    uint ux = px >> lrt_span_w_log2(up), uy = py >> lrt_span_h_log2(up);
+                    uint cx = (ux << bwl) + (slot & ((1u << bwl) - 1u)), cy = (uy << bhl) + (slot >> bwl);
+                    px = cx << lrt_span_w_log2(lv);
+                    py = cy << lrt_span_h_log2(lv);
+                    eligible = 0xffu;
+                    break;
                 }
+                tested &= ~(1u << up);
+                off += lrt_level_slots(p, lv);
+                lv = up; // the parent is done too
+                continue;
+            }
+            // the parent's children were never tested (the walk began below
+            // it): unless the ray ends inside this node, take those after it
+            {
+                uint sw = lrt_span_w_log2(lv), sh = lrt_span_h_log2(lv);
+                uint cx = px >> sw, cy = py >> sh;
+                // (an axis the ray does not move along: never left, unless the
+                // ray lies on the far edge, where the next node is touched too)
+                float fx = float((s.neg.x != 0u ? cx : cx + 1u) << sw), fy = float((s.neg.y != 0u ? cy : cy + 1u) << sh);
+                float ex_x = fx == s.o.x ? -LRT_INF : LRT_INF, ex_y = fy == s.o.y ? -LRT_INF : LRT_INF;
+                if (!s.zero.x) { precise float e = (fx - s.o.x) * s.iv.x; ex_x = e; }
+                if (!s.zero.y) { precise float e = (fy - s.o.y) * s.iv.y; ex_y = e; }
+                if (min(ex_x, ex_y) > lrt_widen(s.t_hi)) { hit.kind = kind; return hit; }
+                uint ufl = lrt_bw_log2(lv) == 1u ? flip_tall : flip_wide;
+                uint bwl = lrt_bw_log2(lv), bhl = 3u - bwl;
+                uint slot = ((cy & ((1u << bhl) - 1u)) << bwl) | (cx & ((1u << bwl) - 1u));
+                uint k = slot ^ ufl;
+                eligible = ~((2u << k) - 1u) & 0xffu;
+                off += lrt_level_slots(p, lv);
+                lv = up;
+                break;
             }
         }
-        if (found) return lrt_report(s, t_scale, best, tmin, tmax, bx, by);
-        hit.kind = kind;
-        return hit;
     }
+    return hit;
 }
 
 #endif

@@ -68,18 +68,10 @@ static void differential(int w, int h, int shape, lrt_format format, int reverse
             kinds[i] = (int)(i % RAY_KIND_COUNT);
             rays[i] = make_ray(&m, kinds[i]);
         }
-        size_t end = strlen(what);
         trace_and_judge(what, &bvh, &m, rays, kinds, nrays, 0);
-        /* the walk from the origin (the kernels' walk) on every ray too */
-        strncat(what, " from-origin", sizeof what - strlen(what) - 1);
-        trace_and_judge(what, &bvh, &m, rays, kinds, nrays, LRT_TRACE_FROM_ORIGIN);
-        what[end] = 0;
         if (nrays > 64) { /* any-hit on a slice */
             strncat(what, " any-hit", sizeof what - strlen(what) - 1);
             trace_and_judge(what, &bvh, &m, rays, kinds, 64 * (nrays / 64 > 4 ? 4 : nrays / 64), LRT_TRACE_ANY_HIT);
-            strncat(what, " from-origin", sizeof what - strlen(what) - 1);
-            trace_and_judge(what, &bvh, &m, rays, kinds, 64 * (nrays / 64 > 4 ? 4 : nrays / 64),
-                            LRT_TRACE_ANY_HIT | LRT_TRACE_FROM_ORIGIN);
         }
     }
     lrt_bvh_destroy(&bvh);
@@ -211,9 +203,6 @@ static void test_found_cases(void)
         q = to_ref(&r);
         a = to_answer(&h);
         CHECK(ref_check(&m.ref, &q, &a, 0, why, sizeof why), "found case %d: %s", k, why);
-        CHECK(lrt_trace(&bvh, &m.depth, &r, &h, 1, LRT_TRACE_FROM_ORIGIN) == LRT_SUCCESS, "found case %d: trace", k);
-        a = to_answer(&h);
-        CHECK(ref_check(&m.ref, &q, &a, 0, why, sizeof why), "found case %d from the origin: %s", k, why);
         lrt_bvh_destroy(&bvh);
         free_map(&m);
     }

@@ -266,7 +266,7 @@ static void trace_case(const test_map *m, const lrt_bvh *cpu, const lrt_vk_bvh *
         kinds[i] = (int)(i % RAY_KIND_COUNT);
         rays[i] = make_ray(m, kinds[i]);
     }
-    CHECK(lrt_trace(cpu, &m->depth, rays, cpu_hits, n, LRT_TRACE_FROM_ORIGIN) == LRT_SUCCESS, "%s: CPU trace", what);
+    CHECK(lrt_trace(cpu, &m->depth, rays, cpu_hits, n, 0) == LRT_SUCCESS, "%s: CPU trace", what);
     if (gpu_trace(gpu, g, rays, gpu_hits, n, 0, 0, what) == 0) judge(what, m, rays, kinds, gpu_hits, cpu_hits, n, 0);
     else CHECK(0, "%s: GPU trace failed", what);
     if (n >= 300) { /* any hit, a slice at an offset: ray_first */
@@ -342,7 +342,7 @@ static void test_found_cases(void)
         snprintf(what, sizeof what, "found case %d", k);
         memset(&gpu, 0, sizeof gpu);
         CHECK(lrt_bvh_build(&cpu, &m.depth, NULL, NULL) == LRT_SUCCESS, "%s: CPU build", what);
-        CHECK(lrt_trace(&cpu, &m.depth, &r, &ch, 1, LRT_TRACE_FROM_ORIGIN) == LRT_SUCCESS, "%s: CPU trace", what);
+        CHECK(lrt_trace(&cpu, &m.depth, &r, &ch, 1, 0) == LRT_SUCCESS, "%s: CPU trace", what);
         if (gpu_depth_create(&m.depth, 0, VK_FORMAT_UNDEFINED, &g) == 0 && gpu_build(&m.depth, 0, &g, &gpu, what) == 0 &&
             gpu_trace(&gpu, &g, &r, &gh, 1, 0, 0, what) == 0) {
             CHECK(memcmp(&gh, &ch, sizeof gh) == 0, "%s: GPU kind %u t %g (%u,%u), CPU kind %u t %g (%u,%u)", what,
@@ -513,7 +513,7 @@ static void test_2d_dispatch(void)
                 r->dir[2] = 1.0f;
                 r->tmax = 1.0f;
             }
-            lrt_trace(&cpu, &m.depth, rays, cpu_hits, n, LRT_TRACE_FROM_ORIGIN);
+            lrt_trace(&cpu, &m.depth, rays, cpu_hits, n, 0);
             if (gpu_depth_create(&m.depth, SRC_PACKED, VK_FORMAT_UNDEFINED, &g) == 0 &&
                 gpu_build(&m.depth, 0, &g, &gpu, "2D trace") == 0 &&
                 gpu_trace(&gpu, &g, rays, gpu_hits, n, 0, 0, "2D trace") == 0) {
@@ -952,7 +952,7 @@ static void test_device_limits(void)
     }
     for (i = 0; i < NRAYS; ++i) rays[i] = make_ray(&m, (int)(i % RAY_KIND_COUNT));
     memcpy(rb.map, rays, NRAYS * sizeof(lrt_ray));
-    lrt_trace(&cpu, &m.depth, rays, cpu_hits, NRAYS, LRT_TRACE_FROM_ORIGIN);
+    lrt_trace(&cpu, &m.depth, rays, cpu_hits, NRAYS, 0);
 
     /* creating: a tree past the range is refused, a smaller one fits */
     memset(&bd, 0, sizeof bd);
