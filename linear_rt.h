@@ -1637,31 +1637,34 @@ static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *ray, uint32_t width, uin
     s->t_base = 0.0f;
     s->zk = 0;
     /* a far-away origin: restart where the ray enters the screen box, as
-       lrt__setup_ray, with crossings that take every size */
-    if (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
-        fabsf(s->o[2]) > 4.0f) {
+       lrt__setup_ray, with crossings that take every size. Twice if need
+       be: entering planes whose t round to the same float may pick an axis
+       that the ray crosses far from the box (the exits' widening, relative
+       to t, would then span texels); the second restart starts near. */
+    for (k = 0; k < 2 && (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
+                          fabsf(s->o[2]) > 4.0f); ++k) {
         float te = tmin, plane = 0.0f, n[3];
-        int axis = -1;
-        for (k = 0; k < 3; ++k) {
+        int axis = -1, a;
+        for (a = 0; a < 3; ++a) {
             float p, en;
-            if (ray->dir[k] == 0.0f) continue;
-            p = lrt__sign_bit(ray->dir[k]) ? hi[k] : 0.0f;
-            en = lrt__plane_t(p, s->o[k], ray->dir[k], e);
+            if (ray->dir[a] == 0.0f) continue;
+            p = lrt__sign_bit(ray->dir[a]) ? hi[a] : 0.0f;
+            en = lrt__plane_t(p, s->o[a], ray->dir[a], e);
             if (en > te) {
                 te = en;
-                axis = k;
+                axis = a;
                 plane = p;
             }
         }
         if (!(te <= tmax)) return 0; /* enters past tmax, or never */
-        for (k = 0; k < 3; ++k) {
-            if (axis < 0) n[k] = lrt__crossing(s->o[k], 0.0f, ray->dir[k], 1.0f, 0.0f, 1, te, -e, k == 2);
-            else if (k == axis) n[k] = plane;
-            else n[k] = lrt__crossing(s->o[k], s->o[axis], ray->dir[k], ray->dir[axis], plane, 0, 0.0f, 0, k == 2);
-            if (!lrt__finite(n[k])) return 0; /* beyond the float range there */
+        for (a = 0; a < 3; ++a) {
+            if (axis < 0) n[a] = lrt__crossing(s->o[a], 0.0f, ray->dir[a], 1.0f, 0.0f, 1, te, -e, a == 2);
+            else if (a == axis) n[a] = plane;
+            else n[a] = lrt__crossing(s->o[a], s->o[axis], ray->dir[a], ray->dir[axis], plane, 0, 0.0f, 0, a == 2);
+            if (!lrt__finite(n[a])) return 0; /* beyond the float range there */
         }
-        for (k = 0; k < 3; ++k) s->o[k] = n[k];
-        s->t_base = te;
+        for (a = 0; a < 3; ++a) s->o[a] = n[a];
+        s->t_base += te;
         tmin = 0.0f;
         tmax = tmax - te;
     }
@@ -1703,7 +1706,7 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
                           uint32_t *kind)
 {
     float v[3], tmin = ray->tmin, tmax = ray->tmax;
-    int k, rare;
+    int k, rare, pass;
     *t_scale = 1.0f;
     /* One test on the bits of the 8 floats: each is 0, or its size (the bits
        without the sign) lies in [low, high), where low is 2^-100 for o and
@@ -1797,8 +1800,8 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
        plane exactly, the others at the exact crossing rounded once, so the
        new origin is off the exact entry point by a rounding of a coordinate
        inside the screen, far below one float ulp of the old one (MODEL.md). */
-    if (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
-        fabsf(s->o[2]) > 4.0f) {
+    for (pass = 0; pass < 2 && (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
+                                fabsf(s->o[2]) > 4.0f); ++pass) { /* twice if need be: see lrt__setup_rare */
         const float hi[3] = {(float)width, (float)height, 1.0f};
         float te = tmin, plane = 0.0f, n[3];
         int axis = -1;
@@ -1819,8 +1822,10 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
             else n[k] = lrt__crossing(s->o[k], s->o[axis], v[k], v[axis], plane, 0, 0.0f, 0, k == 2);
         }
         for (k = 0; k < 3; ++k) s->o[k] = n[k];
-        s->t_base = te;
-        (void)lrt__clip(s, width, height, 0.0f, tmax - te);
+        s->t_base += te;
+        tmin = 0.0f;
+        tmax -= te;
+        (void)lrt__clip(s, width, height, 0.0f, tmax);
     }
     return s->t_lo <= s->t_hi;
 }

@@ -500,7 +500,10 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
             if (ev[k] < -126) deg |= 1u << uint(k);
         }
     }
-    if (abs(o.x) > 2.0 * float(p.width) + 16.0 || abs(o.y) > 2.0 * float(p.height) + 16.0 || abs(o.z) > 4.0) {
+    // twice if need be, as linear_rt.h: the first restart may land far
+    // from the box when two entering planes' t round to the same float
+    for (int pass = 0; pass < 2 && (abs(o3[0]) > 2.0 * float(p.width) + 16.0 || abs(o3[1]) > 2.0 * float(p.height) + 16.0 ||
+                                    abs(o3[2]) > 4.0); ++pass) {
         float te = tmin, plane = 0.0, n3[3];
         int axis = -1;
         for (int k = 0; k < 3; ++k) {
@@ -521,7 +524,8 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
             if (!lrt_finite(n3[k])) return false;
         }
         o3 = n3;
-        s.t_base = te;
+        precise float base = s.t_base + te;
+        s.t_base = base;
         tmin = 0.0;
         precise float rest = tmax - te;
         tmax = rest;
@@ -586,8 +590,9 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
     s.iv = vec3(s.zero.x ? 0.0 : 1.0 / v.x, s.zero.y ? 0.0 : 1.0 / v.y, s.zero.z ? 0.0 : 1.0 / v.z);
     kind = lrt_clip(s, p, tmin, tmax);
     if (s.t_lo > s.t_hi) return false;
-    // a far-away origin: restart on the screen box (see linear_rt.h)
-    if (abs(s.o.x) > 2.0 * float(p.width) + 16.0 || abs(s.o.y) > 2.0 * float(p.height) + 16.0 || abs(s.o.z) > 4.0) {
+    // a far-away origin: restart on the screen box, twice if need be (see linear_rt.h)
+    for (int pass = 0; pass < 2 && (abs(s.o.x) > 2.0 * float(p.width) + 16.0 || abs(s.o.y) > 2.0 * float(p.height) + 16.0 ||
+                                    abs(s.o.z) > 4.0); ++pass) {
         float hi3[3] = float[3](float(p.width), float(p.height), 1.0);
         float o3[3] = float[3](s.o.x, s.o.y, s.o.z), v3[3] = float[3](v.x, v.y, v.z);
         float te = tmin, plane = 0.0;
@@ -609,8 +614,11 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
             else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane, false, 0.0, 0, k == 2);
         }
         s.o = vec3(n3[0], n3[1], n3[2]);
-        s.t_base = te;
+        precise float base = s.t_base + te;
+        s.t_base = base;
+        tmin = 0.0;
         precise float rest = tmax - te;
+        tmax = rest;
         lrt_clip(s, p, 0.0, rest);
     }
     return s.t_lo <= s.t_hi;
@@ -793,8 +801,8 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
         hit.kind = kind;
         return hit;
     }
-    uint nx, ny;
-    if (lrt_start_node(p, s, nx, ny) == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
+    uint nx, ny, slv = lrt_start_node(p, s, nx, ny);
+    if (slv == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
         float en = s.t_lo, ex = s.t_hi, t;
         lrt_slab(float(nx), float(nx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
         lrt_slab(float(ny), float(ny + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
@@ -811,6 +819,12 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
     uint px = uint(lrt_first_texel(s.o.x, s.v.x, s.iv.x, s.neg.x, s.zero.x, s.t_lo, int(p.width)));
     uint py = uint(lrt_first_texel(s.o.y, s.v.y, s.iv.y, s.neg.y, s.zero.y, s.t_lo, int(p.height)));
     uint lv = 1u, off = 0u; // the level, and its first node
+#ifdef LRT_WALK_TOP_DOWN
+    lv = slv;
+    px = nx << lrt_span_w_log2(slv);
+    py = ny << lrt_span_h_log2(slv);
+    for (uint k = 1u; k < slv; ++k) off += lrt_level_slots(p, k);
+#endif
     uint eligible = 0xffu, tested = 0u; // tested: bit lv set when masks holds level lv's pending children
     uvec4 masks = uvec4(0u);
     for (;;) {
@@ -843,6 +857,9 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
         // this node is done: its next pending sibling, or up
         for (;;) {
             if (lv >= p.level_count) { hit.kind = kind; return hit; } // the root is done
+#ifdef LRT_WALK_TOP_DOWN
+            if (lv >= slv) { hit.kind = kind; return hit; }
+#endif
             uint up = lv + 1u;
             if ((tested & (1u << up)) != 0u) {
                 uint pend = lrt_mask_get(masks, up);

@@ -172,6 +172,10 @@ RAYS_MAYBE_UNUSED static int found_case(int k, test_map *m, lrt_ray *r)
         {5, 5, 3, 1.0f, {-1, -1}, {-1, -1}, {0, 0}, {-3.64337601e-44f, 6.39020126e-41f, 1.0f},
          {-82.7632828f, 4.03814645e-38f, 7.81393798e-37f}, 0, FLT_MAX},
         {1, 1, 3, 7.17464814e-43f, {-1, -1}, {-1, -1}, {0, 0}, {0.5f, 0.5f, 0}, {0, 0, 1024}, 0, 0},
+        /* (the soak) a huge ray that touches the screen only at its corner (0,0), at z = 0: the entering planes of x and
+           z rounded to the same t, the restart took x and landed 2^20 away, where the exits' widening spans texels (a hit) */
+        {258, 1, 3, 0.5f, {-1, -1}, {-1, -1}, {0, 0}, {8.10612714e+16f, 2.95147888e+20f, -2.95147905e+20f},
+         {-8.10612714e+16f, -2.95147888e+20f, 2.95147905e+20f}, 0, 2},
     };
     size_t n, i, bpp;
     int q;
