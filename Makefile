@@ -56,6 +56,7 @@ TESTS := test-reference test-core test-core-paths test-sanitize-reference test-s
 # hardening (sanitizers with clang, valgrind, static checks, limits) and the
 # fuzzers: their own makefiles, which add their tests to TESTS
 include tests/hardening.mk
+include tests/threads.mk
 include tests/fuzz/fuzz.mk
 include examples/vulkan_inline/vulkan_inline.mk
 
