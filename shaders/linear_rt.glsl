@@ -801,8 +801,8 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
         hit.kind = kind;
         return hit;
     }
-    uint nx, ny, slv = lrt_start_node(p, s, nx, ny);
-    if (slv == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
+    uint nx, ny;
+    if (lrt_start_node(p, s, nx, ny) == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
         float en = s.t_lo, ex = s.t_hi, t;
         lrt_slab(float(nx), float(nx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
         lrt_slab(float(ny), float(ny + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
@@ -819,12 +819,6 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
     uint px = uint(lrt_first_texel(s.o.x, s.v.x, s.iv.x, s.neg.x, s.zero.x, s.t_lo, int(p.width)));
     uint py = uint(lrt_first_texel(s.o.y, s.v.y, s.iv.y, s.neg.y, s.zero.y, s.t_lo, int(p.height)));
     uint lv = 1u, off = 0u; // the level, and its first node
-#ifdef LRT_WALK_TOP_DOWN
-    lv = slv;
-    px = nx << lrt_span_w_log2(slv);
-    py = ny << lrt_span_h_log2(slv);
-    for (uint k = 1u; k < slv; ++k) off += lrt_level_slots(p, k);
-#endif
     uint eligible = 0xffu, tested = 0u; // tested: bit lv set when masks holds level lv's pending children
     uvec4 masks = uvec4(0u);
     for (;;) {
@@ -857,9 +851,6 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
         // this node is done: its next pending sibling, or up
         for (;;) {
             if (lv >= p.level_count) { hit.kind = kind; return hit; } // the root is done
-#ifdef LRT_WALK_TOP_DOWN
-            if (lv >= slv) { hit.kind = kind; return hit; }
-#endif
             uint up = lv + 1u;
             if ((tested & (1u << up)) != 0u) {
                 uint pend = lrt_mask_get(masks, up);
