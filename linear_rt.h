@@ -1579,6 +1579,24 @@ static float lrt__plane_t(float p, float o, float v, int e)
 #define LRT__UNLIKELY(x) (x)
 #endif
 
+/* The restart's axis: the entering planes' t are rounded, and where two
+   round to the same float the first taken may not be the last plane the
+   ray crosses; restarted there, the ray would start off the screen box on
+   another axis, and rounding that coordinate (a slow axis amplifies it)
+   could put a ray that only touches the box at a corner inside it. The
+   crossings n at axis' plane are exact values rounded once, so an axis
+   whose crossing is still before its entering plane (below 0, or above
+   hi when it runs backwards) was entered later: returns it, or -1. */
+static int lrt__entered_later(const float n[3], const float v[3], const float hi[3], int axis)
+{
+    int k;
+    for (k = 0; k < 3; ++k) {
+        if (k == axis || v[k] == 0.0f) continue;
+        if (lrt__sign_bit(v[k]) ? n[k] > hi[k] : n[k] < 0.0f) return k;
+    }
+    return -1;
+}
+
 /* The set-up of a ray at the edge of float range (lrt__setup_ray says which:
    a component of o or v below 2^-100, a v_k of 2^16 or more, ...; fuzz 3,
    4, 5). The same steps as lrt__setup_ray, on the ray rescaled to max |v|
@@ -1637,14 +1655,11 @@ static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *ray, uint32_t width, uin
     s->t_base = 0.0f;
     s->zk = 0;
     /* a far-away origin: restart where the ray enters the screen box, as
-       lrt__setup_ray, with crossings that take every size. Twice if need
-       be: entering planes whose t round to the same float may pick an axis
-       that the ray crosses far from the box (the exits' widening, relative
-       to t, would then span texels); the second restart starts near. */
-    for (k = 0; k < 2 && (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
-                          fabsf(s->o[2]) > 4.0f); ++k) {
+       lrt__setup_ray, with crossings that take every size */
+    if (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
+        fabsf(s->o[2]) > 4.0f) {
         float te = tmin, plane = 0.0f, n[3];
-        int axis = -1, a;
+        int axis = -1, a, tries;
         for (a = 0; a < 3; ++a) {
             float p, en;
             if (ray->dir[a] == 0.0f) continue;
@@ -1657,14 +1672,20 @@ static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *ray, uint32_t width, uin
             }
         }
         if (!(te <= tmax)) return 0; /* enters past tmax, or never */
-        for (a = 0; a < 3; ++a) {
-            if (axis < 0) n[a] = lrt__crossing(s->o[a], 0.0f, ray->dir[a], 1.0f, 0.0f, 1, te, -e, a == 2);
-            else if (a == axis) n[a] = plane;
-            else n[a] = lrt__crossing(s->o[a], s->o[axis], ray->dir[a], ray->dir[axis], plane, 0, 0.0f, 0, a == 2);
-            if (!lrt__finite(n[a])) return 0; /* beyond the float range there */
+        for (tries = 0; tries < 3; ++tries) {
+            for (a = 0; a < 3; ++a) {
+                if (axis < 0) n[a] = lrt__crossing(s->o[a], 0.0f, ray->dir[a], 1.0f, 0.0f, 1, te, -e, a == 2);
+                else if (a == axis) n[a] = plane;
+                else n[a] = lrt__crossing(s->o[a], s->o[axis], ray->dir[a], ray->dir[axis], plane, 0, 0.0f, 0, a == 2);
+                if (!lrt__finite(n[a])) return 0; /* beyond the float range there */
+            }
+            if (axis < 0 || (a = lrt__entered_later(n, ray->dir, hi, axis)) < 0) break;
+            axis = a; /* see lrt__entered_later */
+            plane = lrt__sign_bit(ray->dir[a]) ? hi[a] : 0.0f;
+            te = lrt__plane_t(plane, s->o[a], ray->dir[a], e);
         }
         for (a = 0; a < 3; ++a) s->o[a] = n[a];
-        s->t_base += te;
+        s->t_base = te;
         tmin = 0.0f;
         tmax = tmax - te;
     }
@@ -1706,7 +1727,7 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
                           uint32_t *kind)
 {
     float v[3], tmin = ray->tmin, tmax = ray->tmax;
-    int k, rare, pass;
+    int k, rare;
     *t_scale = 1.0f;
     /* One test on the bits of the 8 floats: each is 0, or its size (the bits
        without the sign) lies in [low, high), where low is 2^-100 for o and
@@ -1800,11 +1821,11 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
        plane exactly, the others at the exact crossing rounded once, so the
        new origin is off the exact entry point by a rounding of a coordinate
        inside the screen, far below one float ulp of the old one (MODEL.md). */
-    for (pass = 0; pass < 2 && (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
-                                fabsf(s->o[2]) > 4.0f); ++pass) { /* twice if need be: see lrt__setup_rare */
+    if (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
+        fabsf(s->o[2]) > 4.0f) {
         const float hi[3] = {(float)width, (float)height, 1.0f};
         float te = tmin, plane = 0.0f, n[3];
-        int axis = -1;
+        int axis = -1, tries;
         for (k = 0; k < 3; ++k) {
             float p, en;
             if (v[k] == 0.0f) continue; /* an axis the ray does not move along */
@@ -1816,16 +1837,20 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
                 plane = p;
             }
         }
-        for (k = 0; k < 3; ++k) {
-            if (axis < 0) n[k] = lrt__crossing(s->o[k], 0.0f, v[k], 1.0f, 0.0f, 1, te, 0, k == 2);
-            else if (k == axis) n[k] = plane;
-            else n[k] = lrt__crossing(s->o[k], s->o[axis], v[k], v[axis], plane, 0, 0.0f, 0, k == 2);
+        for (tries = 0; tries < 3; ++tries) {
+            for (k = 0; k < 3; ++k) {
+                if (axis < 0) n[k] = lrt__crossing(s->o[k], 0.0f, v[k], 1.0f, 0.0f, 1, te, 0, k == 2);
+                else if (k == axis) n[k] = plane;
+                else n[k] = lrt__crossing(s->o[k], s->o[axis], v[k], v[axis], plane, 0, 0.0f, 0, k == 2);
+            }
+            if (axis < 0 || (k = lrt__entered_later(n, v, hi, axis)) < 0) break;
+            axis = k; /* see lrt__entered_later */
+            plane = lrt__sign_bit(v[k]) ? hi[k] : 0.0f;
+            te = (plane - s->o[k]) * (1.0f / v[k]);
         }
         for (k = 0; k < 3; ++k) s->o[k] = n[k];
-        s->t_base += te;
-        tmin = 0.0f;
-        tmax -= te;
-        (void)lrt__clip(s, width, height, 0.0f, tmax);
+        s->t_base = te;
+        (void)lrt__clip(s, width, height, 0.0f, tmax - te);
     }
     return s->t_lo <= s->t_hi;
 }

@@ -458,6 +458,18 @@ float lrt_plane_t(float p, float o, float v, int e)
     return lrt_ldexp(q, lrt_ilogb(n) - lrt_ilogb(v) + e);
 }
 
+// the restart's axis, as linear_rt.h's lrt__entered_later: an axis whose
+// crossing at the taken plane is still before its entering plane was
+// entered later (entering planes' t that round to one float); -1: none
+int lrt_entered_later(float n3[3], float v3[3], float hi3[3], int axis)
+{
+    for (int k = 0; k < 3; ++k) {
+        if (k == axis || v3[k] == 0.0) continue;
+        if ((floatBitsToUint(v3[k]) >> 31) != 0u ? n3[k] > hi3[k] : n3[k] < 0.0) return k;
+    }
+    return -1;
+}
+
 // The set-up of a ray at the edge of float range, as linear_rt.h's
 // lrt__setup_rare (read its comment): rescaled to max |v| in [1, 2), a
 // component too slow to invert beside the largest kept exact by a scale of
@@ -500,10 +512,7 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
             if (ev[k] < -126) deg |= 1u << uint(k);
         }
     }
-    // twice if need be, as linear_rt.h: the first restart may land far
-    // from the box when two entering planes' t round to the same float
-    for (int pass = 0; pass < 2 && (abs(o3[0]) > 2.0 * float(p.width) + 16.0 || abs(o3[1]) > 2.0 * float(p.height) + 16.0 ||
-                                    abs(o3[2]) > 4.0); ++pass) {
+    if (abs(o.x) > 2.0 * float(p.width) + 16.0 || abs(o.y) > 2.0 * float(p.height) + 16.0 || abs(o.z) > 4.0) {
         float te = tmin, plane = 0.0, n3[3];
         int axis = -1;
         for (int k = 0; k < 3; ++k) {
@@ -517,15 +526,21 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
             }
         }
         if (!(te <= tmax)) return false;
-        for (int k = 0; k < 3; ++k) {
-            if (axis < 0) n3[k] = lrt_crossing(o3[k], 0.0, v3[k], 1.0, 0.0, true, te, -e, k == 2);
-            else if (k == axis) n3[k] = plane;
-            else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane, false, 0.0, 0, k == 2);
-            if (!lrt_finite(n3[k])) return false;
+        for (int tries = 0; tries < 3; ++tries) {
+            for (int k = 0; k < 3; ++k) {
+                if (axis < 0) n3[k] = lrt_crossing(o3[k], 0.0, v3[k], 1.0, 0.0, true, te, -e, k == 2);
+                else if (k == axis) n3[k] = plane;
+                else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane, false, 0.0, 0, k == 2);
+                if (!lrt_finite(n3[k])) return false;
+            }
+            int later = axis < 0 ? -1 : lrt_entered_later(n3, v3, hi3, axis);
+            if (later < 0) break;
+            axis = later; // see lrt_entered_later
+            plane = (floatBitsToUint(v3[later]) >> 31) != 0u ? hi3[later] : 0.0;
+            te = lrt_plane_t(plane, o3[later], v3[later], e);
         }
         o3 = n3;
-        precise float base = s.t_base + te;
-        s.t_base = base;
+        s.t_base = te;
         tmin = 0.0;
         precise float rest = tmax - te;
         tmax = rest;
@@ -590,9 +605,8 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
     s.iv = vec3(s.zero.x ? 0.0 : 1.0 / v.x, s.zero.y ? 0.0 : 1.0 / v.y, s.zero.z ? 0.0 : 1.0 / v.z);
     kind = lrt_clip(s, p, tmin, tmax);
     if (s.t_lo > s.t_hi) return false;
-    // a far-away origin: restart on the screen box, twice if need be (see linear_rt.h)
-    for (int pass = 0; pass < 2 && (abs(s.o.x) > 2.0 * float(p.width) + 16.0 || abs(s.o.y) > 2.0 * float(p.height) + 16.0 ||
-                                    abs(s.o.z) > 4.0); ++pass) {
+    // a far-away origin: restart on the screen box (see linear_rt.h)
+    if (abs(s.o.x) > 2.0 * float(p.width) + 16.0 || abs(s.o.y) > 2.0 * float(p.height) + 16.0 || abs(s.o.z) > 4.0) {
         float hi3[3] = float[3](float(p.width), float(p.height), 1.0);
         float o3[3] = float[3](s.o.x, s.o.y, s.o.z), v3[3] = float[3](v.x, v.y, v.z);
         float te = tmin, plane = 0.0;
@@ -608,17 +622,22 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
             }
         }
         float n3[3];
-        for (int k = 0; k < 3; ++k) {
-            if (axis < 0) n3[k] = lrt_crossing(o3[k], 0.0, v3[k], 1.0, 0.0, true, te, 0, k == 2);
-            else if (k == axis) n3[k] = plane;
-            else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane, false, 0.0, 0, k == 2);
+        for (int tries = 0; tries < 3; ++tries) {
+            for (int k = 0; k < 3; ++k) {
+                if (axis < 0) n3[k] = lrt_crossing(o3[k], 0.0, v3[k], 1.0, 0.0, true, te, 0, k == 2);
+                else if (k == axis) n3[k] = plane;
+                else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane, false, 0.0, 0, k == 2);
+            }
+            int later = axis < 0 ? -1 : lrt_entered_later(n3, v3, hi3, axis);
+            if (later < 0) break;
+            axis = later;
+            plane = (floatBitsToUint(v3[later]) >> 31) != 0u ? hi3[later] : 0.0;
+            precise float en = (plane - o3[later]) * (1.0 / v3[later]);
+            te = en;
         }
         s.o = vec3(n3[0], n3[1], n3[2]);
-        precise float base = s.t_base + te;
-        s.t_base = base;
-        tmin = 0.0;
+        s.t_base = te;
         precise float rest = tmax - te;
-        tmax = rest;
         lrt_clip(s, p, 0.0, rest);
     }
     return s.t_lo <= s.t_hi;
@@ -755,7 +774,36 @@ uvec4 lrt_mask_set(uvec4 m, uint lv, uint bits)
 
 // the children of node (nx, ny) of level lv >= 1 that the ray meets, bit k
 // for the child met k-th in visiting order (slot k ^ flip); as the CPU's
-// node test: the same planes, the decoded bounds, exits widened
+// node test: the same planes, the decoded bounds, exits widened. The loop
+// runs over slots, so a child's column and row are constants once it is
+// unrolled and the 5 + 3 planes of a 4x2 (3 + 5 of a 2x4) node are shared.
+// code slot of a node whose words are w (lrt_code's order)
+uint lrt_code_in(uvec4 w, uint node_bits, uint slot)
+{
+    if (node_bits == 16u) return (w[slot >> 1] >> ((slot & 1u) * 16u)) & 0xffffu;
+    return (w[slot >> 2] >> ((slot & 3u) * 8u)) & 0xffu;
+}
+
+bool lrt_child_met(LrtSetup s, float xa, float xb, float ya, float yb, uint code, float decode_scale, float qmaxf)
+{
+    float en = s.t_lo, ex = s.t_hi;
+    lrt_slab(xa, xb, s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
+    lrt_slab(ya, yb, s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
+    float tz;
+    if (s.zero.z) {
+        float dz = (qmaxf - float(code)) * decode_scale;
+        bool inside = dz <= s.o.z;
+        tz = (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
+    } else {
+        precise float dz = (qmaxf - float(code)) * decode_scale;
+        precise float tt = (dz - s.o.z) * s.iv.z;
+        tz = tt;
+    }
+    if (s.neg.z != 0u) ex = min(tz, ex);
+    else en = max(tz, en);
+    return en <= lrt_widen(ex);
+}
+
 uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint ny, uint flip, float decode_scale, float qmaxf)
 {
     uint cl = lv - 1u;
@@ -763,27 +811,30 @@ uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint
     float sw = float(1u << lrt_span_w_log2(cl)), sh = float(1u << lrt_span_h_log2(cl));
     float x0 = float((nx << lrt_bw_log2(cl)) << lrt_span_w_log2(cl)), y0 = float((ny << lrt_bh_log2(cl)) << lrt_span_h_log2(cl));
     uint slot0 = lrt_node_code0(p, lv, off, nx, ny);
+    // the node's 8 codes in one go: 4 words of 16-bit codes, or 2 of 8-bit
+    uvec4 w = uvec4(0u);
+    if (p.node_bits == 16u) {
+        w = uvec4(LRT_NODE_WORD(slot0 >> 1), LRT_NODE_WORD((slot0 >> 1) + 1u), LRT_NODE_WORD((slot0 >> 1) + 2u),
+                  LRT_NODE_WORD((slot0 >> 1) + 3u));
+    } else {
+        w.x = LRT_NODE_WORD(slot0 >> 2);
+        w.y = LRT_NODE_WORD((slot0 >> 2) + 1u);
+    }
     uint mask = 0u;
-    for (uint k = 0u; k < 8u; ++k) {
-        uint slot = k ^ flip;
-        uint c = tall ? (slot & 1u) : (slot & 3u), r = tall ? (slot >> 1) : (slot >> 2);
-        float en = s.t_lo, ex = s.t_hi;
-        lrt_slab(x0 + float(c) * sw, x0 + float(c + 1u) * sw, s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
-        lrt_slab(y0 + float(r) * sh, y0 + float(r + 1u) * sh, s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
-        uint code = lrt_code(p.node_bits, slot0 + slot);
-        float tz;
-        if (s.zero.z) {
-            float dz = (qmaxf - float(code)) * decode_scale;
-            bool inside = dz <= s.o.z;
-            tz = (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
-        } else {
-            precise float dz = (qmaxf - float(code)) * decode_scale;
-            precise float tt = (dz - s.o.z) * s.iv.z;
-            tz = tt;
+    if (tall) { // 2 columns, 4 rows: slot = row << 1 | column
+        for (uint slot = 0u; slot < 8u; ++slot) {
+            uint c = slot & 1u, r = slot >> 1;
+            if (lrt_child_met(s, x0 + float(c) * sw, x0 + float(c + 1u) * sw, y0 + float(r) * sh, y0 + float(r + 1u) * sh,
+                              lrt_code_in(w, p.node_bits, slot), decode_scale, qmaxf))
+                mask |= 1u << (slot ^ flip);
         }
-        if (s.neg.z != 0u) ex = min(tz, ex);
-        else en = max(tz, en);
-        if (en <= lrt_widen(ex)) mask |= 1u << k;
+    } else { // 4 columns, 2 rows: slot = row << 2 | column
+        for (uint slot = 0u; slot < 8u; ++slot) {
+            uint c = slot & 3u, r = slot >> 2;
+            if (lrt_child_met(s, x0 + float(c) * sw, x0 + float(c + 1u) * sw, y0 + float(r) * sh, y0 + float(r + 1u) * sh,
+                              lrt_code_in(w, p.node_bits, slot), decode_scale, qmaxf))
+                mask |= 1u << (slot ^ flip);
+        }
     }
     return mask;
 }

@@ -176,6 +176,10 @@ RAYS_MAYBE_UNUSED static int found_case(int k, test_map *m, lrt_ray *r)
            z rounded to the same t, the restart took x and landed 2^20 away, where the exits' widening spans texels (a hit) */
         {258, 1, 3, 0.5f, {-1, -1}, {-1, -1}, {0, 0}, {8.10612714e+16f, 2.95147888e+20f, -2.95147905e+20f},
          {-8.10612714e+16f, -2.95147888e+20f, 2.95147905e+20f}, 0, 2},
+        /* (the soak) the same kind of ray, x slow beside y and z: a second restart from 2^23 away rounded y, and x met
+           0 at x = 1.5e-5 instead of at the corner, inside texel (0,0) for a t of 0.2 (a hit; exact: off-screen) */
+        {489, 270, 1, 1, {-1, -1}, {-1, -1}, {0, 0}, {1.92934496e+26f, -2.5353012e+30f, -2.5353012e+30f},
+         {-1.92934496e+26f, 2.5353012e+30f, 2.5353012e+30f}, 0, 2},
     };
     size_t n, i, bpp;
     int q;
