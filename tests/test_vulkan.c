@@ -388,18 +388,6 @@ static void test_build_and_trace(void)
 }
 
 /* ---- (b) update == the CPU's update ---------------------------------------------------- */
-/* floats -> the bytes of a format */
-static void encode(const float *f, void *out, size_t n, lrt_format format)
-{
-    size_t i;
-    for (i = 0; i < n; ++i) {
-        if (format == LRT_FORMAT_UNORM8) ((uint8_t *)out)[i] = (uint8_t)(f[i] * 255.0f + 0.5f);
-        else if (format == LRT_FORMAT_UNORM16) {
-            uint16_t v = (uint16_t)(f[i] * 65535.0f + 0.5f);
-            memcpy((unsigned char *)out + 2 * i, &v, 2);
-        } else memcpy((unsigned char *)out + 4 * i, &f[i], 4);
-    }
-}
 
 static void update_case(lrt_format format, uint32_t bits, int source)
 {
@@ -422,7 +410,7 @@ static void update_case(lrt_format format, uint32_t bits, int source)
     opt.node_bits = bits;
     snprintf(what, sizeof what, "update %dx%d fmt=%d nodes=%u %s", w, h, (int)format, bits, src_names[source]);
     paint_frame(d, w, h, 0);
-    encode(d, bytes, (size_t)w * h, format);
+    vkt_encode_depth(d, bytes, (size_t)w * h, format);
     CHECK(lrt_bvh_build(&live, &dm, &opt, NULL) == LRT_SUCCESS, "%s: CPU build", what);
     memset(&gpu, 0, sizeof gpu);
     if (gpu_depth_create(&dm, source, default_image_format(format, 1), &g) || gpu_build(&dm, bits, &g, &gpu, what)) {
@@ -435,7 +423,7 @@ static void update_case(lrt_format format, uint32_t bits, int source)
             memcpy(prev, d, sizeof(float) * w * h);
             paint_frame(d, w, h, frame);
             rect = changed_rect(prev, d, w, h);
-            encode(d, bytes, (size_t)w * h, format);
+            vkt_encode_depth(d, bytes, (size_t)w * h, format);
             CHECK(lrt_bvh_update(&live, &dm, (frame & 1) ? NULL : &rect) == LRT_SUCCESS, "%s: CPU update", what);
             if (gpu_depth_write(&g, &dm, 0) || vkt_begin(&g_t)) break;
             vkt_compute_barrier(&g_t); /* the previous frame's refit -> this one */
@@ -455,7 +443,7 @@ static void update_case(lrt_format format, uint32_t bits, int source)
             lrt_rect elsewhere = {0, 0, 4, 4};
             lrt_bvh fresh;
             paint_frame(d, w, h, 3);
-            encode(d, bytes, (size_t)w * h, format);
+            vkt_encode_depth(d, bytes, (size_t)w * h, format);
             CHECK(lrt_bvh_build(&fresh, &dm, &opt, NULL) == LRT_SUCCESS, "CPU build");
             if (gpu_depth_write(&g, &dm, 0) == 0 && vkt_begin(&g_t) == 0) {
                 vkt_compute_barrier(&g_t);

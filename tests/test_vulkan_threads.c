@@ -256,17 +256,6 @@ static void *worker_main(void *arg)
 }
 
 /* ---- set-up by the main thread ---------------------------------------------------- */
-static void encode(const float *f, void *out, size_t n, lrt_format format)
-{
-    size_t i;
-    for (i = 0; i < n; ++i) {
-        if (format == LRT_FORMAT_UNORM8) ((uint8_t *)out)[i] = (uint8_t)(f[i] * 255.0f + 0.5f);
-        else if (format == LRT_FORMAT_UNORM16) {
-            uint16_t v = (uint16_t)(f[i] * 65535.0f + 0.5f);
-            memcpy((unsigned char *)out + 2 * i, &v, 2);
-        } else memcpy((unsigned char *)out + 4 * i, &f[i], 4);
-    }
-}
 
 /* Frames (a sphere that moves over a floor), their changes and rays. */
 static void make_frames(vk_worker *k)
@@ -286,7 +275,7 @@ static void make_frames(vk_worker *k)
         in->bytes = malloc(texels * bytes_of(k->format));
         in->rays = (lrt_ray *)malloc(sizeof(lrt_ray) * k->nrays);
         if (!in->bytes || !in->rays) exit(2);
-        encode(d, in->bytes, texels, k->format);
+        vkt_encode_depth(d, in->bytes, texels, k->format);
         if (f) in->rect = changed_rect(prev, d, w, h);
         in->whole = f % 3 == 0;
         in->flags = flags[(f + k->index) % 2];

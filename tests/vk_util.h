@@ -59,6 +59,19 @@ typedef struct vkt_image {
     uint32_t width, height, bpp;
 } vkt_image;
 
+/* floats in [0,1] -> the bytes of a depth format (unorm: rounded) */
+VKT_FN void vkt_encode_depth(const float *f, void *out, size_t n, lrt_format format)
+{
+    size_t i;
+    for (i = 0; i < n; ++i) {
+        if (format == LRT_FORMAT_UNORM8) ((uint8_t *)out)[i] = (uint8_t)(f[i] * 255.0f + 0.5f);
+        else if (format == LRT_FORMAT_UNORM16) {
+            uint16_t v = (uint16_t)(f[i] * 65535.0f + 0.5f);
+            memcpy((unsigned char *)out + 2 * i, &v, 2);
+        } else memcpy((unsigned char *)out + 4 * i, &f[i], 4);
+    }
+}
+
 VKT_FN int vkt_fail(const char *what, VkResult r)
 {
     fprintf(stderr, "vk_util: %s failed: VkResult %d\n", what, (int)r);
