@@ -1659,32 +1659,32 @@ static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *ray, uint32_t width, uin
     if (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
         fabsf(s->o[2]) > 4.0f) {
         float te = tmin, plane = 0.0f, n[3];
-        int axis = -1, a, tries;
-        for (a = 0; a < 3; ++a) {
+        int axis = -1, tries;
+        for (k = 0; k < 3; ++k) {
             float p, en;
-            if (ray->dir[a] == 0.0f) continue;
-            p = lrt__sign_bit(ray->dir[a]) ? hi[a] : 0.0f;
-            en = lrt__plane_t(p, s->o[a], ray->dir[a], e);
+            if (ray->dir[k] == 0.0f) continue;
+            p = lrt__sign_bit(ray->dir[k]) ? hi[k] : 0.0f;
+            en = lrt__plane_t(p, s->o[k], ray->dir[k], e);
             if (en > te) {
                 te = en;
-                axis = a;
+                axis = k;
                 plane = p;
             }
         }
         if (!(te <= tmax)) return 0; /* enters past tmax, or never */
         for (tries = 0; tries < 3; ++tries) {
-            for (a = 0; a < 3; ++a) {
-                if (axis < 0) n[a] = lrt__crossing(s->o[a], 0.0f, ray->dir[a], 1.0f, 0.0f, 1, te, -e, a == 2);
-                else if (a == axis) n[a] = plane;
-                else n[a] = lrt__crossing(s->o[a], s->o[axis], ray->dir[a], ray->dir[axis], plane, 0, 0.0f, 0, a == 2);
-                if (!lrt__finite(n[a])) return 0; /* beyond the float range there */
+            for (k = 0; k < 3; ++k) {
+                if (axis < 0) n[k] = lrt__crossing(s->o[k], 0.0f, ray->dir[k], 1.0f, 0.0f, 1, te, -e, k == 2);
+                else if (k == axis) n[k] = plane;
+                else n[k] = lrt__crossing(s->o[k], s->o[axis], ray->dir[k], ray->dir[axis], plane, 0, 0.0f, 0, k == 2);
+                if (!lrt__finite(n[k])) return 0; /* beyond the float range there */
             }
-            if (axis < 0 || (a = lrt__entered_later(n, ray->dir, hi, axis)) < 0) break;
-            axis = a; /* see lrt__entered_later */
-            plane = lrt__sign_bit(ray->dir[a]) ? hi[a] : 0.0f;
-            te = lrt__plane_t(plane, s->o[a], ray->dir[a], e);
+            if (axis < 0 || (k = lrt__entered_later(n, ray->dir, hi, axis)) < 0) break;
+            axis = k; /* see lrt__entered_later */
+            plane = lrt__sign_bit(ray->dir[k]) ? hi[k] : 0.0f;
+            te = lrt__plane_t(plane, s->o[k], ray->dir[k], e);
         }
-        for (a = 0; a < 3; ++a) s->o[a] = n[a];
+        for (k = 0; k < 3; ++k) s->o[k] = n[k];
         s->t_base = te;
         tmin = 0.0f;
         tmax = tmax - te;

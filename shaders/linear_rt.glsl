@@ -722,9 +722,8 @@ uint lrt_node_code0(LrtParams p, uint lv, uint off, uint nx, uint ny)
 {
     uint index = 0u;
     if (lv < p.level_count) {
-        uint bwl = lrt_bw_log2(lv), bhl = 3u - bwl;
-        index = ((ny >> bhl) * lrt_grid_w(p.width, lv + 1u) + (nx >> bwl)) * 8u +
-                (((ny & ((1u << bhl) - 1u)) << bwl) | (nx & ((1u << bwl) - 1u)));
+        index = ((ny >> lrt_bh_log2(lv)) * lrt_grid_w(p.width, lv + 1u) + (nx >> lrt_bw_log2(lv))) * 8u +
+                lrt_child_slot(lv, nx, ny);
     }
     return (off + index) * 8u;
 }
@@ -764,6 +763,15 @@ int lrt_first_texel(float o, float v, float iv, uint neg, bool zero, float t_lo,
     return c;
 }
 
+// the texel at the corner of child `slot` of node (nx, ny) of level lv:
+// a position inside that child (level lv - 1)
+uvec2 lrt_child_corner(uint lv, uint nx, uint ny, uint slot)
+{
+    uint cl = lv - 1u, bwl = lrt_bw_log2(cl), bhl = 3u - bwl;
+    uint cx = (nx << bwl) + (slot & ((1u << bwl) - 1u)), cy = (ny << bhl) + (slot >> bwl);
+    return uvec2(cx << lrt_span_w_log2(cl), cy << lrt_span_h_log2(cl));
+}
+
 uint lrt_mask_get(uvec4 m, uint lv) { return (m[lv >> 2] >> ((lv & 3u) * 8u)) & 0xffu; }
 uvec4 lrt_mask_set(uvec4 m, uint lv, uint bits)
 {
@@ -772,11 +780,6 @@ uvec4 lrt_mask_set(uvec4 m, uint lv, uint bits)
     return m;
 }
 
-// the children of node (nx, ny) of level lv >= 1 that the ray meets, bit k
-// for the child met k-th in visiting order (slot k ^ flip); as the CPU's
-// node test: the same planes, the decoded bounds, exits widened. The loop
-// runs over slots, so a child's column and row are constants once it is
-// unrolled and the 5 + 3 planes of a 4x2 (3 + 5 of a 2x4) node are shared.
 // code slot of a node whose words are w (lrt_code's order)
 uint lrt_code_in(uvec4 w, uint node_bits, uint slot)
 {
@@ -784,6 +787,7 @@ uint lrt_code_in(uvec4 w, uint node_bits, uint slot)
     return (w[slot >> 2] >> ((slot & 3u) * 8u)) & 0xffu;
 }
 
+// is child box [xa,xb] x [ya,yb] x [its decoded depth, 1] met (lrt_test_children)
 bool lrt_child_met(LrtSetup s, float xa, float xb, float ya, float yb, uint code, float decode_scale, float qmaxf)
 {
     float en = s.t_lo, ex = s.t_hi;
@@ -804,6 +808,11 @@ bool lrt_child_met(LrtSetup s, float xa, float xb, float ya, float yb, uint code
     return en <= lrt_widen(ex);
 }
 
+// the children of node (nx, ny) of level lv >= 1 that the ray meets, bit k
+// for the child met k-th in visiting order (slot k ^ flip); as the CPU's
+// node test: the same planes, the decoded bounds, exits widened. The loop
+// runs over slots, so a child's column and row are constants once it is
+// unrolled and the 5 + 3 planes of a 4x2 (3 + 5 of a 2x4) node are shared.
 uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint ny, uint flip, float decode_scale, float qmaxf)
 {
     uint cl = lv - 1u;
@@ -890,12 +899,11 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
             uint k = uint(findLSB(m)), slot = k ^ flip;
             masks = lrt_mask_set(masks, lv, m & (m - 1u));
             tested |= 1u << lv;
-            uint cl = lv - 1u, bwl = lrt_bw_log2(cl), bhl = 3u - bwl;
-            uint cx = (nxl << bwl) + (slot & ((1u << bwl) - 1u)), cy = (nyl << bhl) + (slot >> bwl);
-            px = cx << lrt_span_w_log2(cl);
-            py = cy << lrt_span_h_log2(cl);
-            lv = cl;
-            off -= lrt_level_slots(p, cl);
+            uvec2 c = lrt_child_corner(lv, nxl, nyl, slot);
+            px = c.x;
+            py = c.y;
+            lv -= 1u;
+            off -= lrt_level_slots(p, lv);
             eligible = 0xffu;
             continue;
         }
@@ -909,11 +917,9 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
                     uint ufl = lrt_bw_log2(lv) == 1u ? flip_tall : flip_wide;
                     uint k = uint(findLSB(pend)), slot = k ^ ufl;
                     masks = lrt_mask_set(masks, up, pend & (pend - 1u));
-                    uint bwl = lrt_bw_log2(lv), bhl = 3u - bwl;
-                    uint ux = px >> lrt_span_w_log2(up), uy = py >> lrt_span_h_log2(up);
-                    uint cx = (ux << bwl) + (slot & ((1u << bwl) - 1u)), cy = (uy << bhl) + (slot >> bwl);
-                    px = cx << lrt_span_w_log2(lv);
-                    py = cy << lrt_span_h_log2(lv);
+                    uvec2 c = lrt_child_corner(up, px >> lrt_span_w_log2(up), py >> lrt_span_h_log2(up), slot);
+                    px = c.x;
+                    py = c.y;
                     eligible = 0xffu;
                     break;
                 }
@@ -934,10 +940,7 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
                 if (!s.zero.x) { precise float e = (fx - s.o.x) * s.iv.x; ex_x = e; }
                 if (!s.zero.y) { precise float e = (fy - s.o.y) * s.iv.y; ex_y = e; }
                 if (min(ex_x, ex_y) > lrt_widen(s.t_hi)) { hit.kind = kind; return hit; }
-                uint ufl = lrt_bw_log2(lv) == 1u ? flip_tall : flip_wide;
-                uint bwl = lrt_bw_log2(lv), bhl = 3u - bwl;
-                uint slot = ((cy & ((1u << bhl) - 1u)) << bwl) | (cx & ((1u << bwl) - 1u));
-                uint k = slot ^ ufl;
+                uint k = lrt_child_slot(lv, cx, cy) ^ (lrt_bw_log2(lv) == 1u ? flip_tall : flip_wide);
                 eligible = ~((2u << k) - 1u) & 0xffu;
                 off += lrt_level_slots(p, lv);
                 lv = up;

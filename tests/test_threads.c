@@ -217,6 +217,27 @@ static void split(size_t n, int parts, size_t *cuts)
         }
 }
 
+/* THREADS jobs on random slices of rays[0, n) (split), each in one call
+   until the caller sets its chunk */
+static void make_jobs(job *jobs, const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays, lrt_hit *hits,
+                      size_t n, uint32_t flags)
+{
+    size_t cuts[THREADS + 1];
+    int k;
+    split(n, THREADS, cuts);
+    for (k = 0; k < THREADS; ++k) {
+        jobs[k].bvh = bvh;
+        jobs[k].depth = depth;
+        jobs[k].rays = rays;
+        jobs[k].hits = hits;
+        jobs[k].first = cuts[k];
+        jobs[k].end = cuts[k + 1];
+        jobs[k].chunk = 0;
+        jobs[k].flags = flags;
+        jobs[k].result = LRT_ERROR_INVALID_BVH;
+    }
+}
+
 /* Threaded hits == single-threaded hits, byte for byte; 1 when they are. */
 static int same_hits(const lrt_hit *got, const lrt_hit *expect, size_t n, const job *jobs, int njobs, const char *what)
 {
@@ -283,25 +304,15 @@ static void slices_case(int w, int h, int shape, lrt_format format, int reversed
         for (f = 0; f < FLAG_SETS; ++f) {
             const uint32_t flags = g_flag_sets[f];
             job jobs[THREADS];
-            size_t cuts[THREADS + 1];
             char what[160];
             int ok = 1;
             snprintf(what, sizeof what, "slices %dx%d %s fmt=%d%s%s nodes=%u %s", w, h, m.name, (int)format,
                      reversed ? " reversed" : "", padded ? " strided" : "", bits, flag_name(flags));
             CHECK(lrt_trace(&bvh, &m.depth, rays, expect, n, flags) == LRT_SUCCESS, "%s: single-threaded trace", what);
             memset(hits, 0xff, sizeof(lrt_hit) * n);
-            split(n, THREADS, cuts);
-            for (k = 0; k < THREADS; ++k) {
-                jobs[k].bvh = &bvh;
-                jobs[k].depth = &m.depth;
-                jobs[k].rays = rays;
-                jobs[k].hits = hits;
-                jobs[k].first = cuts[k];
-                jobs[k].end = cuts[k + 1];
+            make_jobs(jobs, &bvh, &m.depth, rays, hits, n, flags);
+            for (k = 0; k < THREADS; ++k)
                 jobs[k].chunk = (size_t)(k & 1) * (1 + (size_t)rndi(100)); /* odd threads: many small calls */
-                jobs[k].flags = flags;
-                jobs[k].result = LRT_ERROR_INVALID_BVH;
-            }
             CHECK(run_joined(jobs, THREADS), "%s: pthread_create failed", what);
             for (k = 0; k < THREADS; ++k) ok &= jobs[k].result == LRT_SUCCESS;
             CHECK(ok, "%s: a thread's lrt_trace_range failed", what);
@@ -360,7 +371,6 @@ static void frames_case(int sync, uint32_t bits, pool *p)
         lrt_bvh fresh;
         lrt_ray *rays;
         job jobs[THREADS], queue;
-        size_t cuts[THREADS + 1];
         /* every thread is joined or parked: the tree may change */
         memcpy(prev, d, sizeof(float) * w * h);
         paint_frame(d, w, h, frame);
@@ -373,18 +383,8 @@ static void frames_case(int sync, uint32_t bits, pool *p)
         rays = make_rays(&m, n);
         failed += lrt_trace(&live, &m.depth, rays, expect, n, flags) != LRT_SUCCESS;
         memset(hits, 0xff, sizeof(lrt_hit) * n);
-        split(n, THREADS, cuts);
-        for (k = 0; k < THREADS; ++k) {
-            jobs[k].bvh = &live;
-            jobs[k].depth = &m.depth;
-            jobs[k].rays = rays;
-            jobs[k].hits = hits;
-            jobs[k].first = cuts[k];
-            jobs[k].end = cuts[k + 1];
-            jobs[k].chunk = (size_t)(frame & 1) * 50;
-            jobs[k].flags = flags;
-            jobs[k].result = LRT_ERROR_INVALID_BVH;
-        }
+        make_jobs(jobs, &live, &m.depth, rays, hits, n, flags);
+        for (k = 0; k < THREADS; ++k) jobs[k].chunk = (size_t)(frame & 1) * 50;
         queue = jobs[0];
         queue.first = 0;
         queue.end = n;
