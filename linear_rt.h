@@ -26,7 +26,10 @@
        ...
        lrt_bvh_destroy(&bvh);
    Rays live in screen space: x in [0,W], y in [0,H] in texels, z = depth in
-   [0,1] (0 near).
+   [0,1] (0 near). A hit says which face of its texel's box it lies on:
+   hits[k].face is LRT_FACE_TOP for a surface the camera sees; a side, the
+   back or inside (the origin in the solid) is where an engine may shade
+   with something else.
    lrt_trace_range() traces a slice of a batch: the BVH and depth are only
    read while tracing, so threads may trace disjoint slices at once.
 
@@ -327,10 +330,26 @@ typedef enum lrt_hit_kind {
     LRT_HIT_KIND_MAX_ENUM = 0x7fffffff
 } lrt_hit_kind;
 
+/* Where a hit lies on its texel's box [x, x+1] x [y, y+1] x [depth, 1]
+   (MODEL.md, "the face of a hit"): on the top, a surface the camera sees;
+   on a side or the back (the far plane z = 1, met by a ray coming from
+   behind it), which the camera does not see, where an engine may fall
+   back; or inside: the origin at tmin already in the solid. On an edge
+   shared by faces any of them is right; ties are told as top, then side,
+   then back. */
+typedef enum lrt_hit_face {
+    LRT_FACE_NONE = 0,           /* a miss */
+    LRT_FACE_TOP = 1,            /* on z = depth of the texel */
+    LRT_FACE_SIDE = 2,           /* on x = x, x + 1 or y = y, y + 1 */
+    LRT_FACE_BACK = 3,           /* on z = 1, entered from behind */
+    LRT_FACE_INSIDE = 4          /* the origin at tmin, inside the box: t = tmin */
+} lrt_hit_face;
+
 typedef struct lrt_hit {
     float t;                 /* hit at origin + t * dir; 0 on a miss */
     uint32_t x, y;           /* texel hit; 0 on a miss */
-    uint32_t kind;           /* lrt_hit_kind */
+    uint16_t kind;           /* lrt_hit_kind */
+    uint16_t face;           /* lrt_hit_face */
 } lrt_hit;
 
 enum {
@@ -2364,11 +2383,30 @@ LRT__INLINE uint32_t lrt__code(const lrt__walk *w, size_t slot, uint32_t wide)
     return wide ? ((const uint16_t *)w->nodes)[slot] : ((const uint8_t *)w->nodes)[slot];
 }
 
+/* The face of a hit at t (lrt_hit_face): which plane of texel (tx, ty)'s
+   box gave its entering t. Every test computes a plane's t the same way
+   ((plane - o) * (1/v), and lrt__depth_plane for depth), so the plane that
+   won the max is found by equality, once per ray, whichever path tested
+   the texel. t_lo holds what is left: tmin (inside), or the far plane. */
+static uint32_t lrt__face(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float t)
+{
+    if (!s->neg_z && lrt__depth_plane(s, w->depth->format, lrt__depth_raw(w->depth, w->stride, tx, ty)) == t)
+        return LRT_FACE_TOP;
+    if (((float)(tx + s->neg_x) - s->o[0]) * s->iv[0] == t || ((float)(ty + s->neg_y) - s->o[1]) * s->iv[1] == t)
+        return LRT_FACE_SIDE;
+    if (s->neg_z && lrt__depth_plane(s, LRT_FORMAT_FLOAT32, 0x3f800000u) == t) return LRT_FACE_BACK;
+    return LRT_FACE_INSIDE;
+}
+
+/* lrt_hit is 4 words on the CPU and in the kernels' hit buffer (lrt_trace.comp) */
+typedef char lrt__hit_is_16_bytes[sizeof(lrt_hit) == 16 && sizeof(lrt_ray) == 32 ? 1 : -1];
+
 /* A hit at t of the walked ray, told in the caller's ray: undo the restart
    and the rescale, and stay inside [tmin, tmax] despite rounding. */
-LRT__INLINE void lrt__report_hit(const lrt_ray *ray, const lrt__ray_setup *s, float t_scale, float t, uint32_t tx,
-                            uint32_t ty, lrt_hit *hit)
+LRT__INLINE void lrt__report_hit(const lrt__walk *w, const lrt_ray *ray, const lrt__ray_setup *s, float t_scale, float t,
+                                 uint32_t tx, uint32_t ty, lrt_hit *hit)
 {
+    hit->face = (uint16_t)lrt__face(w, s, tx, ty, t);
     t = (t + s->t_base) * t_scale;
     hit->t = t < ray->tmin ? ray->tmin : t > ray->tmax ? ray->tmax : t;
     hit->x = tx;
@@ -2594,7 +2632,7 @@ LRT__FORCE_INLINE void lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lr
             uint32_t tx, ty;
             float t;
             if (lrt__level1_hit(w, s, nx, ny, slot0, wide, neg_z, &tx, &ty, &t)) {
-                lrt__report_hit(ray, s, t_scale, t, tx, ty, hit);
+                lrt__report_hit(w, ray, s, t_scale, t, tx, ty, hit);
                 return;
             }
         }
@@ -2612,7 +2650,7 @@ LRT__FORCE_INLINE void lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lr
             sp -= (p->lv_bits & 0xffu) == 0u;
         }
     }
-    hit->kind = kind;
+    hit->kind = (uint16_t)kind;
 }
 
 /* The trace of a set-up ray from node (nx, ny) of level lv (lrt__start_node);
@@ -2630,10 +2668,10 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
         lrt__slab(x0, x0 + 1.0f, s->o[0], s->iv[0], s->neg_x, &en, &ex);
         lrt__slab(y0, y0 + 1.0f, s->o[1], s->iv[1], s->neg_y, &en, &ex);
         if (lrt__test_texel(w, s, nx, ny, en, ex, lrt__code(w, slot0 + slot, wide), &t)) {
-            lrt__report_hit(ray, s, t_scale, t, nx, ny, hit);
+            lrt__report_hit(w, ray, s, t_scale, t, nx, ny, hit);
             return;
         }
-        hit->kind = kind;
+        hit->kind = (uint16_t)kind;
         return;
     }
 #if LRT__AVX
@@ -2663,8 +2701,9 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
     uint32_t kind, lv, nx, ny;
     hit->t = 0.0f;
     hit->x = hit->y = 0;
+    hit->face = LRT_FACE_NONE;
     if (!lrt__setup_ray(ray, L->width, L->height, &s, &t_scale, &kind)) {
-        hit->kind = kind;
+        hit->kind = (uint16_t)kind;
         return;
     }
     lv = lrt__start_node(w, &s, &nx, &ny);
@@ -2844,8 +2883,9 @@ LRT__FORCE_INLINE void lrt__trace8(const lrt__walk *w, const lrt_ray *rays, lrt_
         }
         hit->t = 0.0f;
         hit->x = hit->y = 0;
+        hit->face = LRT_FACE_NONE;
         if (!((b.walk >> j) & 1u)) {
-            hit->kind = b.kind[j];
+            hit->kind = (uint16_t)b.kind[j];
             continue;
         }
         for (k = 0; k < 3u; ++k) {

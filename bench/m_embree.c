@@ -612,6 +612,7 @@ static void emb_one(const emb_job *jb, const lrt_ray *r, lrt_hit *hit)
         hit->x = ti;
         hit->y = tj;
         hit->kind = LRT_HIT;
+        hit->face = LRT_FACE_NONE; /* not reported by this peer */
         return;
     }
     if (r->tmin == r->tmax || (r->dir[0] == 0.0f && r->dir[1] == 0.0f && r->dir[2] == 0.0f)) {
@@ -759,6 +760,7 @@ static void emb_one(const emb_job *jb, const lrt_ray *r, lrt_hit *hit)
     hit->x = ti;
     hit->y = tj;
     hit->kind = LRT_HIT;
+    hit->face = LRT_FACE_NONE; /* not reported by this peer */
 }
 
 static void emb_range(void *ctx, size_t first, size_t end)

@@ -75,6 +75,7 @@ static void report_hit(const lrt_ray *r, double t, uint32_t i, uint32_t j, lrt_h
     hit->x = i;
     hit->y = j;
     hit->kind = LRT_HIT;
+    hit->face = LRT_FACE_NONE; /* a march does not know which face it met */
 }
 
 /* ---- fixed-step linear march with binary refinement ----------------------------------

@@ -430,6 +430,7 @@ static void score_set(const scene *sc, const ray_set *rs, const lrt_hit *hits, i
             an.t = a->t;
             an.x = (int)a->x;
             an.y = (int)a->y;
+            an.face = REF_FACE_ANY; /* scored: hit or miss, texel, point; the face is tested in tests/ */
             ok = ref_check(&sc->ref, &rr, &an, any, NULL, 0);
         } else { /* the plain answer: kind, and for a closest hit the texel */
             ok = (int)a->kind == e->kind && (any || e->kind != REF_HIT || ((int)a->x == e->x && (int)a->y == e->y));

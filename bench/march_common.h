@@ -54,7 +54,8 @@ static inline void bmc_set_miss(lrt_hit *hit, uint32_t kind)
 {
     hit->t = 0.0f;
     hit->x = hit->y = 0u;
-    hit->kind = kind;
+    hit->kind = (uint16_t)kind;
+    hit->face = LRT_FACE_NONE;
 }
 
 /* Clips [tmin, tmax] of a valid ray to the screen box [0,W] x [0,H] x [0,1]

@@ -207,6 +207,7 @@ static int judge(const ref_map *m, const lrt_ray *r, const lrt_hit *h, char *why
     a.t = h->t;
     a.x = h->kind == LRT_HIT ? (int)h->x : -1;
     a.y = h->kind == LRT_HIT ? (int)h->y : -1;
+    a.face = (int)h->face;
     return ref_check(m, &q, &a, 0, why, why_size);
 }
 

@@ -92,6 +92,9 @@ EXAMPLE_FN void ssr_shade(const example_frame *f, const lrt_hit *hits, uint8_t *
             memcpy(&out[3 * k], &f->rgb[3 * k], 3);
             continue;
         }
+        /* every hit takes its texel's colour, whatever its face: on a
+           steep slope the sides of the texels' stairs are the surface too
+           (falling back on side hits striped the spheres' reflections) */
         if (hits[k].kind == LRT_HIT) {
             size_t q = (size_t)hits[k].y * f->w + hits[k].x;
             for (c = 0; c < 3; ++c) refl[c] = (float)f->rgb[3 * q + (size_t)c] / 255.0f;
@@ -112,7 +115,7 @@ int main(int argc, char **argv)
     lrt_ray *rays;
     lrt_hit *hits;
     uint8_t *out;
-    size_t n, k, hit_count = 0;
+    size_t n, k, hit_count = 0, top_count = 0;
     double t0, t1, t2;
     int rc;
     if ((rc = example_parse_args(&o, argc, argv, NULL, NULL)) != EXAMPLE_EXIT_OK) return rc;
@@ -131,9 +134,13 @@ int main(int argc, char **argv)
     example_trace(&f, rays, hits, f.w, 0, o.threads, "ssr trace");
     t2 = example_now_ms();
     ssr_shade(&f, hits, out);
-    for (k = 0; k < n; ++k) hit_count += hits[k].kind == LRT_HIT;
-    printf("ssr: %ux%u, %zu reflection rays: set-up %.1f ms, trace %.1f ms on %d threads, %.1f%% hit\n", f.w, f.h, n,
-           t1 - t0, t2 - t1, o.threads, 100.0 * (double)hit_count / (double)n);
+    for (k = 0; k < n; ++k) {
+        hit_count += hits[k].kind == LRT_HIT;
+        top_count += hits[k].kind == LRT_HIT && hits[k].face == LRT_FACE_TOP;
+    }
+    printf("ssr: %ux%u, %zu reflection rays: set-up %.1f ms, trace %.1f ms on %d threads, %.1f%% hit (%.1f%% on a top face)\n",
+           f.w, f.h, n, t1 - t0, t2 - t1, o.threads, 100.0 * (double)hit_count / (double)n,
+           100.0 * (double)top_count / (double)n);
     rc = example_write_png(o.out_dir, "ssr.png", f.w, f.h, 3, out) ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
     free(rays);
     free(hits);

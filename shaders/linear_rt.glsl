@@ -29,16 +29,25 @@
 #define LRT_MISS_TMAX 2u
 #define LRT_MISS_OFF_SCREEN 3u
 #define LRT_MISS_INVALID_RAY 4u
+#define LRT_FACE_NONE 0u
+#define LRT_FACE_TOP 1u
+#define LRT_FACE_SIDE 2u
+#define LRT_FACE_BACK 3u
+#define LRT_FACE_INSIDE 4u
 #define LRT_INF uintBitsToFloat(0x7f800000u)
 
 struct LrtParams {
     uint width, height, format, flags, node_bits, level_count, depth_offset, row_stride;
 };
 
+// lrt_hit of linear_rt.h, fields apart; lrt_hit_word3 packs kind and face
+// as that struct's 4th word holds them
 struct LrtHit {
     float t;
-    uint x, y, kind;
+    uint x, y, kind, face;
 };
+
+uint lrt_hit_word3(LrtHit h) { return h.kind | (h.face << 16); }
 
 // ============================================================================
 // Level geometry and the modified Morton mapping (as lrt_layout_compute)
@@ -694,7 +703,19 @@ bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float e
     return en <= lrt_widen(ex);
 }
 
-LrtHit lrt_report(LrtSetup s, float t_scale, float t, float tmin, float tmax, uint tx, uint ty)
+// the face of a hit at t in texel (tx, ty), as linear_rt.h's lrt__face:
+// the plane whose t is the entering t, found by equality (an axis the ray
+// does not move along has no plane there)
+uint lrt_face(LrtParams p, LrtSetup s, uint tx, uint ty, float t)
+{
+    if (s.neg.z == 0u && !s.zero.z && lrt_depth_plane(s, p.format, lrt_depth_raw(p, tx, ty)) == t) return LRT_FACE_TOP;
+    precise float xe = (float(tx + s.neg.x) - s.o.x) * s.iv.x, ye = (float(ty + s.neg.y) - s.o.y) * s.iv.y;
+    if ((!s.zero.x && xe == t) || (!s.zero.y && ye == t)) return LRT_FACE_SIDE;
+    if (s.neg.z != 0u && !s.zero.z && lrt_depth_plane(s, 3u, floatBitsToUint(1.0)) == t) return LRT_FACE_BACK;
+    return LRT_FACE_INSIDE;
+}
+
+LrtHit lrt_report(LrtParams p, LrtSetup s, float t_scale, float t, float tmin, float tmax, uint tx, uint ty)
 {
     precise float tt = (t + s.t_base) * t_scale;
     LrtHit h;
@@ -702,6 +723,7 @@ LrtHit lrt_report(LrtSetup s, float t_scale, float t, float tmin, float tmax, ui
     h.x = tx;
     h.y = ty;
     h.kind = LRT_HIT;
+    h.face = lrt_face(p, s, tx, ty, t);
     return h;
 }
 
@@ -854,6 +876,7 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
     hit.t = 0.0;
     hit.x = 0u;
     hit.y = 0u;
+    hit.face = LRT_FACE_NONE;
     LrtSetup s;
     float t_scale;
     uint kind;
@@ -866,7 +889,7 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
         float en = s.t_lo, ex = s.t_hi, t;
         lrt_slab(float(nx), float(nx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
         lrt_slab(float(ny), float(ny + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
-        if (lrt_test_texel(p, s, nx, ny, en, ex, t)) return lrt_report(s, t_scale, t, tmin, tmax, nx, ny);
+        if (lrt_test_texel(p, s, nx, ny, en, ex, t)) return lrt_report(p, s, t_scale, t, tmin, tmax, nx, ny);
         hit.kind = kind;
         return hit;
     }
@@ -893,7 +916,7 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
                 float en = s.t_lo, ex = s.t_hi, t;
                 lrt_slab(float(tx), float(tx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
                 lrt_slab(float(ty), float(ty + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
-                if (lrt_test_texel(p, s, tx, ty, en, ex, t)) return lrt_report(s, t_scale, t, tmin, tmax, tx, ty);
+                if (lrt_test_texel(p, s, tx, ty, en, ex, t)) return lrt_report(p, s, t_scale, t, tmin, tmax, tx, ty);
             }
         } else if (m != 0u) { // down into the first child met; the others wait in masks
             uint k = uint(findLSB(m)), slot = k ^ flip;

@@ -11,7 +11,7 @@ struct LrtRayIn {
     float tmax;
 };
 layout(set = 0, binding = 4, std430) readonly buffer LrtRays { LrtRayIn r[]; } lrt_rays;
-layout(set = 0, binding = 5, std430) writeonly buffer LrtHits { LrtHit h[]; } lrt_hits;
+layout(set = 0, binding = 5, std430) writeonly buffer LrtHits { uvec4 h[]; } lrt_hits; // lrt_hit: t, x, y, kind | face << 16
 
 void main()
 {
@@ -19,5 +19,6 @@ void main()
     if (idx >= pc.ray_count) return;
     uint i = pc.ray_first + idx;
     LrtRayIn r = lrt_rays.r[i];
-    lrt_hits.h[i] = lrt_trace_ray(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, (pc.trace_flags & 1u) != 0u);
+    LrtHit hit = lrt_trace_ray(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, (pc.trace_flags & 1u) != 0u);
+    lrt_hits.h[i] = uvec4(floatBitsToUint(hit.t), hit.x, hit.y, lrt_hit_word3(hit));
 }

@@ -343,6 +343,7 @@ RAYS_MAYBE_UNUSED static ref_answer to_answer(const lrt_hit *h)
     a.t = h->t;
     a.x = (int)h->x;
     a.y = (int)h->y;
+    a.face = (int)h->face;
     return a;
 }
 

@@ -66,12 +66,19 @@ typedef struct ref_map { int w, h; double *d; } ref_map;
 
 enum { REF_HIT = 1, REF_MISS_TMAX = 2, REF_MISS_OFF_SCREEN = 3, REF_MISS_INVALID = 4 };
 
-/* kind as above; for a hit: t and the texel (x, y). For a miss: t = 0,
-   x = y = -1. */
-typedef struct ref_result { int kind; double t; int x, y; } ref_result;
+/* The face of the box a hit enters by (MODEL.md): the top z = d, a side
+   (x or y), the back z = 1 (the far plane, from behind), or inside (the
+   origin at tmin already in the box, on none of its faces). REF_FACE_ANY
+   in an answer: not reported, not checked (approximate tracers). */
+enum { REF_FACE_ANY = -1, REF_FACE_NONE = 0, REF_FACE_TOP = 1, REF_FACE_SIDE = 2, REF_FACE_BACK = 3,
+       REF_FACE_INSIDE = 4 };
 
-/* what a tracer returned for a ray: kind as above, t, texel x,y */
-typedef struct ref_answer { int kind; float t; int x, y; } ref_answer;
+/* kind as above; for a hit: t, the texel (x, y) and the face. For a miss:
+   t = 0, x = y = -1, face REF_FACE_NONE. */
+typedef struct ref_result { int kind; double t; int x, y, face; } ref_result;
+
+/* what a tracer returned for a ray: kind as above, t, texel x,y, face */
+typedef struct ref_answer { int kind; float t; int x, y, face; } ref_answer;
 
 /* ray as float32 values, as the tracer saw it */
 typedef struct ref_ray { float o[3], v[3], tmin, tmax; } ref_ray;
@@ -222,25 +229,34 @@ static int ref__in_slab_at(double o, double v, double t, double lo, double hi)
    interval's ends when it is not empty. */
 static int ref__box(const double o[3], const double v[3], const double lo3[3],
                     const double hi3[3], const ref__ev *t0, const ref__ev *t1,
-                    ref__ev *enter_out, ref__ev *exit_out)
+                    ref__ev *enter_out, ref__ev *exit_out, int *face_out)
 {
     ref__ev lo = *t0, hi = *t1;
-    int c;
+    int c, face = REF_FACE_INSIDE, along = REF_FACE_INSIDE;
     for (c = 0; c < 3; c++) {
+        /* the face of axis c's plane the ray enters by: z's low plane is the top */
+        const int plane_face = c < 2 ? REF_FACE_SIDE : v[c] < 0 ? REF_FACE_BACK : REF_FACE_TOP;
         ref__ev e1, e2;
+        int k;
         if (v[c] == 0) {
             if (!(lo3[c] <= o[c] && o[c] <= hi3[c])) return 0;
+            /* moving along a face: on it, for every t */
+            if (o[c] == lo3[c] || o[c] == hi3[c])
+                along = c < 2 ? REF_FACE_SIDE : o[c] == lo3[c] ? REF_FACE_TOP : REF_FACE_BACK;
             continue;
         }
         e1 = ref__ev_plane(lo3[c], o[c], v[c]);
         e2 = ref__ev_plane(hi3[c], o[c], v[c]);
         if (v[c] < 0) { ref__ev tmp = e1; e1 = e2; e2 = tmp; }
-        if (ref__cmp(&e1, &lo) > 0) lo = e1;
+        k = ref__cmp(&e1, &lo);
+        /* a plane crossed at exactly t0 puts the point on that face */
+        if (k > 0 || (k == 0 && face == REF_FACE_INSIDE)) { lo = e1; face = plane_face; }
         if (ref__cmp(&e2, &hi) < 0) hi = e2;
         if (ref__cmp(&lo, &hi) > 0) return 0;
     }
     if (enter_out) *enter_out = lo;
     if (exit_out) *exit_out = hi;
+    if (face_out) *face_out = face == REF_FACE_INSIDE ? along : face;
     return 1;
 }
 
@@ -334,23 +350,24 @@ REF_FUNC void ref_map_free(ref_map *m)
 /* exact test of one texel against the ray, t in [*t0, *t1] */
 static int ref__texel(const ref_map *m, int i, int j, const double o[3],
                       const double v[3], const ref__ev *t0, const ref__ev *t1,
-                      ref__ev *enter)
+                      ref__ev *enter, int *face)
 {
     double lo3[3], hi3[3];
     lo3[0] = i; lo3[1] = j; lo3[2] = m->d[(size_t)j * (size_t)m->w + (size_t)i];
     hi3[0] = i + 1.0; hi3[1] = j + 1.0; hi3[2] = 1.0;
-    return ref__box(o, v, lo3, hi3, t0, t1, enter, NULL);
+    return ref__box(o, v, lo3, hi3, t0, t1, enter, NULL, face);
 }
 
 /* Keep the earlier of the current best and texel (i, j). */
 static void ref__consider(const ref_map *m, int i, int j, const double o[3],
                           const double v[3], const ref__ev *t0, const ref__ev *t1,
-                          int *found, ref__ev *best, int *bx, int *by)
+                          int *found, ref__ev *best, int *bx, int *by, int *bface)
 {
     ref__ev e;
-    if (!ref__texel(m, i, j, o, v, t0, t1, &e)) return;
+    int face;
+    if (!ref__texel(m, i, j, o, v, t0, t1, &e, &face)) return;
     if (!*found || ref__cmp(&e, best) < 0) {
-        *found = 1; *best = e; *bx = i; *by = j;
+        *found = 1; *best = e; *bx = i; *by = j; *bface = face;
     }
 }
 
@@ -361,9 +378,9 @@ REF_FUNC ref_result ref_trace(const ref_map *m, const double o[3], const double 
     ref_result r;
     ref__ev tmin_e, tmax_e, T0, T1, best;
     double slo[3], shi[3];
-    int c, found = 0, bx = -1, by = -1;
+    int c, found = 0, bx = -1, by = -1, bface = REF_FACE_NONE;
 
-    r.kind = REF_MISS_INVALID; r.t = 0; r.x = -1; r.y = -1;
+    r.kind = REF_MISS_INVALID; r.t = 0; r.x = -1; r.y = -1; r.face = REF_FACE_NONE;
     if (!m || !m->d || m->w < 1 || m->h < 1) return r;
     for (c = 0; c < 3; c++)
         if (!ref__finite(o[c]) || !ref__finite(v[c])) return r;
@@ -377,7 +394,7 @@ REF_FUNC ref_result ref_trace(const ref_map *m, const double o[3], const double 
     shi[0] = m->w; shi[1] = m->h; shi[2] = 1;
 
     /* clip to the screen box (every texel box lies inside it) */
-    if (ref__box(o, v, slo, shi, &tmin_e, &tmax_e, &T0, &T1)) {
+    if (ref__box(o, v, slo, shi, &tmin_e, &tmax_e, &T0, &T1, NULL)) {
         /* a: the axis of the walk (the faster one), b: the other */
         int a = fabs(v[0]) >= fabs(v[1]) ? 0 : 1, b = 1 - a;
         int na = a == 0 ? m->w : m->h, nb = b == 0 ? m->w : m->h;
@@ -388,7 +405,7 @@ REF_FUNC ref_result ref_trace(const ref_map *m, const double o[3], const double 
             ref__cells(o[1], o[1], 0, m->h, &j0, &j1);
             for (j = j0; j <= j1; j++)
                 for (i = i0; i <= i1; i++)
-                    ref__consider(m, i, j, o, v, &tmin_e, &tmax_e, &found, &best, &bx, &by);
+                    ref__consider(m, i, j, o, v, &tmin_e, &tmax_e, &found, &best, &bx, &by, &bface);
         } else {
             double e0, e1, A0, A1;
             int k0, k1, k, step = v[a] > 0 ? 1 : -1;
@@ -419,7 +436,7 @@ REF_FUNC ref_result ref_trace(const ref_map *m, const double o[3], const double 
                 for (j = j0; j <= j1; j++) {
                     int i = a == 0 ? k : j, jj = a == 0 ? j : k;
                     if (m->d[(size_t)jj * (size_t)m->w + (size_t)i] > zmax) continue;
-                    ref__consider(m, i, jj, o, v, &tmin_e, &tmax_e, &found, &best, &bx, &by);
+                    ref__consider(m, i, jj, o, v, &tmin_e, &tmax_e, &found, &best, &bx, &by, &bface);
                 }
             }
         }
@@ -430,6 +447,7 @@ REF_FUNC ref_result ref_trace(const ref_map *m, const double o[3], const double 
         r.t = best.a;
         r.x = bx;
         r.y = by;
+        r.face = bface;
         return r;
     }
     /* a miss: on the screen (closed rectangle, x and y only) at tmax? */
@@ -473,10 +491,53 @@ static void ref__why(char *why, size_t n, const char *msg)
     }
 }
 
+static const char *ref__face_name(int face)
+{
+    switch (face) {
+    case REF_FACE_NONE: return "none";
+    case REF_FACE_TOP: return "top";
+    case REF_FACE_SIDE: return "side";
+    case REF_FACE_BACK: return "back";
+    case REF_FACE_INSIDE: return "inside";
+    default: return "bad-face";
+    }
+}
+
+/* Is a hit's reported face right for its point p = o + t v in texel (x, y)?
+   The exact answer's face, or any face p lies on within tol_c per
+   component (an edge, or a boundary the rounding of o moves it across);
+   inside only at tmin. A miss has no face. */
+static int ref__face_fits(const ref_map *m, const double o[3], const double v[3], double tmin,
+                          const ref_answer *got, int exact_face)
+{
+    double t = got->t, p[3], tol[3];
+    int c;
+    if (got->face == REF_FACE_ANY) return 1;
+    if (got->kind != REF_HIT) return got->face == REF_FACE_NONE;
+    if (got->face == exact_face) return 1;
+    for (c = 0; c < 3; c++) {
+        p[c] = o[c] + t * v[c];
+        tol[c] = 1e-5 * (1 + fabs(o[c]) + fabs(t * v[c]));
+    }
+    switch (got->face) {
+    case REF_FACE_TOP:
+        return fabs(p[2] - m->d[(size_t)got->y * (size_t)m->w + (size_t)got->x]) <= tol[2];
+    case REF_FACE_SIDE:
+        return fabs(p[0] - got->x) <= tol[0] || fabs(p[0] - (got->x + 1.0)) <= tol[0] ||
+               fabs(p[1] - got->y) <= tol[1] || fabs(p[1] - (got->y + 1.0)) <= tol[1];
+    case REF_FACE_BACK:
+        return fabs(p[2] - 1.0) <= tol[2];
+    case REF_FACE_INSIDE:
+        return fabs(t - tmin) <= 1e-5 * (1 + fabs(tmin));
+    default:
+        return 0;
+    }
+}
+
 /* Does `got` match the exact answer E of the ray (po, pv) (the given ray,
    or a perturbed one)? The reported hit point is taken on the given ray
    (o, v). Exact mode only (any-hit is handled by ref_check). */
-static int ref__match(const ref_map *m, const double o[3], const double v[3],
+static int ref__match(const ref_map *m, const double o[3], const double v[3], double tmin,
                       const double po[3], const double pv[3], const ref_result *E,
                       const ref_answer *got, char *msg, size_t n)
 {
@@ -487,7 +548,11 @@ static int ref__match(const ref_map *m, const double o[3], const double v[3],
                           ref__kind_name(E->kind));
         return 0;
     }
-    if (E->kind != REF_HIT) return 1;
+    if (E->kind != REF_HIT) {
+        if (got->face == REF_FACE_ANY || got->face == REF_FACE_NONE) return 1;
+        if (msg) snprintf(msg, n, "a miss with face %s", ref__face_name(got->face));
+        return 0;
+    }
     if (!ref__finite(t)) {
         if (msg) snprintf(msg, n, "hit with non-finite t");
         return 0;
@@ -519,6 +584,12 @@ static int ref__match(const ref_map *m, const double o[3], const double v[3],
                               got->x, got->y, t, E->x, E->y, E->t, c, e, lo[c], hi[c], tol);
             return 0;
         }
+    }
+    if (!ref__face_fits(m, o, v, tmin, got, E->face)) {
+        if (msg) snprintf(msg, n, "face: got %s at t=%.9g (%d,%d), exact %s, and the hit point is not on a %s face",
+                          ref__face_name(got->face), t, got->x, got->y, ref__face_name(E->face),
+                          ref__face_name(got->face));
+        return 0;
     }
     return 1;
 }
@@ -557,7 +628,7 @@ static int ref__perturbed_match(const ref_map *m, const ref_ray *ray, const doub
             E = ref_trace(m, po, pv, ray->tmin, ray->tmax);
             if (any_hit) {
                 if (E.kind == got->kind) return 1;
-            } else if (ref__match(m, o, v, po, pv, &E, got, NULL, 0)) {
+            } else if (ref__match(m, o, v, ray->tmin, po, pv, &E, got, NULL, 0)) {
                 return 1;
             }
         }
@@ -640,6 +711,12 @@ REF_FUNC int ref_check(const ref_map *m, const ref_ray *ray, const ref_answer *g
                 }
             }
         }
+        if (!ref__face_fits(m, o, v, ray->tmin, got, REF_FACE_ANY - 1)) {
+            snprintf(msg, sizeof msg, "any-hit: face %s, and the point at t=%.9g is not on one",
+                     ref__face_name(got->face), (double)got->t);
+            ref__why(why, why_size, msg);
+            return 0;
+        }
         if (E.kind == got->kind) return 1;
         if (ref__perturbed_match(m, ray, o, v, got, 1)) return 1;
         snprintf(msg, sizeof msg, "any-hit: got %s, exact %s (t=%.17g texel (%d,%d)), "
@@ -649,7 +726,7 @@ REF_FUNC int ref_check(const ref_map *m, const ref_ray *ray, const ref_answer *g
         return 0;
     }
 
-    if (ref__match(m, o, v, o, v, &E, got, msg, sizeof msg)) return 1;
+    if (ref__match(m, o, v, ray->tmin, o, v, &E, got, msg, sizeof msg)) return 1;
     if (ref__perturbed_match(m, ray, o, v, got, 0)) return 1;
     {
         char full[768];

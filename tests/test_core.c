@@ -148,12 +148,14 @@ static void test_named_cases(void)
 
     h = trace1(&bvh, &m, 2.5f, 1.5f, 0.0f, 0, 0, 1, 0, 1); /* primary ray: own texel at t = d */
     CHECK(h.kind == LRT_HIT && h.t == 0.25f && h.x == 2 && h.y == 1, "primary ray: kind %u t %g (%u,%u)", h.kind, h.t, h.x, h.y);
+    CHECK(h.face == LRT_FACE_TOP, "primary ray: face %u, not the top", h.face);
     h = trace1(&bvh, &m, 6.5f, 4.5f, 0.0f, 0, 0, 1, 0, 1); /* far-plane texel: hit at z = 1 = tmax */
     CHECK(h.kind == LRT_HIT && h.t == 1.0f && h.x == 6 && h.y == 4, "far-plane texel: kind %u t %g", h.kind, h.t);
     h = trace1(&bvh, &m, 6.5f, 4.5f, 0.0f, 0, 0, 1, 0, 0.999f); /* ... not reached before tmax */
-    CHECK(h.kind == LRT_MISS_TMAX, "far-plane texel before tmax: kind %u", h.kind);
+    CHECK(h.kind == LRT_MISS_TMAX && h.face == LRT_FACE_NONE, "far-plane texel before tmax: kind %u face %u", h.kind, h.face);
     h = trace1(&bvh, &m, 0.5f, 0.5f, 0.9f, 1, 0, 0, 0.25f, 2); /* origin inside the solid at tmin */
-    CHECK(h.kind == LRT_HIT && h.t == 0.25f, "inside at tmin: kind %u t %g", h.kind, h.t);
+    CHECK(h.kind == LRT_HIT && h.t == 0.25f && h.face == LRT_FACE_INSIDE, "inside at tmin: kind %u t %g face %u", h.kind, h.t,
+          h.face);
     h = trace1(&bvh, &m, 0.5f, 3.5f, 0.5f, 1, 0, 0, 0, 100); /* over the floor, out the right edge */
     CHECK(h.kind == LRT_MISS_OFF_SCREEN, "leaves the screen: kind %u", h.kind);
     h = trace1(&bvh, &m, 0.5f, 3.5f, 0.5f, 1, 0, 0, 0, 3); /* over the floor, ends on screen */
@@ -162,6 +164,10 @@ static void test_named_cases(void)
     CHECK(h.kind == LRT_MISS_OFF_SCREEN, "whole interval off screen: kind %u", h.kind);
     h = trace1(&bvh, &m, 0.5f, 1.5f, 0.5f, 1, 0, 0, 0, 7); /* into the side of the near block */
     CHECK(h.kind == LRT_HIT && h.t == 1.5f && h.x == 2 && h.y == 1, "block side: kind %u t %g (%u,%u)", h.kind, h.t, h.x, h.y);
+    CHECK(h.face == LRT_FACE_SIDE, "block side: face %u", h.face);
+    h = trace1(&bvh, &m, 4.5f, 3.5f, 1.5f, 0, 0, -1, 0, 2); /* from behind the far plane, towards the camera */
+    CHECK(h.kind == LRT_HIT && h.t == 0.5f && h.face == LRT_FACE_BACK, "from behind: kind %u t %g face %u", h.kind, h.t,
+          h.face);
     h = trace1(&bvh, &m, 4.5f, 1.5f, 0.85f, 0, 0, 0, 0, 1); /* v = 0 inside */
     CHECK(h.kind == LRT_HIT && h.t == 0.0f, "v=0 inside: kind %u t %g", h.kind, h.t);
     h = trace1(&bvh, &m, 4.5f, 1.5f, 0.5f, 0, 0, 0, 0.5f, 1); /* v = 0 outside */
@@ -172,6 +178,7 @@ static void test_named_cases(void)
     CHECK(h.kind == LRT_HIT && h.t == 0.0f, "corner on the block top: kind %u t %g", h.kind, h.t);
     h = trace1(&bvh, &m, 2.5f, 1.5f, 0.25f, 0.5f, 0.3f, 0.2f, 0, 1); /* starts on its own surface, moves deeper */
     CHECK(h.kind == LRT_HIT && h.t == 0.0f && h.x == 2 && h.y == 1, "own surface: kind %u t %g", h.kind, h.t);
+    CHECK(h.face == LRT_FACE_TOP, "own surface: face %u, not the top it starts on", h.face);
     h = trace1(&bvh, &m, 1e30f, 1.5f, 0.5f, -1e30f, 0, 0, 0, 2); /* huge finite values */
     CHECK(h.kind == LRT_HIT && h.x == 3 && h.y == 1, "huge values: kind %u (%u,%u)", h.kind, h.x, h.y);
     h = trace1(&bvh, &m, 1.0f, 1.0f, 0.0f, NAN, 0, 1, 0, 1);

@@ -47,6 +47,7 @@ static size_t judge(const example_frame *f, const lrt_ray *rays, const lrt_hit *
         a.t = hits[k].t;
         a.x = (int)hits[k].x;
         a.y = (int)hits[k].y;
+        a.face = (int)hits[k].face;
         if (!ref_check(&m, &q, &a, any_hit, why, sizeof why)) {
             if (bad++ < 3) printf("  %s ray %lu: %s\n", what, (unsigned long)k, why);
         }

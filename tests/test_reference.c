@@ -72,7 +72,7 @@ static int near_t(double got, double want)
 static ref_answer ans(int kind, double t, int x, int y)
 {
     ref_answer a;
-    a.kind = kind; a.t = (float)t; a.x = x; a.y = y;
+    a.kind = kind; a.t = (float)t; a.x = x; a.y = y; a.face = REF_FACE_ANY;
     return a;
 }
 
@@ -605,14 +605,14 @@ static ref_result brute(const ref_map *m, const ref_ray *ray, ref__ev *best_out)
 {
     double o[3], v[3];
     ref__ev t0 = ref__ev_scalar(ray->tmin), t1 = ref__ev_scalar(ray->tmax), best = t0;
-    int found = 0, bx = -1, by = -1, i, j, c;
+    int found = 0, bx = -1, by = -1, bface = REF_FACE_NONE, i, j, c;
     ref_result r;
     for (c = 0; c < 3; c++) { o[c] = ray->o[c]; v[c] = ray->v[c]; }
     for (j = 0; j < m->h; j++)
-        for (i = 0; i < m->w; i++) ref__consider(m, i, j, o, v, &t0, &t1, &found, &best, &bx, &by);
-    r.t = 0; r.x = -1; r.y = -1;
+        for (i = 0; i < m->w; i++) ref__consider(m, i, j, o, v, &t0, &t1, &found, &best, &bx, &by, &bface);
+    r.t = 0; r.x = -1; r.y = -1; r.face = REF_FACE_NONE;
     if (found) {
-        r.kind = REF_HIT; r.t = best.a; r.x = bx; r.y = by;
+        r.kind = REF_HIT; r.t = best.a; r.x = bx; r.y = by; r.face = bface;
     } else {
         double x = o[0] + (double)ray->tmax * v[0], y = o[1] + (double)ray->tmax * v[1];
         r.kind = (x >= 0 && x <= m->w && y >= 0 && y <= m->h) ? REF_MISS_TMAX
@@ -646,6 +646,61 @@ static int on_solid(const ref_map *m, double x, double y, double z, double eps)
                 return 1;
         }
     return 0;
+}
+
+/* The face a hit enters by, and the checker's rule for it: the exact face,
+   or any face the hit point lies on (an edge), inside only at tmin. */
+static void test_faces(void)
+{
+    ref_map m = map_const(6, 5, 0.5);
+    ref_ray ray;
+    ref_result r;
+    ref_answer a;
+    char why[256];
+    set_d(&m, 3, 2, 0.25); /* a raised texel */
+    ray = mkray(3.5, 2.5, 0, 0, 0, 1, 0, 1); /* straight down onto it */
+    r = ref_trace_ray(&m, &ray);
+    CHECK(r.kind == REF_HIT && r.face == REF_FACE_TOP, "top: kind %d face %d", r.kind, r.face);
+    ray = mkray(0.5, 2.5, 0.4, 1, 0, 0, 0, 10); /* level, into the raised texel's side at x = 3 */
+    r = ref_trace_ray(&m, &ray);
+    CHECK(r.kind == REF_HIT && r.x == 3 && r.face == REF_FACE_SIDE, "side: kind %d (%d,%d) face %d", r.kind, r.x, r.y,
+          r.face);
+    ray = mkray(1.5, 1.5, 1.5, 0, 0, -1, 0, 2); /* from behind the far plane */
+    r = ref_trace_ray(&m, &ray);
+    CHECK(r.kind == REF_HIT && r.t == 0.5 && r.face == REF_FACE_BACK, "back: kind %d t %g face %d", r.kind, r.t, r.face);
+    ray = mkray(1.5, 1.5, 0.75, 1, 0, 0, 0.25, 2); /* the origin inside the solid */
+    r = ref_trace_ray(&m, &ray);
+    CHECK(r.kind == REF_HIT && r.t == 0.25 && r.face == REF_FACE_INSIDE, "inside: kind %d t %g face %d", r.kind, r.t,
+          r.face);
+    ray = mkray(1.5, 1.5, 0.5, 1, 0, 0.5, 0, 2); /* starts on the top: on a face, not inside */
+    r = ref_trace_ray(&m, &ray);
+    CHECK(r.kind == REF_HIT && r.t == 0 && r.face == REF_FACE_TOP, "on the top at tmin: face %d", r.face);
+    ray = mkray(1.5, 1.5, 0.5, 1, 0, 0, 0, 2); /* level along the top: on it throughout */
+    r = ref_trace_ray(&m, &ray);
+    CHECK(r.kind == REF_HIT && r.face == REF_FACE_TOP, "along the top: face %d", r.face);
+
+    /* the checker: the exact face passes, a wrong one fails, an edge takes either */
+    ray = mkray(0.5, 2.5, 0.4, 1, 0, 0, 0, 10);
+    a = ans(REF_HIT, 2.5, 3, 2);
+    a.face = REF_FACE_SIDE;
+    CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "the exact face refused: %s", why);
+    a.face = REF_FACE_TOP;
+    CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why) && strstr(why, "face"), "a side hit told as the top accepted");
+    a.face = REF_FACE_INSIDE;
+    CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "a hit past tmin told as inside accepted");
+    a.face = REF_FACE_NONE;
+    CHECK(!ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit: a hit with no face accepted");
+    ray = mkray(0.5, 2.5, 0.25, 1, 0, 0, 0, 10); /* level with the raised top: meets its top edge */
+    a = ans(REF_HIT, 2.5, 3, 2);
+    a.face = REF_FACE_TOP;
+    CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "the top on an edge refused: %s", why);
+    a.face = REF_FACE_SIDE;
+    CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "the side on an edge refused: %s", why);
+    ray = mkray(3.5, 2.5, 0, 0, 0, 1, 0, 0.2f); /* a miss has no face */
+    a = ans(REF_MISS_TMAX, 0, 0, 0);
+    a.face = REF_FACE_TOP;
+    CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "a miss with a face accepted");
+    ref_map_free(&m);
 }
 
 static void test_random(void)
@@ -684,7 +739,9 @@ static void test_random(void)
                            v[1], v[2], (double)ray.tmin, (double)ray.tmax, w, h);
             } else if (r.kind == REF_HIT) {
                 ref__ev t0 = ref__ev_scalar(ray.tmin), t1 = ref__ev_scalar(ray.tmax), e;
-                int ok = ref__texel(&m, r.x, r.y, o, v, &t0, &t1, &e) && ref__cmp(&e, &be) == 0;
+                int face, ok = ref__texel(&m, r.x, r.y, o, v, &t0, &t1, &e, &face) && ref__cmp(&e, &be) == 0;
+                /* the same texel entered by the same face (another texel at the same t may be another face) */
+                ok = ok && (r.x != b.x || r.y != b.y || (face == r.face && r.face == b.face));
                 if (!ok && bad_brute++ < 5)
                     printf("brute t: ref %.17g (%d,%d) brute %.17g (%d,%d)\n", r.t, r.x, r.y,
                            b.t, b.x, b.y);
@@ -722,7 +779,7 @@ static void test_random(void)
             {
                 ref_answer a;
                 char why[512];
-                a.kind = r.kind; a.t = (float)r.t; a.x = r.x; a.y = r.y;
+                a.kind = r.kind; a.t = (float)r.t; a.x = r.x; a.y = r.y; a.face = r.face;
                 if (!ref_check(&m, &ray, &a, 0, why, sizeof why) && bad_check++ < 5)
                     printf("check refuses the reference: %s\n", why);
             }
@@ -748,6 +805,7 @@ int main(void)
     test_huge();
     test_from_raw();
     test_check();
+    test_faces();
     test_random();
     printf("%d passed, %d failed\n", g_pass, g_fail);
     return g_fail > 0 ? 1 : 0;

@@ -183,7 +183,7 @@ static trace_stats g_trace_total;
 
 static int same_answer(const lrt_hit *a, const lrt_hit *b)
 {
-    if (a->kind != b->kind) return 0;
+    if (a->kind != b->kind || a->face != b->face) return 0;
     if (a->kind != LRT_HIT) return a->t == b->t && a->x == b->x && a->y == b->y;
     return a->x == b->x && a->y == b->y && fabsf(a->t - b->t) <= 1e-5f * (1.0f + fabsf(b->t));
 }

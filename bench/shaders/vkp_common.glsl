@@ -6,7 +6,7 @@
 // Bindings (set 0; a kernel declares only those it uses):
 //   0 depth   float per texel, row 0 first, 0 near (standard Z, already clamped)
 //   1 rays    lrt_ray  {vec3 origin; float tmin; vec3 dir; float tmax;}
-//   2 hits    lrt_hit  {float t; uint x, y, kind;}
+//   2 hits    lrt_hit  {float t; uint x, y, kind;} (kind < 2^16: the face half is 0, not reported)
 //   3 table   uint per primitive: the texel (y*width + x) it belongs to
 //   4 aux     float or AABB storage: AABBs written from depth, or Hi-Z mips
 //   5 tlas    the top-level acceleration structure (ray-query kernels)

@@ -193,6 +193,7 @@ static void judge(const ref_map *m, const lrt_ray *rays, const lrt_hit *hits, si
         a.t = h->t;
         a.x = (int)h->x;
         a.y = (int)h->y;
+        a.face = (int)h->face;
         if (!ref_check(m, &q, &a, (flags & LRT_TRACE_ANY_HIT) != 0, why, sizeof why)) {
             print_neighbourhood(m, &q);
             FAIL("%s, ray %zu%s o=(%a %a %a) v=(%a %a %a) t=[%a %a]: %s", g_map, i, flags ? " (any-hit)" : "",
