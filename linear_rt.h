@@ -221,6 +221,7 @@ typedef enum lrt_result {
     LRT_ERROR_MISALIGNED = 18,      /* an offset or stride is not a multiple of the texel size or of
                                        the device's storage buffer offset alignment */
     LRT_ERROR_INVALID_CAMERA = 19,  /* a projection matrix with a non-finite entry or no inverse */
+    LRT_ERROR_THICKNESS_MISMATCH = 20, /* a back map without a back-map tree, or such a tree without one */
     LRT_RESULT_MAX_ENUM = 0x7fffffff
 } lrt_result;
 
@@ -232,7 +233,16 @@ typedef enum lrt_format {
     LRT_FORMAT_MAX_ENUM = 0x7fffffff
 } lrt_format;
 
-enum { LRT_DEPTH_REVERSED_Z = 1u }; /* lrt_depth.flags: 1 is near, 0 is far */
+/* lrt_depth.flags */
+enum {
+    LRT_DEPTH_REVERSED_Z = 1u,   /* 1 is near, 0 is far */
+    /* thickness (LRT_THICKNESS_BACK_MAP trees, and only they): this
+       lrt_depth is the first of two, the second describes each texel's back
+       depth (a back-face depth pass): same width, height, format and
+       reversed flag, a row stride of its own. A back in front of the depth
+       counts as the depth (MODEL.md). */
+    LRT_DEPTH_BACK_FOLLOWS = 2u
+};
 
 typedef struct lrt_depth {
     const void *data;     /* first texel of row 0                               */
@@ -259,7 +269,9 @@ typedef struct lrt_layout {
     uint32_t level_count;         /* stored levels: levels[1..level_count]; root = levels[level_count] */
     lrt_level levels[LINEAR_RT_MAX_LEVELS + 1]; /* levels[0]: the texels (not stored) */
     size_t node_count;            /* all node slots */
-    size_t bytes;                 /* node_count * node_bytes */
+    uint32_t back_codes;          /* 1: LRT_THICKNESS_BACK_MAP: each slot also has a back code (the
+                                     deepest back depth under it), node_count * 8 codes after the heights */
+    size_t bytes;                 /* node_count * node_bytes, twice that with back codes */
 } lrt_layout;
 
 enum { LRT_NODE_BITS_AUTO = 0 };
@@ -279,8 +291,24 @@ typedef struct lrt_allocator {
     void *user;
 } lrt_allocator;
 
+/* What lies behind a texel's depth (MODEL.md, thickness): by default the
+   solid reaches the far plane; a back-map tree ends each texel's box at
+   its back depth (lrt_depth.back), so rays pass behind objects. Such a
+   tree holds a second code per child (the deepest back under it): twice
+   the bytes. Build, update and trace it with a pair of maps:
+       lrt_depth maps[2] = {{depth, w, h, 0, LRT_FORMAT_FLOAT32, LRT_DEPTH_BACK_FOLLOWS},
+                            {back,  w, h, 0, LRT_FORMAT_FLOAT32, 0}};
+       lrt_bvh_build(&bvh, maps, &options, NULL); ... lrt_trace(&bvh, maps, ...);
+   CPU only so far: the Vulkan kernels refuse it. */
+typedef enum lrt_thickness {
+    LRT_THICKNESS_INFINITE = 0,   /* [depth, 1]: today's solid, the default */
+    LRT_THICKNESS_BACK_MAP = 1,   /* [depth, max(depth, back)] */
+    LRT_THICKNESS_MAX_ENUM = 0x7fffffff
+} lrt_thickness;
+
 typedef struct lrt_build_options {
     uint32_t node_bits;   /* LRT_NODE_BITS_AUTO (0), 8 or 16 */
+    uint32_t thickness;   /* lrt_thickness */
 } lrt_build_options;
 
 typedef struct lrt_bvh {     /* fields are read-only to callers */
@@ -749,6 +777,7 @@ LINEAR_RT_DEF const char *lrt_result_string(lrt_result result)
     case LRT_ERROR_LIMIT_EXCEEDED: return "a device limit is exceeded";
     case LRT_ERROR_MISALIGNED: return "an offset or stride is misaligned";
     case LRT_ERROR_INVALID_CAMERA: return "the projection matrix is not finite or not invertible";
+    case LRT_ERROR_THICKNESS_MISMATCH: return "the depth's back map and the BVH's thickness model disagree";
     default: return "unknown result code";
     }
 }
@@ -769,6 +798,20 @@ static lrt_result lrt__check_size(uint32_t width, uint32_t height)
     return LRT_SUCCESS;
 }
 
+/* A map's row stride (given: 0 = packed rows of row_bytes). The map spans
+   stride*(height-1) + row_bytes bytes: no C object is larger than
+   PTRDIFF_MAX, so a span past it is an overflow (one row spans row_bytes,
+   whatever its stride, which is then never used). */
+static lrt_result lrt__check_stride(size_t given, size_t row_bytes, uint32_t height, size_t *out)
+{
+    size_t stride = given ? given : row_bytes;
+    if (stride < row_bytes) return LRT_ERROR_INVALID_STRIDE;
+    if (height == 1) stride = row_bytes;
+    else if (stride > ((size_t)PTRDIFF_MAX - row_bytes) / (height - 1)) return LRT_ERROR_SIZE_OVERFLOW;
+    *out = stride;
+    return LRT_SUCCESS;
+}
+
 /* Everything about a depth map that can be wrong, checked before any work. */
 static lrt_result lrt__check_depth(const lrt_depth *depth, size_t *out_stride)
 {
@@ -779,27 +822,37 @@ static lrt_result lrt__check_depth(const lrt_depth *depth, size_t *out_stride)
     if ((r = lrt__check_size(depth->width, depth->height)) != LRT_SUCCESS) return r;
     bpp = lrt__format_bytes(depth->format);
     if (!bpp) return LRT_ERROR_INVALID_FORMAT;
-    if (depth->flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) return LRT_ERROR_INVALID_OPTION;
+    if (depth->flags & ~(uint32_t)(LRT_DEPTH_REVERSED_Z | LRT_DEPTH_BACK_FOLLOWS)) return LRT_ERROR_INVALID_OPTION;
     row_bytes = (size_t)depth->width * bpp; /* <= 65536: cannot overflow */
-    stride = depth->row_stride ? depth->row_stride : row_bytes;
-    if (stride < row_bytes) return LRT_ERROR_INVALID_STRIDE;
-    /* the map spans stride*(height-1) + row_bytes bytes: no C object is
-       larger than PTRDIFF_MAX, so a span past it is an overflow (one row
-       spans row_bytes, whatever its stride, which is then never used) */
-    if (depth->height == 1) stride = row_bytes;
-    else if (stride > ((size_t)PTRDIFF_MAX - row_bytes) / (depth->height - 1))
-        return LRT_ERROR_SIZE_OVERFLOW;
+    if ((r = lrt__check_stride(depth->row_stride, row_bytes, depth->height, &stride)) != LRT_SUCCESS) return r;
     *out_stride = stride;
     return LRT_SUCCESS;
+}
+
+/* The back map (depth[1], LRT_DEPTH_BACK_FOLLOWS) against the tree's
+   thickness model: there exactly when the tree has back codes, the same
+   size, format and Z direction as the depth, a valid stride of its own. */
+static lrt_result lrt__check_back(const lrt_depth *depth, uint32_t back_codes, size_t *out_stride)
+{
+    const lrt_depth *back = depth + 1;
+    *out_stride = 0;
+    if (((depth->flags & LRT_DEPTH_BACK_FOLLOWS) != 0) != (back_codes != 0)) return LRT_ERROR_THICKNESS_MISMATCH;
+    if (!back_codes) return LRT_SUCCESS;
+    if (!back->data) return LRT_ERROR_NULL_POINTER;
+    if (back->width != depth->width || back->height != depth->height) return LRT_ERROR_SIZE_MISMATCH;
+    if (back->format != depth->format) return LRT_ERROR_INVALID_FORMAT;
+    if (back->flags != (depth->flags & LRT_DEPTH_REVERSED_Z)) return LRT_ERROR_INVALID_OPTION;
+    return lrt__check_stride(back->row_stride, (size_t)depth->width * lrt__format_bytes(depth->format), depth->height,
+                             out_stride);
 }
 
 /* Texel (x, y)'s depth as the model states it, as a raw value: the unorm
    integer v (reversed Z flipped in integers), or the bits of the float after
    the flip (in float) and the clamp. The exact texel test takes its depth
    plane from this without rounding v/max (see lrt__depth_plane). */
-LRT__INLINE uint32_t lrt__depth_raw(const lrt_depth *depth, size_t stride, uint32_t x, uint32_t y)
+LRT__INLINE uint32_t lrt__map_raw(const lrt_depth *depth, const void *data, size_t stride, uint32_t x, uint32_t y)
 {
-    const unsigned char *row = (const unsigned char *)depth->data + stride * y;
+    const unsigned char *row = (const unsigned char *)data + stride * y;
     int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
     if (depth->format == LRT_FORMAT_UNORM8) {
         uint32_t v = row[x];
@@ -818,6 +871,20 @@ LRT__INLINE uint32_t lrt__depth_raw(const lrt_depth *depth, size_t stride, uint3
         memcpy(&bits, &f, 4);
         return bits;
     }
+}
+
+LRT__INLINE uint32_t lrt__depth_raw(const lrt_depth *depth, size_t stride, uint32_t x, uint32_t y)
+{
+    return lrt__map_raw(depth, depth->data, stride, x, y);
+}
+
+/* Texel (x, y)'s back depth, raw: max(depth, back) (MODEL.md: a back in
+   front of the depth is the depth). Raw values order as depths do: a
+   unorm's integer, or the bits of a float clamped to [0, 1]. */
+LRT__INLINE uint32_t lrt__back_raw(const lrt_depth *depth, size_t stride, size_t back_stride, uint32_t x, uint32_t y)
+{
+    const uint32_t d = lrt__depth_raw(depth, stride, x, y), b = lrt__map_raw(depth, depth[1].data, back_stride, x, y);
+    return b > d ? b : d;
 }
 
 /* ============================================================================
@@ -1018,18 +1085,58 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
     }
 }
 
-/* Refit nodes [nx0,nx1] x [ny0,ny1] of level lv >= 2 from level lv-1. The 8
-   children of node (x, y) are contiguous: level lv-1's slots
-   (row-major index of (x, y) in level lv) * 8 + s. */
-static void lrt__refit_level(lrt_bvh *bvh, uint32_t lv, uint32_t nx0, uint32_t nx1, uint32_t ny0, uint32_t ny1)
+/* Back codes of level-1 nodes [nx0,nx1] x [ny0,ny1]: ceil(b * qmax) of
+   each texel's back depth b, rounded UP so that a node's back is never
+   shallower than a texel's under it; padding texels get 0, a box [1, 0]
+   no ray meets. A back map is a second map to read each frame, so this
+   stays a plain loop until it is measured. */
+static void lrt__refit_back_codes(lrt_bvh *bvh, const lrt_depth *depth, size_t stride, uint32_t nx0, uint32_t nx1,
+                                  uint32_t ny0, uint32_t ny1)
+{
+    const lrt_layout *L = &bvh->layout;
+    const uint32_t qmax = L->node_bits == 8 ? 255u : 65535u;
+    const uint32_t vmax = depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
+    size_t back_stride;
+    uint32_t nx, ny, s;
+    (void)lrt__check_back(depth, 1u, &back_stride); /* checked by the caller */
+    for (ny = ny0; ny <= ny1; ++ny) {
+        for (nx = nx0; nx <= nx1; ++nx) {
+            const size_t slot0 = L->node_count * 8u + (L->levels[1].offset + lrt_layout_node_index(L, 1, nx, ny)) * 8u;
+            for (s = 0; s < 8u; ++s) {
+                const uint32_t tx = nx * 4u + (s & 3u), ty = ny * 2u + (s >> 2);
+                uint32_t code = 0;
+                if (tx < L->width && ty < L->height) {
+                    const uint32_t raw = lrt__back_raw(depth, stride, back_stride, tx, ty);
+                    if (depth->format == LRT_FORMAT_FLOAT32) {
+                        float b;
+                        memcpy(&b, &raw, 4);
+                        code = (uint32_t)ceil((double)b * (double)qmax); /* b * qmax is exact in double */
+                    } else {
+                        code = (uint32_t)(((uint64_t)raw * qmax + vmax - 1u) / vmax);
+                    }
+                }
+                if (L->node_bits == 8) ((uint8_t *)bvh->nodes)[slot0 + s] = (uint8_t)code;
+                else ((uint16_t *)bvh->nodes)[slot0 + s] = (uint16_t)code;
+            }
+        }
+    }
+}
+
+/* Refit nodes [nx0,nx1] x [ny0,ny1] of level lv >= 2 from level lv-1, the
+   codes that start at code index `codes` (0: the heights; node_count * 8:
+   the back codes, whose max is the deepest back as the heights' is the
+   highest top). The 8 children of node (x, y) are contiguous: level
+   lv-1's slots (row-major index of (x, y) in level lv) * 8 + s. */
+static void lrt__refit_level(lrt_bvh *bvh, size_t codes, uint32_t lv, uint32_t nx0, uint32_t nx1, uint32_t ny0,
+                             uint32_t ny1)
 {
     const lrt_layout *L = &bvh->layout;
     const size_t child_base = L->levels[lv - 1].offset, base = L->levels[lv].offset;
     uint32_t nx, ny, s, c;
     for (ny = ny0; ny <= ny1; ++ny) {
         for (nx = nx0; nx <= nx1; ++nx) {
-            size_t node = (base + lrt_layout_node_index(L, lv, nx, ny)) * 8u;
-            size_t first_child = (child_base + ((size_t)ny * L->levels[lv].width + nx) * 8u) * 8u;
+            size_t node = codes + (base + lrt_layout_node_index(L, lv, nx, ny)) * 8u;
+            size_t first_child = codes + (child_base + ((size_t)ny * L->levels[lv].width + nx) * 8u) * 8u;
             if (nx >= L->levels[lv].width || ny >= L->levels[lv].height) {
                 /* a padding node has no children in memory: height 0 */
                 memset((unsigned char *)bvh->nodes + node * (L->node_bits / 8u), 0, L->node_bytes);
@@ -1075,19 +1182,32 @@ static void lrt__refit(lrt_bvh *bvh, const lrt_depth *depth, size_t stride, uint
                 ny1 = L->levels[lv + 1].height * v->block_h - 1;
             }
         }
-        if (lv == 1) lrt__refit_texel_parents(bvh, depth, stride, nx0, nx1, ny0, ny1);
-        else lrt__refit_level(bvh, lv, nx0, nx1, ny0, ny1);
+        if (lv == 1) {
+            lrt__refit_texel_parents(bvh, depth, stride, nx0, nx1, ny0, ny1);
+            if (L->back_codes) lrt__refit_back_codes(bvh, depth, stride, nx0, nx1, ny0, ny1);
+        } else {
+            lrt__refit_level(bvh, 0, lv, nx0, nx1, ny0, ny1);
+            if (L->back_codes) lrt__refit_level(bvh, L->node_count * 8u, lv, nx0, nx1, ny0, ny1);
+        }
     }
 }
 
 #define LRT__ALIGN 16u /* a 16-bit node */
 
-static lrt_result lrt__resolve_bits(lrt_format format, const lrt_build_options *options, uint32_t *bits)
+/* The options' node width and thickness model, then the layout they make. */
+static lrt_result lrt__options_layout(uint32_t width, uint32_t height, lrt_format format, const lrt_build_options *options,
+                                      lrt_layout *layout)
 {
-    uint32_t b = options ? options->node_bits : 0u;
+    uint32_t b = options ? options->node_bits : 0u, thickness = options ? options->thickness : 0u;
+    lrt_result r;
     if (b == LRT_NODE_BITS_AUTO) b = format == LRT_FORMAT_UNORM8 ? 8u : 16u;
     if (b != 8 && b != 16) return LRT_ERROR_INVALID_OPTION;
-    *bits = b;
+    if (thickness != LRT_THICKNESS_INFINITE && thickness != LRT_THICKNESS_BACK_MAP) return LRT_ERROR_INVALID_OPTION;
+    if ((r = lrt_layout_compute(width, height, b, layout)) != LRT_SUCCESS) return r;
+    if (thickness == LRT_THICKNESS_BACK_MAP) {
+        layout->back_codes = 1;
+        layout->bytes *= 2u; /* < 2^32 for 16384^2 16-bit nodes */
+    }
     return LRT_SUCCESS;
 }
 
@@ -1095,13 +1215,11 @@ LINEAR_RT_DEF lrt_result lrt_bvh_memory_size(uint32_t width, uint32_t height, lr
                                              const lrt_build_options *options, size_t *out_bytes)
 {
     lrt_layout L;
-    uint32_t bits;
     lrt_result r;
     if (!out_bytes) return LRT_ERROR_NULL_POINTER;
     if ((r = lrt__check_size(width, height)) != LRT_SUCCESS) return r;
     if (!lrt__format_bytes(format)) return LRT_ERROR_INVALID_FORMAT;
-    if ((r = lrt__resolve_bits(format, options, &bits)) != LRT_SUCCESS) return r;
-    if ((r = lrt_layout_compute(width, height, bits, &L)) != LRT_SUCCESS) return r;
+    if ((r = lrt__options_layout(width, height, format, options, &L)) != LRT_SUCCESS) return r;
     *out_bytes = L.bytes + LRT__ALIGN - 1; /* room to align caller memory */
     return LRT_SUCCESS;
 }
@@ -1110,12 +1228,12 @@ LINEAR_RT_DEF lrt_result lrt_bvh_memory_size(uint32_t width, uint32_t height, lr
 static lrt_result lrt__prepare(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_build_options *options,
                                lrt_layout *layout, size_t *stride)
 {
-    uint32_t bits;
+    size_t back_stride;
     lrt_result r;
     if (!bvh) return LRT_ERROR_NULL_POINTER;
     if ((r = lrt__check_depth(depth, stride)) != LRT_SUCCESS) return r;
-    if ((r = lrt__resolve_bits(depth->format, options, &bits)) != LRT_SUCCESS) return r;
-    return lrt_layout_compute(depth->width, depth->height, bits, layout);
+    if ((r = lrt__options_layout(depth->width, depth->height, depth->format, options, layout)) != LRT_SUCCESS) return r;
+    return lrt__check_back(depth, layout->back_codes, &back_stride);
 }
 
 static void lrt__finish_build(lrt_bvh *bvh, const lrt_layout *layout, void *nodes, const lrt_allocator *allocator,
@@ -1180,12 +1298,13 @@ LINEAR_RT_DEF void lrt_bvh_destroy(lrt_bvh *bvh)
 /* The BVH and the depth it was made from must agree before anything is read. */
 static lrt_result lrt__check_pair(const lrt_bvh *bvh, const lrt_depth *depth, size_t *stride)
 {
+    size_t back_stride;
     lrt_result r;
     if (!bvh) return LRT_ERROR_NULL_POINTER;
     if (!bvh->built || !bvh->nodes) return LRT_ERROR_INVALID_BVH;
     if ((r = lrt__check_depth(depth, stride)) != LRT_SUCCESS) return r;
     if (depth->width != bvh->layout.width || depth->height != bvh->layout.height) return LRT_ERROR_SIZE_MISMATCH;
-    return LRT_SUCCESS;
+    return lrt__check_back(depth, bvh->layout.back_codes, &back_stride);
 }
 
 LINEAR_RT_DEF lrt_result lrt_bvh_update(lrt_bvh *bvh, const lrt_depth *depth, const lrt_rect *dirty)
@@ -1247,6 +1366,7 @@ typedef struct lrt__ray_setup {
        fused step, p * iv + c, with c moved out by more than that step's
        error (lrt__cull_axis) */
     lrt__lanes cull_iv[2], cull_enter[2], cull_exit[2], cull_za, cull_zb, cull_hi;
+    lrt__lanes cull_ba, cull_bb; /* the back plane's t: back code * ba + bb (back-map trees) */
 #endif
 } lrt__ray_setup;
 
@@ -1893,6 +2013,9 @@ typedef struct lrt__walk {
     uint32_t qmax, wide_codes; /* wide_codes: 16-bit nodes */
     uint32_t row_prefetch_level; /* 3: entering a level-2 node prefetches the depth rows the exact test reads; ~0: never */
     float decode_scale; /* just below 1/qmax: decoded bounds never exceed the true ones */
+    size_t back_codes;  /* 0, or the code index of the back codes (a back-map tree) */
+    size_t back_stride; /* of depth->back */
+    float back_scale;   /* just above 1/qmax: a decoded back is never shallower than the true one */
     int exact_codes;    /* the level-1 codes are the input depth itself */
     int plain_float;    /* float depth, standard Z */
     uint32_t texels8_w, texels8_h; /* plain float: level-1 nodes (x, y) below these lie inside the map (lrt__texels8) */
@@ -1963,7 +2086,13 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
     w->decode_scale = (1.0f / (float)w->qmax) * (1.0f - 1.0f / 1048576.0f);
     w->exact_codes = depth->format != LRT_FORMAT_FLOAT32 && lrt__format_bytes(depth->format) * 8u <= L->node_bits;
     w->row_prefetch_level = w->exact_codes ? ~0u : 3u;
-    w->plain_float = depth->format == LRT_FORMAT_FLOAT32 && !(depth->flags & LRT_DEPTH_REVERSED_Z);
+    w->back_scale = (1.0f / (float)w->qmax) * (1.0f + 1.0f / 1048576.0f);
+    if (L->back_codes) {
+        w->back_codes = L->node_count * 8u;
+        (void)lrt__check_back(depth, 1u, &w->back_stride); /* checked by lrt_trace */
+    }
+    /* the straight float path (lrt__texels8) reads no back map */
+    w->plain_float = depth->format == LRT_FORMAT_FLOAT32 && !(depth->flags & LRT_DEPTH_REVERSED_Z) && !L->back_codes;
     w->texels8_w = w->plain_float ? L->width / 4u : 0u;
     w->texels8_h = w->plain_float ? L->height / 2u : 0u;
     for (i = 1; i <= L->level_count; ++i) {
@@ -2121,6 +2250,12 @@ LRT__INLINE uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
 }
 #endif
 
+/* Code `slot` of the node array (a height, or a back code past back_codes). */
+LRT__INLINE uint32_t lrt__code(const lrt__walk *w, size_t slot, uint32_t wide)
+{
+    return wide ? ((const uint16_t *)w->nodes)[slot] : ((const uint8_t *)w->nodes)[slot];
+}
+
 #if LRT__SSE
 /* A node's 8 codes as 16-bit lanes, in slot order. */
 LRT__INLINE __m128i lrt__load_codes(const lrt__walk *w, size_t slot0, uint32_t wide)
@@ -2200,13 +2335,20 @@ LRT__FORCE_INLINE void lrt__z_plane8(__m256 tz, uint32_t neg_z, __m256 *enter, _
 /* The exact boxes of node (x0, y0)'s 8 children (codes c16, in slot order)
    in visiting order. */
 LRT__FORCE_INLINE void lrt__box8(const lrt__walk *w, const lrt__ray_setup *s, const lrt__walk_level *v, float x0, float y0,
-                                 __m128i c16, uint32_t tall, uint32_t neg_z, __m256 *enter, __m256 *exit)
+                                 __m128i c16, size_t slot0, uint32_t tall, uint32_t wide, uint32_t neg_z, __m256 *enter,
+                                 __m256 *exit)
 {
     const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(c16), s->sg->order[tall]);
     const __m256 dz = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), codes));
     lrt__slabs8(s, v, x0, y0, tall, enter, exit);
     lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(dz, _mm256_set1_ps(w->decode_scale)), s->vo[2]), s->viv[2]),
                   neg_z, enter, exit);
+    if (w->back_codes) { /* the back plane: the other side of the box */
+        const __m256i back = _mm256_permutevar8x32_epi32(
+            _mm256_cvtepu16_epi32(lrt__load_codes(w, w->back_codes + slot0, wide)), s->sg->order[tall]);
+        const __m256 bz = _mm256_mul_ps(_mm256_cvtepi32_ps(back), _mm256_set1_ps(w->back_scale));
+        lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(bz, s->vo[2]), s->viv[2]), neg_z ^ 1u, enter, exit);
+    }
 }
 
 /* Level-1 node (nx, ny) of plain float depth, wholly inside the map:
@@ -2260,7 +2402,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
 #if LRT__AVX
     {
         __m256 en, ex;
-        lrt__box8(w, s, v, x0, y0, c16, tall, neg_z, &en, &ex);
+        lrt__box8(w, s, v, x0, y0, c16, slot0, tall, wide, neg_z, &en, &ex);
         _mm256_storeu_ps(enter, en);
         _mm256_storeu_ps(exit, ex);
         mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
@@ -2280,6 +2422,13 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
             ex = _mm_min_ps(yx[k], ex);
             if (neg_z) ex = _mm_min_ps(tz, ex); /* the z plane leaves (v.z < 0) or enters */
             else en = _mm_max_ps(tz, en);
+            if (w->back_codes) { /* the back plane: the other side of the box */
+                const __m128i b16 = lrt__load_codes(w, w->back_codes + slot0, wide);
+                const __m128 bz = _mm_cvtepi32_ps(k ? _mm_unpackhi_epi16(b16, zero) : _mm_unpacklo_epi16(b16, zero));
+                const __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(bz, _mm_set1_ps(w->back_scale)), s->vo[2]), s->viv[2]);
+                if (neg_z) en = _mm_max_ps(tb, en);
+                else ex = _mm_min_ps(tb, ex);
+            }
             _mm_storeu_ps(enter + 4 * (size_t)k, en);
             _mm_storeu_ps(exit + 4 * (size_t)k, ex);
             { /* lrt__widen: ex + |ex| 2^-21 where that stays finite, else ex */
@@ -2294,13 +2443,10 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
     {
         const uint32_t bw = tall ? 2u : 4u, bh = tall ? 4u : 2u;
         uint32_t k;
-        float dz[8], px[5], py[5];
-        if (wide) {
-            const uint16_t *codes = (const uint16_t *)w->nodes + slot0;
-            for (k = 0; k < 8; ++k) dz[k] = (float)(65535 - (int)codes[k]);
-        } else {
-            const uint8_t *codes = (const uint8_t *)w->nodes + slot0;
-            for (k = 0; k < 8; ++k) dz[k] = (float)(255 - (int)codes[k]);
+        float dz[8], bz[8], px[5], py[5];
+        for (k = 0; k < 8; ++k) {
+            dz[k] = (float)((int)w->qmax - (int)lrt__code(w, slot0 + k, wide));
+            bz[k] = w->back_codes ? (float)lrt__code(w, w->back_codes + slot0 + k, wide) * w->back_scale : 0.0f;
         }
         for (k = 0; k <= bw; ++k) px[k] = ((x0 + (float)k * v->child_span_w) - s->o[0]) * s->iv[0];
         for (k = 0; k <= bh; ++k) py[k] = ((y0 + (float)k * v->child_span_h) - s->o[1]) * s->iv[1];
@@ -2314,6 +2460,11 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
             ex = LRT__MIN_KEEP(py[r + 1 - s->neg_y], ex);
             if (neg_z) ex = LRT__MIN_KEEP(tz, ex);
             else en = LRT__MAX_KEEP(tz, en);
+            if (w->back_codes) { /* the back plane: the other side of the box */
+                const float tb = (bz[k] - s->o[2]) * s->iv[2];
+                if (neg_z) en = LRT__MAX_KEEP(tb, en);
+                else ex = LRT__MIN_KEEP(tb, ex);
+            }
             enter[k] = en;
             exit[k] = ex;
             mask |= (uint32_t)(en <= lrt__widen(ex)) << k;
@@ -2345,11 +2496,25 @@ LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray
     const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(lrt__load_codes(w, slot0, wide)), g->order[tall]);
     const __m256 tz = LRT__EXACT_MADD8(_mm256_cvtepi32_ps(codes), s->cull_za, s->cull_zb);
     /* X0 and Y0 wait for the parent's test, the codes' load is ahead of them */
-    const __m256 en = _mm256_max_ps(_mm256_max_ps(xe, ye), neg_z ? s->vt_lo : _mm256_max_ps(tz, s->vt_lo));
-    const __m256 ex = _mm256_min_ps(_mm256_min_ps(xx, yx), neg_z ? _mm256_min_ps(tz, s->cull_hi) : s->cull_hi);
+    __m256 en = _mm256_max_ps(_mm256_max_ps(xe, ye), neg_z ? s->vt_lo : _mm256_max_ps(tz, s->vt_lo));
+    __m256 ex = _mm256_min_ps(_mm256_min_ps(xx, yx), neg_z ? _mm256_min_ps(tz, s->cull_hi) : s->cull_hi);
+    if (w->back_codes) { /* the back plane, with margins of its own (lrt__cull_constants) */
+        const __m256i back = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(lrt__load_codes(w, w->back_codes + slot0, wide)),
+                                                         g->order[tall]);
+        const __m256 tb = LRT__EXACT_MADD8(_mm256_cvtepi32_ps(back), s->cull_ba, s->cull_bb);
+        if (neg_z) en = _mm256_max_ps(tb, en);
+        else ex = _mm256_min_ps(tb, ex);
+    }
     return (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, ex, _CMP_LE_OQ));
 }
 #endif
+
+/* The t where the ray's z meets texel (tx, ty)'s back depth (a back-map
+   tree), the way lrt__depth_plane meets its depth. */
+LRT__INLINE float lrt__back_plane(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty)
+{
+    return lrt__depth_plane(s, w->depth->format, lrt__back_raw(w->depth, w->stride, w->back_stride, tx, ty));
+}
 
 /* The exact test of one candidate texel against its true depth. */
 LRT__INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float enter,
@@ -2374,13 +2539,13 @@ LRT__INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uin
     }
     if (s->neg_z) exit = LRT__MIN_KEEP(tz, exit);
     else enter = LRT__MAX_KEEP(tz, enter);
+    if (w->back_codes) { /* the back plane: entered going up (v.z < 0), left going down */
+        const float tb = lrt__back_plane(w, s, tx, ty);
+        if (s->neg_z) enter = LRT__MAX_KEEP(tb, enter);
+        else exit = LRT__MIN_KEEP(tb, exit);
+    }
     *t = enter;
     return enter <= lrt__widen(exit);
-}
-
-LRT__INLINE uint32_t lrt__code(const lrt__walk *w, size_t slot, uint32_t wide)
-{
-    return wide ? ((const uint16_t *)w->nodes)[slot] : ((const uint8_t *)w->nodes)[slot];
 }
 
 /* The face of a hit at t (lrt_hit_face): which plane of texel (tx, ty)'s
@@ -2394,7 +2559,8 @@ static uint32_t lrt__face(const lrt__walk *w, const lrt__ray_setup *s, uint32_t 
         return LRT_FACE_TOP;
     if (((float)(tx + s->neg_x) - s->o[0]) * s->iv[0] == t || ((float)(ty + s->neg_y) - s->o[1]) * s->iv[1] == t)
         return LRT_FACE_SIDE;
-    if (s->neg_z && lrt__depth_plane(s, LRT_FORMAT_FLOAT32, 0x3f800000u) == t) return LRT_FACE_BACK;
+    if (s->neg_z && (w->back_codes ? lrt__back_plane(w, s, tx, ty) : lrt__depth_plane(s, LRT_FORMAT_FLOAT32, 0x3f800000u)) == t)
+        return LRT_FACE_BACK;
     return LRT_FACE_INSIDE;
 }
 
@@ -2443,7 +2609,7 @@ static void lrt__cull_axis(float o, float iv, float extent, float t_hi, float *c
 /* The constants of lrt__cull_children, in this order, each LRT__CULL_STRIDE
    floats after the last where 8 rays are set up together (lrt__setup8). */
 enum { LRT__CULL_IV_X, LRT__CULL_IV_Y, LRT__CULL_ENTER_X, LRT__CULL_ENTER_Y, LRT__CULL_EXIT_X, LRT__CULL_EXIT_Y,
-       LRT__CULL_ZA, LRT__CULL_ZB, LRT__CULL_HI, LRT__CULL_COUNT };
+       LRT__CULL_ZA, LRT__CULL_ZB, LRT__CULL_HI, LRT__CULL_BA, LRT__CULL_BB, LRT__CULL_COUNT };
 
 static void lrt__cull_constants(const lrt__walk *w, const lrt__ray_setup *s, float c[LRT__CULL_COUNT])
 {
@@ -2457,6 +2623,10 @@ static void lrt__cull_constants(const lrt__walk *w, const lrt__ray_setup *s, flo
     c[LRT__CULL_ZA] = -w->decode_scale * c[LRT__CULL_ZA];
     c[LRT__CULL_ZB] = s->neg_z ? zb_exit : zb_enter;
     c[LRT__CULL_HI] = lrt__widen(s->t_hi);
+    /* the back plane is back code * back_scale: it enters going up, leaves going down */
+    lrt__cull_axis(s->o[2], s->iv[2], 1.0f, s->t_hi, &c[LRT__CULL_BA], &zb_enter, &zb_exit);
+    c[LRT__CULL_BA] = w->back_scale * c[LRT__CULL_BA];
+    c[LRT__CULL_BB] = s->neg_z ? zb_enter : zb_exit;
 }
 #endif
 
@@ -2487,6 +2657,8 @@ LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s, const fl
         s->cull_za = LRT__BROADCAST(cull[LRT__CULL_ZA * stride]);
         s->cull_zb = LRT__BROADCAST(cull[LRT__CULL_ZB * stride]);
         s->cull_hi = LRT__BROADCAST(cull[LRT__CULL_HI * stride]);
+        s->cull_ba = LRT__BROADCAST(cull[LRT__CULL_BA * stride]);
+        s->cull_bb = LRT__BROADCAST(cull[LRT__CULL_BB * stride]);
     }
 #else
     (void)cull;
@@ -2852,6 +3024,14 @@ static void lrt__setup8(const lrt__walk *w, const lrt_ray *rays, lrt__batch8 *b)
         zb_exit = _mm256_loadu_ps(b->cull[LRT__CULL_HI]);
         _mm256_storeu_ps(b->cull[LRT__CULL_ZA], _mm256_mul_ps(_mm256_set1_ps(-w->decode_scale), ivz));
         _mm256_storeu_ps(b->cull[LRT__CULL_ZB], _mm256_blendv_ps(zb_enter, zb_exit, neg[2]));
+        if (w->back_codes) { /* the back plane: enters going up, leaves going down */
+            float exits[8];
+            lrt__cull_axis8(o[2], iv[2], 1.0f, t_hi, b->cull[LRT__CULL_BA], b->cull[LRT__CULL_BB], exits);
+            _mm256_storeu_ps(b->cull[LRT__CULL_BA],
+                             _mm256_mul_ps(_mm256_set1_ps(w->back_scale), _mm256_loadu_ps(b->cull[LRT__CULL_BA])));
+            _mm256_storeu_ps(b->cull[LRT__CULL_BB],
+                             _mm256_blendv_ps(_mm256_loadu_ps(exits), _mm256_loadu_ps(b->cull[LRT__CULL_BB]), neg[2]));
+        }
         { /* lrt__widen(t_hi) */
             const __m256 grown = _mm256_add_ps(t_hi, _mm256_mul_ps(_mm256_andnot_ps(sign, t_hi), _mm256_set1_ps(LRT__WIDEN_EXIT)));
             _mm256_storeu_ps(b->cull[LRT__CULL_HI],
@@ -3522,12 +3702,12 @@ static VkDeviceSize lrt__vk_storage_alignment(const lrt_vk_context *c)
 static lrt_result lrt__vk_layout(uint32_t width, uint32_t height, lrt_format format, const lrt_build_options *options,
                                  lrt_layout *layout)
 {
-    uint32_t bits;
     lrt_result r;
     if ((r = lrt__check_size(width, height)) != LRT_SUCCESS) return r;
     if (!lrt__format_bytes(format)) return LRT_ERROR_INVALID_FORMAT;
-    if ((r = lrt__resolve_bits(format, options, &bits)) != LRT_SUCCESS) return r;
-    return lrt_layout_compute(width, height, bits, layout);
+    if ((r = lrt__options_layout(width, height, format, options, layout)) != LRT_SUCCESS) return r;
+    /* the kernels have no back codes yet: a back-map tree is CPU only */
+    return layout->back_codes ? LRT_ERROR_INVALID_OPTION : LRT_SUCCESS;
 }
 
 LINEAR_RT_DEF lrt_result lrt_vk_bvh_buffer_sizes(uint32_t width, uint32_t height, lrt_format format,

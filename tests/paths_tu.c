@@ -16,6 +16,7 @@ int PATHS_FN(const lrt_depth *depth, uint32_t node_bits, const lrt_ray *rays, lr
     lrt_result r;
     memset(&opt, 0, sizeof opt);
     opt.node_bits = node_bits;
+    opt.thickness = (depth->flags & LRT_DEPTH_BACK_FOLLOWS) ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
     if ((r = lrt_bvh_build(&bvh, depth, &opt, NULL)) != LRT_SUCCESS) return (int)r;
     r = lrt_trace(&bvh, depth, rays, hits, n, flags);
     lrt_bvh_destroy(&bvh);

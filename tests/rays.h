@@ -38,6 +38,10 @@ typedef struct test_map {
     void *storage;
     ref_map ref;
     const char *name;
+    /* with a back map (add_back): pair[0] is depth with LRT_DEPTH_BACK_FOLLOWS,
+       pair[1] the back map, for LRT_THICKNESS_BACK_MAP trees */
+    lrt_depth pair[2];
+    void *back_storage;
 } test_map;
 
 enum { SHAPE_NOISE, SHAPE_TERRACES, SHAPE_SCENE, SHAPE_POLES, SHAPE_FAR, SHAPE_WILD, SHAPE_COUNT };
@@ -114,7 +118,52 @@ static void make_map(test_map *m, int w, int h, int shape, lrt_format format, in
 static void free_map(test_map *m)
 {
     free(m->storage);
+    free(m->back_storage);
     ref_map_free(&m->ref);
+}
+
+/* A back map for m, in m's format, stride and Z direction: each texel's
+   depth plus a thickness of 0 to 0.2 (thin slabs and thick ones), with
+   some backs in front of the depth (the model clamps them) and, in float,
+   some NaN and above-1 values. Sets m->pair and the reference's back. */
+RAYS_MAYBE_UNUSED static void add_back(test_map *m)
+{
+    const lrt_format format = m->depth.format;
+    const int w = (int)m->depth.width, h = (int)m->depth.height, reversed = (m->depth.flags & LRT_DEPTH_REVERSED_Z) != 0;
+    const uint32_t bpp = format == LRT_FORMAT_UNORM8 ? 1 : format == LRT_FORMAT_UNORM16 ? 2 : 4;
+    const size_t stride = m->depth.row_stride ? m->depth.row_stride + 2 : (size_t)w * bpp; /* a stride of its own */
+    unsigned char *bytes = (unsigned char *)malloc(stride * (size_t)h);
+    int i, j;
+    for (j = 0; j < h; ++j) {
+        for (i = 0; i < w; ++i) {
+            const double d = m->ref.d[(size_t)j * (size_t)w + (size_t)i];
+            const int r = rndi(16);
+            float b = (float)(d + (r < 2 ? -0.05 : r < 8 ? 0.004 * rndf() : 0.2 * rndf()));
+            unsigned char *p = bytes + stride * (size_t)j + (size_t)i * bpp;
+            if (b < 0.0f) b = 0.0f;
+            if (b > 1.0f) b = 1.0f;
+            if (reversed) b = 1.0f - b;
+            if (format == LRT_FORMAT_UNORM8) {
+                p[0] = (unsigned char)(b * 255.0f + 0.5f);
+            } else if (format == LRT_FORMAT_UNORM16) {
+                uint16_t v = (uint16_t)(b * 65535.0f + 0.5f);
+                memcpy(p, &v, 2);
+            } else {
+                if (r == 15) b = rndi(2) ? NAN : 1.5f;
+                memcpy(p, &b, 4);
+            }
+        }
+    }
+    m->back_storage = bytes;
+    m->pair[0] = m->depth;
+    m->pair[0].flags |= LRT_DEPTH_BACK_FOLLOWS;
+    m->pair[1] = m->depth;
+    m->pair[1].data = bytes;
+    m->pair[1].row_stride = m->depth.row_stride ? stride : 0;
+    if (ref_map_set_back_from_raw(&m->ref, bytes, stride, (int)format, reversed) != 0) {
+        printf("reference could not convert the back map\n");
+        exit(2);
+    }
 }
 
 /* ---- rays the fuzzer found wrong once (tests/fuzz/crashes-found/README.md) ---- */

@@ -7,20 +7,24 @@
 
    How it is exact
    ---------------
-   The model (MODEL.md): texel (i, j) with depth d is the closed box
-   [i, i+1] x [j, j+1] x [d, 1]; a hit is the smallest t in [tmin, tmax] with
-   o + t v inside any box. Every decision the reference makes (does a box meet
+   The model (MODEL.md): texel (i, j) with depth d and back depth b is the
+   closed box [i, i+1] x [j, j+1] x [d, b]; a hit is the smallest t in
+   [tmin, tmax] with o + t v inside any box. Without a back map b = 1 (the
+   infinite thickness: the box reaches the far plane); with one (a back-face
+   depth pass, ref_map_set_back_from_raw) b = max(d, back), so rays may pass
+   behind surfaces. Every decision the reference makes (does a box meet
    the ray inside [tmin, tmax], which of two boxes is entered first, is the
    point at tmax on the screen) is a comparison of two numbers of the form
    (p - o_c) / v_c or a scalar t, where p is a box plane (an integer, a depth
-   value d, or 1). Such comparisons are made exactly: a cheap double-precision
-   test with a proven error bound decides the clear cases, and the rest (ties:
-   rays through texel corners, along cell edges, grazing texel tops) are
-   decided by the exact sign of a sum of products, using error-free
-   transformations (two-sum, fma two-product) and a growing floating-point
-   expansion. This is exact for every ray whose values are float32 values
-   widened to double (the inputs the tests pass); with arbitrary doubles it is
-   exact unless a product overflows or underflows.
+   value d, a back depth b, or 1). Such comparisons are made exactly: a cheap
+   double-precision test with a proven error bound decides the clear cases,
+   and the rest (ties: rays through texel corners, along cell edges, grazing
+   texel tops or backs) are decided by the exact sign of a sum of products,
+   using error-free transformations (two-sum, fma two-product) and a
+   growing floating-point expansion. This is exact for every ray whose
+   values are float32 values widened to double (the inputs the tests pass);
+   with arbitrary doubles it is exact unless a product overflows or
+   underflows.
    The walk that picks the candidate boxes is a plain loop over the columns
    (or rows: the axis along which the ray moves fastest) that the ray's xy
    projection crosses, and over the 2 to 4 cells of the other axis in each;
@@ -32,7 +36,8 @@
    v = -1e30 is walked over the texels it really crosses.
 
    The depth values are the doubles of ref_map (converted once by
-   ref_map_from_raw); the model is exact with respect to those doubles.
+   ref_map_from_raw, the back depths by ref_map_set_back_from_raw); the model
+   is exact with respect to those doubles.
 */
 #ifndef LINEAR_RT_TESTS_REFERENCE_H
 #define LINEAR_RT_TESTS_REFERENCE_H
@@ -61,15 +66,19 @@
 
 /* ---------------------------------------------------------------- API --- */
 
-/* d[j*w+i], depth already converted: 0 near, 1 far, in [0,1] */
-typedef struct ref_map { int w, h; double *d; } ref_map;
+/* d[j*w+i], depth already converted: 0 near, 1 far, in [0,1].
+   b[j*w+i], the back depth, d <= b <= 1; b == NULL: infinite thickness
+   (b = 1 everywhere). A map built by hand must set b (NULL or malloc'd:
+   ref_map_free frees it). */
+typedef struct ref_map { int w, h; double *d; double *b; } ref_map;
 
 enum { REF_HIT = 1, REF_MISS_TMAX = 2, REF_MISS_OFF_SCREEN = 3, REF_MISS_INVALID = 4 };
 
 /* The face of the box a hit enters by (MODEL.md): the top z = d, a side
-   (x or y), the back z = 1 (the far plane, from behind), or inside (the
-   origin at tmin already in the box, on none of its faces). REF_FACE_ANY
-   in an answer: not reported, not checked (approximate tracers). */
+   (x or y), the back z = b (from behind; the far plane without a back
+   map), or inside (the origin at tmin already in the box, on none of its
+   faces). REF_FACE_ANY in an answer: not reported, not checked
+   (approximate tracers). */
 enum { REF_FACE_ANY = -1, REF_FACE_NONE = 0, REF_FACE_TOP = 1, REF_FACE_SIDE = 2, REF_FACE_BACK = 3,
        REF_FACE_INSIDE = 4 };
 
@@ -278,62 +287,98 @@ static void ref__cells(double lo, double hi, double mg, int n, int *k0, int *k1)
 
 /* ------------------------------------------------------- depth maps --- */
 
+/* One raw texel converted to a depth in [0, 1] (see ref_map_from_raw). */
+static double ref__raw_texel(const unsigned char *p, int format, int reversed)
+{
+    if (format == REF_FORMAT_UNORM8) {
+        double v = (double)p[0];
+        return reversed ? (255.0 - v) / 255.0 : v / 255.0;
+    } else if (format == REF_FORMAT_UNORM16) {
+        unsigned short u;
+        double v;
+        memcpy(&u, p, sizeof u);
+        v = (double)u;
+        return reversed ? (65535.0 - v) / 65535.0 : v / 65535.0;
+    } else {
+        float f, g;
+        memcpy(&f, p, sizeof f);
+        if (reversed) {
+            volatile float one_minus = 1.0f - f; /* rounded to float32 */
+            g = one_minus;
+        } else {
+            g = f;
+        }
+        if (g != g || g > 1.0f) return 1.0;
+        if (g < 0.0f) return 0.0;
+        if (g == 0.0f) return 0.0; /* -0 -> +0 */
+        return (double)g;
+    }
+}
+
+/* A w x h raw map converted texel by texel into a new array (row-major,
+   w per row), or NULL on bad arguments or out of memory. */
+static double *ref__read_raw(const void *data, int w, int h, size_t row_stride, int format,
+                             int reversed)
+{
+    size_t bpp, i, j;
+    const unsigned char *base = (const unsigned char *)data;
+    double *out;
+    if (!data || w < 1 || h < 1) return NULL;
+    if (format == REF_FORMAT_UNORM8) bpp = 1;
+    else if (format == REF_FORMAT_UNORM16) bpp = 2;
+    else if (format == REF_FORMAT_FLOAT32) bpp = 4;
+    else return NULL;
+    if ((size_t)w > ((size_t)-1) / bpp) return NULL;
+    if (row_stride == 0) row_stride = (size_t)w * bpp;
+    if (row_stride < (size_t)w * bpp) return NULL;
+    if ((size_t)w > ((size_t)-1) / sizeof(double) / (size_t)h) return NULL;
+    out = (double *)malloc((size_t)w * (size_t)h * sizeof(double));
+    if (!out) return NULL;
+    for (j = 0; j < (size_t)h; j++) {
+        const unsigned char *row = base + j * row_stride;
+        for (i = 0; i < (size_t)w; i++)
+            out[j * (size_t)w + i] = ref__raw_texel(row + i * bpp, format, reversed);
+    }
+    return out;
+}
+
 /* Build from raw input. format: 1 = 8-bit unorm (v/255), 2 = 16-bit unorm
    (v/65535), 3 = float32. row_stride in bytes (0 = tightly packed).
    reversed != 0: reversed Z. Integer formats: d = v/max, reversed:
    d = (max - v)/max, in double. float32: f' = reversed ? 1.0f - f (in
    float32) : f; NaN and values > 1 -> 1, values < 0 -> 0.
+   No back map (b = NULL: infinite thickness).
    Returns 0 on success, -1 on bad arguments or out of memory (m->d = NULL). */
 REF_FUNC int ref_map_from_raw(ref_map *m, const void *data, int w, int h,
                               size_t row_stride, int format, int reversed)
 {
-    size_t bpp, i, j;
-    const unsigned char *base = (const unsigned char *)data;
     if (!m) return -1;
-    m->w = 0; m->h = 0; m->d = NULL;
-    if (!data || w < 1 || h < 1) return -1;
-    if (format == REF_FORMAT_UNORM8) bpp = 1;
-    else if (format == REF_FORMAT_UNORM16) bpp = 2;
-    else if (format == REF_FORMAT_FLOAT32) bpp = 4;
-    else return -1;
-    if ((size_t)w > ((size_t)-1) / bpp) return -1;
-    if (row_stride == 0) row_stride = (size_t)w * bpp;
-    if (row_stride < (size_t)w * bpp) return -1;
-    if ((size_t)w > ((size_t)-1) / sizeof(double) / (size_t)h) return -1;
-    m->d = (double *)malloc((size_t)w * (size_t)h * sizeof(double));
+    m->w = 0; m->h = 0; m->b = NULL;
+    m->d = ref__read_raw(data, w, h, row_stride, format, reversed);
     if (!m->d) return -1;
     m->w = w; m->h = h;
-    for (j = 0; j < (size_t)h; j++) {
-        const unsigned char *row = base + j * row_stride;
-        for (i = 0; i < (size_t)w; i++) {
-            const unsigned char *p = row + i * bpp;
-            double d;
-            if (format == REF_FORMAT_UNORM8) {
-                double v = (double)p[0];
-                d = reversed ? (255.0 - v) / 255.0 : v / 255.0;
-            } else if (format == REF_FORMAT_UNORM16) {
-                unsigned short u;
-                double v;
-                memcpy(&u, p, sizeof u);
-                v = (double)u;
-                d = reversed ? (65535.0 - v) / 65535.0 : v / 65535.0;
-            } else {
-                float f, g;
-                memcpy(&f, p, sizeof f);
-                if (reversed) {
-                    volatile float one_minus = 1.0f - f; /* rounded to float32 */
-                    g = one_minus;
-                } else {
-                    g = f;
-                }
-                if (g != g || g > 1.0f) d = 1.0;
-                else if (g < 0.0f) d = 0.0;
-                else if (g == 0.0f) d = 0.0; /* -0 -> +0 */
-                else d = (double)g;
-            }
-            m->d[j * (size_t)w + i] = d;
-        }
-    }
+    return 0;
+}
+
+/* Give m (built, m->w x m->h) per-texel back depths from a raw back map of
+   the same size (a back-face depth pass): read and clamped exactly as
+   ref_map_from_raw reads depth, then b = max(d, back), so a back in front
+   of the surface makes the texel the flat plate z = d. A previous m->b is
+   replaced. Returns 0 on success, -1 on bad arguments or out of memory
+   (m unchanged). */
+REF_FUNC int ref_map_set_back_from_raw(ref_map *m, const void *data, size_t row_stride,
+                                       int format, int reversed)
+{
+    double *back;
+    size_t k, n;
+    if (!m || !m->d || m->w < 1 || m->h < 1) return -1;
+    back = ref__read_raw(data, m->w, m->h, row_stride, format, reversed);
+    if (!back) return -1;
+    n = (size_t)m->w * (size_t)m->h;
+    for (k = 0; k < n; k++)
+        if (back[k] < m->d[k]) back[k] = m->d[k];
+    free(m->b);
+    m->b = back;
     return 0;
 }
 
@@ -341,20 +386,28 @@ REF_FUNC void ref_map_free(ref_map *m)
 {
     if (!m) return;
     free(m->d);
+    free(m->b);
     m->d = NULL;
+    m->b = NULL;
     m->w = m->h = 0;
 }
 
 /* ---------------------------------------------------------- tracer ---- */
 
-/* exact test of one texel against the ray, t in [*t0, *t1] */
+/* the back depth b of texel (i, j): 1 without a back map */
+static double ref__back(const ref_map *m, int i, int j)
+{
+    return m->b ? m->b[(size_t)j * (size_t)m->w + (size_t)i] : 1.0;
+}
+
+/* exact test of one texel's box [d, b] against the ray, t in [*t0, *t1] */
 static int ref__texel(const ref_map *m, int i, int j, const double o[3],
                       const double v[3], const ref__ev *t0, const ref__ev *t1,
                       ref__ev *enter, int *face)
 {
     double lo3[3], hi3[3];
     lo3[0] = i; lo3[1] = j; lo3[2] = m->d[(size_t)j * (size_t)m->w + (size_t)i];
-    hi3[0] = i + 1.0; hi3[1] = j + 1.0; hi3[2] = 1.0;
+    hi3[0] = i + 1.0; hi3[1] = j + 1.0; hi3[2] = ref__back(m, i, j);
     return ref__box(o, v, lo3, hi3, t0, t1, enter, NULL, face);
 }
 
@@ -419,7 +472,7 @@ REF_FUNC ref_result ref_trace(const ref_map *m, const double o[3], const double 
                 ref__ev pk = ref__ev_plane((double)k, o[a], v[a]);
                 ref__ev pk1 = ref__ev_plane((double)k + 1.0, o[a], v[a]);
                 ref__ev en = step > 0 ? pk : pk1, ex = step > 0 ? pk1 : pk;
-                double B0, B1, Z0, Z1, eb0, eb1, ez0, ez1, zmax;
+                double B0, B1, Z0, Z1, eb0, eb1, ez0, ez1, zmax, zmin;
                 int j0, j1, j;
                 if (ref__cmp(&en, &T0) < 0) en = T0;
                 if (ref__cmp(&ex, &T1) > 0) ex = T1;
@@ -430,12 +483,20 @@ REF_FUNC ref_result ref_trace(const ref_map *m, const double o[3], const double 
                            (eb0 > eb1 ? eb0 : eb1) + 1e-9, nb, &j0, &j1);
                 Z0 = ref__coord(o[2], v[2], &en, &ez0);
                 Z1 = ref__coord(o[2], v[2], &ex, &ez1);
+                /* z is linear in t: over this column's [en, ex] it lies
+                   between Z0 and Z1 (each within its error bound), so a box
+                   whose z range [d, b] is wholly deeper than zmax or wholly
+                   shallower than zmin holds no point of the ray here */
                 zmax = Z0 + ez0 > Z1 + ez1 ? Z0 + ez0 : Z1 + ez1;
                 zmax += 1e-9;
                 if (!(zmax == zmax)) zmax = 2; /* cannot happen with finite input */
+                zmin = Z0 - ez0 < Z1 - ez1 ? Z0 - ez0 : Z1 - ez1;
+                zmin -= 1e-9;
+                if (!(zmin == zmin)) zmin = -1; /* likewise */
                 for (j = j0; j <= j1; j++) {
                     int i = a == 0 ? k : j, jj = a == 0 ? j : k;
                     if (m->d[(size_t)jj * (size_t)m->w + (size_t)i] > zmax) continue;
+                    if (ref__back(m, i, jj) < zmin) continue;
                     ref__consider(m, i, jj, o, v, &tmin_e, &tmax_e, &found, &best, &bx, &by, &bface);
                 }
             }
@@ -526,7 +587,7 @@ static int ref__face_fits(const ref_map *m, const double o[3], const double v[3]
         return fabs(p[0] - got->x) <= tol[0] || fabs(p[0] - (got->x + 1.0)) <= tol[0] ||
                fabs(p[1] - got->y) <= tol[1] || fabs(p[1] - (got->y + 1.0)) <= tol[1];
     case REF_FACE_BACK:
-        return fabs(p[2] - 1.0) <= tol[2];
+        return fabs(p[2] - ref__back(m, got->x, got->y)) <= tol[2];
     case REF_FACE_INSIDE:
         return fabs(t - tmin) <= 1e-5 * (1 + fabs(tmin));
     default:
@@ -564,7 +625,7 @@ static int ref__match(const ref_map *m, const double o[3], const double v[3], do
     }
     lo[0] = got->x; lo[1] = got->y;
     lo[2] = m->d[(size_t)got->y * (size_t)m->w + (size_t)got->x];
-    hi[0] = got->x + 1.0; hi[1] = got->y + 1.0; hi[2] = 1.0;
+    hi[0] = got->x + 1.0; hi[1] = got->y + 1.0; hi[2] = ref__back(m, got->x, got->y);
     for (c = 0; c < 3; c++) {
         double p = o[c] + t * v[c];
         double e = po[c] + E->t * pv[c];
@@ -697,7 +758,7 @@ REF_FUNC int ref_check(const ref_map *m, const ref_ray *ray, const ref_answer *g
             }
             lo[0] = got->x; lo[1] = got->y;
             lo[2] = m->d[(size_t)got->y * (size_t)m->w + (size_t)got->x];
-            hi[0] = got->x + 1.0; hi[1] = got->y + 1.0; hi[2] = 1.0;
+            hi[0] = got->x + 1.0; hi[1] = got->y + 1.0; hi[2] = ref__back(m, got->x, got->y);
             for (c = 0; c < 3; c++) {
                 double p = o[c] + t * v[c];
                 double tol = 1e-5 * (1 + fabs(o[c]) + fabs(t * v[c]));

@@ -27,7 +27,7 @@ static void trace_and_judge(const char *what, const lrt_bvh *bvh, const test_map
 {
     lrt_hit *hits = (lrt_hit *)malloc(sizeof(lrt_hit) * (n ? n : 1));
     size_t i, bad = 0;
-    lrt_result r = lrt_trace(bvh, &m->depth, rays, hits, n, flags);
+    lrt_result r = lrt_trace(bvh, m->back_storage ? m->pair : &m->depth, rays, hits, n, flags);
     CHECK(r == LRT_SUCCESS, "%s: trace returned %s", what, lrt_result_string(r));
     for (i = 0; i < n && r == LRT_SUCCESS; ++i) {
         ref_ray q = to_ref(&rays[i]);
@@ -46,7 +46,7 @@ static void trace_and_judge(const char *what, const lrt_bvh *bvh, const test_map
 
 /* ---- 1. randomised differential runs ---------------------------------------- */
 static void differential(int w, int h, int shape, lrt_format format, int reversed, uint32_t node_bits, size_t nrays,
-                         int padded)
+                         int padded, int thick)
 {
     test_map m;
     lrt_bvh bvh;
@@ -57,11 +57,13 @@ static void differential(int w, int h, int shape, lrt_format format, int reverse
     size_t i;
     lrt_result r;
     make_map(&m, w, h, shape, format, reversed, padded);
+    if (thick) add_back(&m);
     memset(&opt, 0, sizeof opt);
     opt.node_bits = node_bits;
-    r = lrt_bvh_build(&bvh, &m.depth, &opt, NULL);
-    snprintf(what, sizeof what, "%dx%d %s fmt=%d%s nodes=%u%s", w, h, m.name, (int)format, reversed ? " reversed" : "",
-             bvh.layout.node_bits, padded ? " strided" : "");
+    opt.thickness = thick ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
+    r = lrt_bvh_build(&bvh, thick ? m.pair : &m.depth, &opt, NULL);
+    snprintf(what, sizeof what, "%dx%d %s fmt=%d%s nodes=%u%s%s", w, h, m.name, (int)format, reversed ? " reversed" : "",
+             bvh.layout.node_bits, padded ? " strided" : "", thick ? " back map" : "");
     CHECK(r == LRT_SUCCESS, "%s: build returned %s", what, lrt_result_string(r));
     if (r == LRT_SUCCESS && rays && kinds) {
         for (i = 0; i < nrays; ++i) {
@@ -91,20 +93,82 @@ static void test_differential(void)
             for (f = 1; f <= 3; ++f) {
                 if (shape == SHAPE_WILD && f != 3) continue;
                 differential(sizes[s][0], sizes[s][1], shape, (lrt_format)f, (int)(s & 1), (s % 3 == 0) ? 8u : 0u,
-                             2600, (int)(s & 2));
+                             2600, (int)(s & 2), 0);
             }
     /* node precision both ways on each format, reversed Z on each */
     for (f = 1; f <= 3; ++f) {
-        differential(61, 47, SHAPE_SCENE, (lrt_format)f, 0, 8, 4000, 0);
-        differential(61, 47, SHAPE_SCENE, (lrt_format)f, 1, 16, 4000, 1);
-        differential(61, 47, SHAPE_TERRACES, (lrt_format)f, 1, 8, 4000, 0);
+        differential(61, 47, SHAPE_SCENE, (lrt_format)f, 0, 8, 4000, 0, 0);
+        differential(61, 47, SHAPE_SCENE, (lrt_format)f, 1, 16, 4000, 1, 0);
+        differential(61, 47, SHAPE_TERRACES, (lrt_format)f, 1, 8, 4000, 0, 0);
     }
+    /* thickness from a back map: every shape, format, node width, Z direction, strided or not */
+    for (f = 1; f <= 3; ++f) {
+        differential(61, 47, SHAPE_SCENE, (lrt_format)f, 0, 8, 4000, 0, 1);
+        differential(61, 47, SHAPE_POLES, (lrt_format)f, 1, 16, 4000, 1, 1);
+        differential(37, 29, SHAPE_NOISE, (lrt_format)f, f == 2, 0, 3000, f == 3, 1);
+    }
+    differential(203, 131, SHAPE_TERRACES, LRT_FORMAT_FLOAT32, 0, 16, 8000, 0, 1);
+    differential(203, 131, SHAPE_WILD, LRT_FORMAT_FLOAT32, 0, 8, 4000, 1, 1);
+    differential(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, 20000, 0, 1);
     /* the large sizes of the issue */
-    differential(1282, 1110, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 0, 30000, 0);
-    differential(1282, 1110, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 3000, 1);
-    differential(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 8, 30000, 0);
-    differential(1024, 1024, SHAPE_SCENE, LRT_FORMAT_UNORM8, 0, 0, 3000, 0);
-    differential(1024, 1024, SHAPE_POLES, LRT_FORMAT_FLOAT32, 1, 16, 3000, 0);
+    differential(1282, 1110, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 0, 30000, 0, 0);
+    differential(1282, 1110, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 3000, 1, 0);
+    differential(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 8, 30000, 0, 0);
+    differential(1024, 1024, SHAPE_SCENE, LRT_FORMAT_UNORM8, 0, 0, 3000, 0, 0);
+    differential(1024, 1024, SHAPE_POLES, LRT_FORMAT_FLOAT32, 1, 16, 3000, 0, 0);
+}
+
+/* ---- 1b. thickness where it breaks: rays that skim a back face ------------------ */
+/* Rays aimed at every texel's back plane (and its front plane) from a few
+   texels away, level or nearly so, passing a few ulps above, on or below
+   it: under a thin slab, along a pole's edge, just behind a sphere. Every
+   answer against the reference. */
+static void test_thickness_grazing(void)
+{
+    static const int shapes[3] = {SHAPE_SCENE, SHAPE_POLES, SHAPE_TERRACES};
+    int si;
+    for (si = 0; si < 3; ++si) {
+        test_map m;
+        lrt_bvh bvh;
+        lrt_build_options opt;
+        lrt_ray *rays;
+        int *kinds, i, j;
+        size_t n = 0;
+        char what[96];
+        make_map(&m, 45, 33, shapes[si], LRT_FORMAT_FLOAT32, 0, 0);
+        add_back(&m);
+        memset(&opt, 0, sizeof opt);
+        opt.thickness = LRT_THICKNESS_BACK_MAP;
+        rays = (lrt_ray *)malloc(sizeof(lrt_ray) * 45 * 33 * 8);
+        kinds = (int *)calloc(45 * 33 * 8, sizeof(int));
+        CHECK(lrt_bvh_build(&bvh, m.pair, &opt, NULL) == LRT_SUCCESS, "grazing: build");
+        for (j = 0; j < 33; ++j) {
+            for (i = 0; i < 45; ++i) {
+                const float b = (float)m.ref.b[(size_t)j * 45 + (size_t)i], d = (float)m.ref.d[(size_t)j * 45 + (size_t)i];
+                int k;
+                for (k = 0; k < 8; ++k) {
+                    lrt_ray *r = &rays[n];
+                    const float z = k < 6 ? b : d;
+                    const int ulps = (k % 3) - 1; /* one below, on, one above */
+                    r->origin[0] = (k & 1) ? (float)i + 0.5f : (float)i - 3.25f;
+                    r->origin[1] = (k & 1) ? (float)j - 2.75f : (float)j + 0.5f;
+                    r->origin[2] = ulps < 0 ? nextafterf(z, 0.0f) : ulps > 0 ? nextafterf(z, 2.0f) : z;
+                    r->dir[0] = (k & 1) ? 0.0f : 1.0f;
+                    r->dir[1] = (k & 1) ? 1.0f : 0.0f;
+                    r->dir[2] = k >= 3 && k < 6 ? -1e-4f : 0.0f; /* rising a little: from under a back */
+                    r->tmin = 0.0f;
+                    r->tmax = 6.0f;
+                    kinds[n++] = 0;
+                }
+            }
+        }
+        snprintf(what, sizeof what, "grazing the back faces of %s", m.name);
+        trace_and_judge(what, &bvh, &m, rays, kinds, n, 0);
+        lrt_bvh_destroy(&bvh);
+        free_map(&m);
+        free(rays);
+        free(kinds);
+    }
 }
 
 /* ---- 2. the named cases of MODEL.md ------------------------------------------ */
@@ -306,56 +370,91 @@ static void test_layout(void)
 }
 
 /* ---- 4. update equals rebuild ------------------------------------------------- */
+/* a back map that moves with the depth: 0.03 behind it, 0.2 behind the sphere
+   (inside the rect where the depth changes, as a back-face pass would) */
+static void paint_back(const float *d, float *back, int w, int h, int frame)
+{
+    int k;
+    for (k = 0; k < w * h; ++k) back[k] = d[k] + (d[k] < 0.5f ? 0.2f : 0.03f) + 0.001f * (float)(frame % 3);
+}
+
 static void test_update(void)
 {
     const int w = 203, h = 131;
     float *d = (float *)malloc(sizeof(float) * w * h), *prev = (float *)malloc(sizeof(float) * w * h);
-    lrt_depth dm;
+    float *back = (float *)malloc(sizeof(float) * w * h);
+    lrt_depth dm[2];
     lrt_bvh live, fresh;
     lrt_build_options opt;
-    int frame, bits;
-    for (bits = 8; bits <= 16; bits += 8) {
-        int same_full = 1, same_rect = 1;
-        memset(&dm, 0, sizeof dm);
-        dm.data = d;
-        dm.width = w;
-        dm.height = h;
-        dm.format = LRT_FORMAT_FLOAT32;
-        memset(&opt, 0, sizeof opt);
-        opt.node_bits = (uint32_t)bits;
-        paint_frame(d, w, h, 0);
-        CHECK(lrt_bvh_build(&live, &dm, &opt, NULL) == LRT_SUCCESS, "update: build");
-        for (frame = 1; frame < 24; ++frame) {
-            lrt_rect rect;
-            memcpy(prev, d, sizeof(float) * w * h);
-            paint_frame(d, w, h, frame);
-            rect = changed_rect(prev, d, w, h);
-            /* even frames: dirty rect; odd frames: whole map */
-            CHECK(lrt_bvh_update(&live, &dm, (frame & 1) ? NULL : &rect) == LRT_SUCCESS, "update frame %d", frame);
-            CHECK(lrt_bvh_build(&fresh, &dm, &opt, NULL) == LRT_SUCCESS, "rebuild frame %d", frame);
-            if (memcmp(live.nodes, fresh.nodes, live.layout.bytes) != 0) {
-                if (frame & 1) same_full = 0;
-                else same_rect = 0;
+    int frame, bits, thick;
+    for (thick = 0; thick <= 1; ++thick) {
+        for (bits = 8; bits <= 16; bits += 8) {
+            int same_full = 1, same_rect = 1;
+            memset(dm, 0, sizeof dm);
+            dm[0].data = d;
+            dm[0].width = dm[1].width = w;
+            dm[0].height = dm[1].height = h;
+            dm[0].format = dm[1].format = LRT_FORMAT_FLOAT32;
+            dm[0].flags = thick ? LRT_DEPTH_BACK_FOLLOWS : 0u;
+            dm[1].data = back;
+            memset(&opt, 0, sizeof opt);
+            opt.node_bits = (uint32_t)bits;
+            opt.thickness = thick ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
+            paint_frame(d, w, h, 0);
+            paint_back(d, back, w, h, 0);
+            CHECK(lrt_bvh_build(&live, dm, &opt, NULL) == LRT_SUCCESS, "update: build");
+            for (frame = 1; frame < 24; ++frame) {
+                lrt_rect rect;
+                memcpy(prev, d, sizeof(float) * w * h);
+                paint_frame(d, w, h, frame);
+                rect = changed_rect(prev, d, w, h);
+                /* odd frames (whole updates) also move the back everywhere; even
+                   ones keep that offset, so the back moves only inside the rect */
+                paint_back(d, back, w, h, (frame & 1) ? frame : frame - 1);
+                /* even frames: dirty rect; odd frames: whole map */
+                CHECK(lrt_bvh_update(&live, dm, (frame & 1) ? NULL : &rect) == LRT_SUCCESS, "update frame %d", frame);
+                CHECK(lrt_bvh_build(&fresh, dm, &opt, NULL) == LRT_SUCCESS, "rebuild frame %d", frame);
+                if (memcmp(live.nodes, fresh.nodes, live.layout.bytes) != 0) {
+                    if (frame & 1) same_full = 0;
+                    else same_rect = 0;
+                }
+                lrt_bvh_destroy(&fresh);
             }
-            lrt_bvh_destroy(&fresh);
+            CHECK(same_full, "%d-bit%s: update of the whole map differs from a rebuild", bits, thick ? " back map" : "");
+            CHECK(same_rect, "%d-bit%s: update of the dirty rect differs from a rebuild", bits, thick ? " back map" : "");
+            lrt_bvh_destroy(&live);
         }
-        CHECK(same_full, "%d-bit: update of the whole map differs from a rebuild", bits);
-        CHECK(same_rect, "%d-bit: update of the dirty rect differs from a rebuild", bits);
+    }
+    { /* a back map changed outside the rect: the update must miss it (the test above can fail) */
+        lrt_rect corner = {0, 0, 4, 4};
+        paint_frame(d, w, h, 0);
+        paint_back(d, back, w, h, 0);
+        dm[0].flags = LRT_DEPTH_BACK_FOLLOWS;
+        opt.thickness = LRT_THICKNESS_BACK_MAP;
+        lrt_bvh_build(&live, dm, &opt, NULL);
+        back[(size_t)(h / 2) * (size_t)w + (size_t)(w / 2)] = 1.0f;
+        lrt_bvh_update(&live, dm, &corner);
+        lrt_bvh_build(&fresh, dm, &opt, NULL);
+        CHECK(memcmp(live.nodes, fresh.nodes, live.layout.bytes) != 0, "a stale back map went unnoticed");
+        CHECK(live.layout.bytes == 2 * live.layout.node_count * live.layout.node_bytes, "a back-map tree holds two codes a slot");
+        lrt_bvh_destroy(&fresh);
         lrt_bvh_destroy(&live);
     }
     { /* an update with a rect that misses the change must NOT equal a rebuild: the test can fail */
         lrt_rect elsewhere = {0, 0, 4, 4};
+        dm[0].flags = 0;
         paint_frame(d, w, h, 0);
-        lrt_bvh_build(&live, &dm, NULL, NULL);
+        lrt_bvh_build(&live, dm, NULL, NULL);
         paint_frame(d, w, h, 9);
-        lrt_bvh_update(&live, &dm, &elsewhere);
-        lrt_bvh_build(&fresh, &dm, NULL, NULL);
+        lrt_bvh_update(&live, dm, &elsewhere);
+        lrt_bvh_build(&fresh, dm, NULL, NULL);
         CHECK(memcmp(live.nodes, fresh.nodes, live.layout.bytes) != 0, "a stale update went unnoticed");
         lrt_bvh_destroy(&fresh);
         lrt_bvh_destroy(&live);
     }
     free(d);
     free(prev);
+    free(back);
 }
 
 /* ---- 5. bad arguments ------------------------------------------------------------ */
@@ -415,6 +514,62 @@ static void test_bad_arguments(void)
     opt.node_bits = 12;
     EXPECT_BUILD(&dm, &opt, LRT_ERROR_INVALID_OPTION, "node bits 12");
     opt.node_bits = 0;
+    { /* thickness: the back map and the model must come together, and match the depth */
+        float back[6] = {0.6f, 0.6f, 0.6f, 0.6f, 0.6f, 0.6f};
+        lrt_depth pair[2];
+        lrt_bvh thick;
+        pair[0] = dm;
+        pair[0].flags = LRT_DEPTH_BACK_FOLLOWS;
+        pair[1] = dm;
+        pair[1].data = back;
+        opt.thickness = 3;
+        EXPECT_BUILD(pair, &opt, LRT_ERROR_INVALID_OPTION, "unknown thickness model");
+        opt.thickness = LRT_THICKNESS_BACK_MAP;
+        EXPECT_BUILD(&dm, &opt, LRT_ERROR_THICKNESS_MISMATCH, "a back-map tree without a back map");
+        opt.thickness = LRT_THICKNESS_INFINITE;
+        EXPECT_BUILD(pair, &opt, LRT_ERROR_THICKNESS_MISMATCH, "a back map for an infinite tree");
+        opt.thickness = LRT_THICKNESS_BACK_MAP;
+        pair[1].data = NULL;
+        EXPECT_BUILD(pair, &opt, LRT_ERROR_NULL_POINTER, "a null back map");
+        pair[1].data = back;
+        pair[1].width = 2;
+        EXPECT_BUILD(pair, &opt, LRT_ERROR_SIZE_MISMATCH, "a back map of another size");
+        pair[1].width = 3;
+        pair[1].format = LRT_FORMAT_UNORM16;
+        EXPECT_BUILD(pair, &opt, LRT_ERROR_INVALID_FORMAT, "a back map of another format");
+        pair[1].format = LRT_FORMAT_FLOAT32;
+        pair[1].flags = LRT_DEPTH_REVERSED_Z;
+        EXPECT_BUILD(pair, &opt, LRT_ERROR_INVALID_OPTION, "a back map of the other Z direction");
+        pair[1].flags = 0;
+        pair[1].row_stride = 8;
+        EXPECT_BUILD(pair, &opt, LRT_ERROR_INVALID_STRIDE, "a back map stride smaller than a row");
+        pair[1].row_stride = (size_t)-1 / 2 + 1;
+        EXPECT_BUILD(pair, &opt, LRT_ERROR_SIZE_OVERFLOW, "a back map whose byte count overflows");
+        pair[1].row_stride = 0;
+        CHECK(lrt_bvh_memory_size(3, 2, LRT_FORMAT_FLOAT32, &opt, &bytes) == LRT_SUCCESS &&
+                  lrt_bvh_build(&thick, pair, &opt, NULL) == LRT_SUCCESS && bytes >= thick.layout.bytes,
+              "a back-map tree: build and its memory size");
+        ray.origin[0] = 1.5f; ray.origin[1] = 0.5f; ray.origin[2] = 0.0f; ray.tmin = 0.0f;
+        ray.dir[0] = 0.0f; ray.dir[1] = 0.0f; ray.dir[2] = 1.0f; ray.tmax = 1.0f;
+        CHECK(lrt_trace(&thick, &dm, &ray, &hit, 1, 0) == LRT_ERROR_THICKNESS_MISMATCH, "trace without its back map");
+        CHECK(lrt_bvh_update(&thick, &dm, NULL) == LRT_ERROR_THICKNESS_MISMATCH, "update without its back map");
+        back[4] = NAN; /* a NaN back reads as 1: far */
+        CHECK(lrt_bvh_update(&thick, pair, NULL) == LRT_SUCCESS && lrt_trace(&thick, pair, &ray, &hit, 1, 0) == LRT_SUCCESS &&
+                  hit.kind == LRT_HIT && hit.t == 0.5f && hit.face == LRT_FACE_TOP,
+              "a back-map tree traces: kind %u t %g", hit.kind, hit.t);
+        ray.origin[0] = 0.0f; ray.origin[1] = 1.5f; ray.origin[2] = 0.7f; /* level, under row 1's slabs */
+        ray.dir[0] = 1.0f; ray.dir[2] = 0.0f; ray.tmax = 3.0f;
+        CHECK(lrt_trace(&thick, pair, &ray, &hit, 1, 0) == LRT_SUCCESS && hit.kind == LRT_HIT && hit.x == 1 &&
+                  hit.y == 1 && hit.t == 1.0f && hit.face == LRT_FACE_SIDE,
+              "under a slab [0.5, 0.6], into the NaN back's column: kind %u (%u, %u) face %u", hit.kind, hit.x, hit.y,
+              hit.face);
+        lrt_bvh_destroy(&thick);
+        opt.thickness = LRT_THICKNESS_INFINITE;
+        CHECK(lrt_bvh_build(&thick, &dm, &opt, NULL) == LRT_SUCCESS &&
+                  lrt_trace(&thick, pair, &ray, &hit, 1, 0) == LRT_ERROR_THICKNESS_MISMATCH,
+              "an infinite tree traced with a back map");
+        lrt_bvh_destroy(&thick);
+    }
     CHECK(lrt_bvh_build(NULL, &dm, NULL, NULL) == LRT_ERROR_NULL_POINTER, "null bvh");
 
     a.alloc = fail_alloc; a.free = count_free; a.user = NULL;
@@ -514,5 +669,6 @@ int main(void)
     test_bad_arguments();
     test_ranges();
     test_differential();
+    test_thickness_grazing();
     return check_summary();
 }

@@ -29,19 +29,21 @@ static size_t g_rays;
 static void compare(const char *what, const test_map *m, uint32_t node_bits, const lrt_ray *rays, size_t n)
 {
     lrt_hit *own = (lrt_hit *)calloc(n ? n : 1, sizeof(lrt_hit)), *other = (lrt_hit *)calloc(n ? n : 1, sizeof(lrt_hit));
+    const lrt_depth *depth = m->back_storage ? m->pair : &m->depth;
     lrt_bvh bvh;
     lrt_build_options opt;
     int p;
     memset(&opt, 0, sizeof opt);
     opt.node_bits = node_bits;
+    opt.thickness = m->back_storage ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
     CHECK(own && other, "%s: out of memory", what);
-    if (!own || !other || lrt_bvh_build(&bvh, &m->depth, &opt, NULL) != LRT_SUCCESS) {
+    if (!own || !other || lrt_bvh_build(&bvh, depth, &opt, NULL) != LRT_SUCCESS) {
         CHECK(0, "%s: build failed", what);
         free(own);
         free(other);
         return;
     }
-    CHECK(lrt_trace(&bvh, &m->depth, rays, own, n, 0) == LRT_SUCCESS, "%s: SSE2 trace", what);
+    CHECK(lrt_trace(&bvh, depth, rays, own, n, 0) == LRT_SUCCESS, "%s: SSE2 trace", what);
     lrt_bvh_destroy(&bvh);
     for (p = 0; p < 2; ++p) {
         const char *name = p ? "AVX2" : "scalar";
@@ -49,8 +51,7 @@ static void compare(const char *what, const test_map *m, uint32_t node_bits, con
         int r;
         if (p == 1 && !g_have_avx2) continue;
         memset(other, 0xab, n * sizeof *other);
-        r = p ? paths_trace_avx2(&m->depth, node_bits, rays, other, n, 0)
-              : paths_trace_scalar(&m->depth, node_bits, rays, other, n, 0);
+        r = p ? paths_trace_avx2(depth, node_bits, rays, other, n, 0) : paths_trace_scalar(depth, node_bits, rays, other, n, 0);
         CHECK(r == LRT_SUCCESS, "%s: %s trace returned %d", what, name, r);
         for (i = 0; i < n; ++i) {
             if (memcmp(&own[i], &other[i], sizeof own[i]) != 0) {
@@ -69,15 +70,17 @@ static void compare(const char *what, const test_map *m, uint32_t node_bits, con
     free(other);
 }
 
-static void map_and_rays(int w, int h, int shape, lrt_format format, int reversed, uint32_t node_bits, size_t n, int padded)
+static void map_and_rays(int w, int h, int shape, lrt_format format, int reversed, uint32_t node_bits, size_t n, int padded,
+                         int thick)
 {
     test_map m;
     lrt_ray *rays = (lrt_ray *)malloc(sizeof(lrt_ray) * n);
     char what[160];
     size_t i;
     make_map(&m, w, h, shape, format, reversed, padded);
-    snprintf(what, sizeof what, "%dx%d %s fmt=%d%s nodes=%u%s", w, h, m.name, (int)format, reversed ? " reversed" : "",
-             node_bits, padded ? " strided" : "");
+    if (thick) add_back(&m);
+    snprintf(what, sizeof what, "%dx%d %s fmt=%d%s nodes=%u%s%s", w, h, m.name, (int)format, reversed ? " reversed" : "",
+             node_bits, padded ? " strided" : "", thick ? " back map" : "");
     if (rays) {
         for (i = 0; i < n; ++i) rays[i] = make_ray(&m, (int)(i % RAY_KIND_COUNT));
         compare(what, &m, node_bits, rays, n);
@@ -104,11 +107,13 @@ int main(void)
             for (f = 1; f <= 3; ++f) {
                 if (shape == SHAPE_WILD && f != 3) continue;
                 map_and_rays(sizes[s][0], sizes[s][1], shape, (lrt_format)f, (int)(s & 1), (s % 3 == 0) ? 8u : 16u, 3000,
-                             (int)(s & 2));
+                             (int)(s & 2), (shape == SHAPE_SCENE || shape == SHAPE_POLES) && f == 2);
             }
-    map_and_rays(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, 100000, 0);
-    map_and_rays(1024, 1024, SHAPE_POLES, LRT_FORMAT_FLOAT32, 1, 8, 30000, 0);
-    map_and_rays(1282, 1110, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 30000, 1);
+    map_and_rays(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, 100000, 0, 0);
+    map_and_rays(1024, 1024, SHAPE_POLES, LRT_FORMAT_FLOAT32, 1, 8, 30000, 0, 0);
+    map_and_rays(1282, 1110, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 30000, 1, 0);
+    map_and_rays(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, 50000, 0, 1);
+    map_and_rays(513, 257, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 20000, 1, 1);
     for (k = 0; found_case(k, &m, &r); ++k) { /* the fuzzer's rays, the rare set-up among them */
         char what[64];
         snprintf(what, sizeof what, "found case %d", k);

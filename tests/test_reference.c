@@ -36,8 +36,19 @@ static ref_map map_const(int w, int h, double d)
     m.w = w;
     m.h = h;
     m.d = (double *)malloc((size_t)w * (size_t)h * sizeof(double));
+    m.b = NULL; /* infinite thickness */
     for (k = 0; k < w * h; k++) m.d[k] = d;
     return m;
+}
+
+/* the same back depth (as float32 raw input) for every texel of m */
+static void set_back_const(ref_map *m, float back)
+{
+    float *f = (float *)malloc((size_t)m->w * (size_t)m->h * sizeof(float));
+    int k;
+    for (k = 0; k < m->w * m->h; k++) f[k] = back;
+    CHECK(ref_map_set_back_from_raw(m, f, 0, REF_FORMAT_FLOAT32, 0) == 0, "set_back %g", (double)back);
+    free(f);
 }
 
 static void set_d(ref_map *m, int i, int j, double d) { m->d[j * m->w + i] = d; }
@@ -622,6 +633,9 @@ static ref_result brute(const ref_map *m, const ref_ray *ray, ref__ev *best_out)
     return r;
 }
 
+/* the lower face of texel (i, j)'s box: 1 without a back map */
+static double back_of(const ref_map *m, int i, int j) { return m->b ? m->b[j * m->w + i] : 1.0; }
+
 /* independent: is the point strictly inside the solid (by margin eps)? */
 static int in_solid(const ref_map *m, double x, double y, double z, double eps)
 {
@@ -631,7 +645,7 @@ static int in_solid(const ref_map *m, double x, double y, double z, double eps)
     j = (int)floor(y);
     if (i >= m->w || j >= m->h) return 0;
     if (x - i < eps || i + 1 - x < eps || y - j < eps || j + 1 - y < eps) return 0;
-    return z >= m->d[j * m->w + i] + eps;
+    return z >= m->d[j * m->w + i] + eps && z <= back_of(m, i, j) - eps;
 }
 
 /* loosely: is the point in the closed solid, within eps? */
@@ -642,7 +656,7 @@ static int on_solid(const ref_map *m, double x, double y, double z, double eps)
         for (i = (int)floor(x - eps); i <= (int)floor(x + eps); i++) {
             if (i < 0 || j < 0 || i >= m->w || j >= m->h) continue;
             if (x >= i - eps && x <= i + 1 + eps && y >= j - eps && y <= j + 1 + eps &&
-                z >= m->d[j * m->w + i] - eps && z <= 1 + eps)
+                z >= m->d[j * m->w + i] - eps && z <= back_of(m, i, j) + eps)
                 return 1;
         }
     return 0;
@@ -703,6 +717,277 @@ static void test_faces(void)
     ref_map_free(&m);
 }
 
+#define EXPECT_FACE(res, f)                                                             \
+    CHECK((res).kind == REF_HIT && (res).face == (f),                                   \
+          "expected a hit by face %d, got kind %d face %d t=%.17g (%d,%d)", (f),        \
+          (res).kind, (res).face, (res).t, (res).x, (res).y)
+
+/* Finite thickness: each box is [d, b], b from a back map (MODEL.md,
+   "Thickness (optional) and the face of a hit"). */
+static void test_thickness(void)
+{
+    ref_result r;
+    ref_ray ray;
+    ref_answer a;
+    char why[512];
+    int k;
+    {
+        /* (a) a thin floating slab [0.5, 0.55]: a level ray at z = 0.7 passes under it */
+        ref_map m = map_const(4, 1, 0.5);
+        ref_ray under = mkray(-1, 0.5, 0.7, 1, 0, 0, 0, 4); /* ends at x = 3, on the screen */
+        ref_ray from_in = mkray(0.5, 0.5, 0.7, 1, 0, 0, 0, 3);
+        r = ref_trace_ray(&m, &under); /* infinite thickness: the first texel's side */
+        EXPECT_HIT(r, 1, 0, 0);
+        EXPECT_FACE(r, REF_FACE_SIDE);
+        r = ref_trace_ray(&m, &from_in);
+        EXPECT_HIT(r, 0, 0, 0);
+        EXPECT_FACE(r, REF_FACE_INSIDE);
+        set_back_const(&m, 0.55f);
+        CHECK(m.b != NULL && m.b[0] == (double)0.55f && m.b[3] == (double)0.55f, "slab back depth");
+        r = ref_trace_ray(&m, &under);
+        EXPECT_KIND(r, REF_MISS_TMAX);
+        r = ref_trace_ray(&m, &from_in);
+        EXPECT_KIND(r, REF_MISS_TMAX);
+        /* level with the back plane: the closed box is grazed at its edge */
+        r = tr(&m, mkray(-1, 0.5, 0.55f, 1, 0, 0, 0, 4));
+        EXPECT_HIT(r, 1, 0, 0);
+        r = tr(&m, mkray(-1, 0.5, nextafterf(0.55f, 1.0f), 1, 0, 0, 0, 4));
+        EXPECT_KIND(r, REF_MISS_TMAX);
+        /* within the slab: inside at tmin */
+        r = tr(&m, mkray(0.5, 0.5, 0.53, 1, 0, 0, 0, 3));
+        EXPECT_HIT(r, 0, 0, 0);
+        EXPECT_FACE(r, REF_FACE_INSIDE);
+        /* going down under the slab and up again past its far end: a
+           rising ray whose column z range is all deeper than b (pruned)
+           reaches a texel that is thick again */
+        set_d(&m, 3, 0, 0.75);
+        m.b[3] = 1.0;
+        r = tr(&m, mkray(0.5, 0.5, 0.9, 1, 0, -0.03125, 0, 10)); /* z = 0.821875 at x = 3 */
+        EXPECT_HIT(r, 2.5, 3, 0);
+        EXPECT_FACE(r, REF_FACE_SIDE);
+        ref_map_free(&m);
+        CHECK(m.b == NULL && m.d == NULL, "ref_map_free clears b");
+    }
+    {
+        /* (b) from below: o.z = 0.8 under the slab [0.5, 0.6], v.z < 0 */
+        ref_map m = map_const(4, 4, 0.5);
+        double t;
+        ray = mkray(1.5, 1.5, 0.8, 0.25, 0, -1, 0, 10);
+        r = ref_trace_ray(&m, &ray); /* infinite thickness: already inside */
+        EXPECT_HIT(r, 0, 1, 1);
+        EXPECT_FACE(r, REF_FACE_INSIDE);
+        set_back_const(&m, 0.6f);
+        t = (double)0.8f - (double)0.6f; /* exact (Sterbenz) */
+        r = ref_trace_ray(&m, &ray);
+        EXPECT_HIT(r, t, 1, 1);
+        EXPECT_FACE(r, REF_FACE_BACK);
+        CHECK(r.kind == REF_HIT && fabs((double)ray.o[2] + r.t * (double)ray.v[2] - 0.6) < 1e-7,
+              "back hit at z = %.17g", (double)ray.o[2] + r.t * (double)ray.v[2]);
+        /* straight up, and up with tmax short of the back */
+        r = tr(&m, mkray(2.5, 0.5, 0.75, 0, 0, -1, 0, 1));
+        EXPECT_HIT(r, (double)0.75f - (double)0.6f, 2, 0);
+        EXPECT_FACE(r, REF_FACE_BACK);
+        r = tr(&m, mkray(2.5, 0.5, 0.75, 0, 0, -1, 0, 0.125));
+        EXPECT_KIND(r, REF_MISS_TMAX);
+        ref_map_free(&m);
+    }
+    {
+        /* (c) a back in front of the surface is clamped to d: the flat plate z = d */
+        ref_map m = map_const(3, 1, 0.5);
+        set_back_const(&m, 0.3f);
+        CHECK(m.b != NULL && m.b[0] == 0.5 && m.b[1] == 0.5 && m.b[2] == 0.5, "back clamped to d: %.17g",
+              m.b ? m.b[1] : -1.0);
+        r = tr(&m, mkray(1.5, 0.5, 0, 0, 0, 1, 0, 1));
+        EXPECT_HIT(r, 0.5, 1, 0);
+        EXPECT_FACE(r, REF_FACE_TOP);
+        r = tr(&m, mkray(-1, 0.5, 0.5 + 1.0 / 1024, 1, 0, 0, 0, 3)); /* just behind the plate */
+        EXPECT_KIND(r, REF_MISS_TMAX);
+        r = tr(&m, mkray(-1, 0.5, 0.5, 1, 0, 0, 0, 3)); /* in its plane: meets its edge */
+        EXPECT_HIT(r, 1, 0, 0);
+        /* from behind: the plate's back is its top, either face is right */
+        ray = mkray(1.5, 0.5, 0.75, 0, 0, -1, 0, 1);
+        r = ref_trace_ray(&m, &ray);
+        CHECK(r.kind == REF_HIT && r.t == 0.25 && r.x == 1 && (r.face == REF_FACE_BACK || r.face == REF_FACE_TOP),
+              "plate from behind: kind %d t %.17g face %d", r.kind, r.t, r.face);
+        a = ans(REF_HIT, 0.25, 1, 0);
+        a.face = REF_FACE_TOP;
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "plate from behind, top refused: %s", why);
+        a.face = REF_FACE_BACK;
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "plate from behind, back refused: %s", why);
+        ref_map_free(&m);
+    }
+    {
+        /* per texel: b = max(d, back); a far texel stays the face z = 1 */
+        ref_map m = map_const(3, 1, 0.5);
+        float bk[3] = { 0.75f, 0.25f, 0.5f };
+        set_d(&m, 1, 0, 0.7);
+        set_d(&m, 2, 0, 1.0);
+        CHECK(ref_map_set_back_from_raw(&m, bk, 0, REF_FORMAT_FLOAT32, 0) == 0, "set_back per texel");
+        CHECK(m.b[0] == 0.75 && m.b[1] == 0.7 && m.b[2] == 1.0, "max(d, back): %.17g %.17g %.17g", m.b[0],
+              m.b[1], m.b[2]);
+        CHECK(m.d[0] == 0.5 && m.d[1] == 0.7 && m.d[2] == 1.0, "set_back changed d");
+        r = tr(&m, mkray(2.5, 0.5, 0, 0, 0, 1, 0, 2));
+        EXPECT_HIT(r, 1, 2, 0);
+        ref_map_free(&m);
+    }
+    {
+        /* (d) conversions, as for depth: float (NaN and > 1 are 1), reversed too */
+        float f[8];
+        ref_map m = map_const(4, 2, 0.0), md;
+        float one_minus = 1.0f - 0.1f; /* float32 arithmetic */
+        f[0] = 0.25f;
+        f[1] = (float)strtod("nan", NULL);
+        f[2] = 2.0f;
+        f[3] = -1.0f;
+        f[4] = 0.1f;
+        f[5] = (float)HUGE_VAL;
+        f[6] = -(float)HUGE_VAL;
+        f[7] = -0.0f;
+        CHECK(ref_map_set_back_from_raw(&m, f, 0, REF_FORMAT_FLOAT32, 0) == 0, "float back");
+        CHECK(m.b[0] == 0.25 && m.b[1] == 1 && m.b[2] == 1 && m.b[3] == 0 && m.b[4] == (double)0.1f &&
+                  m.b[5] == 1 && m.b[6] == 0 && m.b[7] == 0 && !signbit(m.b[7]),
+              "float back values");
+        CHECK(ref_map_from_raw(&md, f, 4, 2, 0, REF_FORMAT_FLOAT32, 0) == 0, "float depth");
+        for (k = 0; k < 8; k++) CHECK(m.b[k] == md.d[k], "back %d converts unlike depth", k);
+        ref_map_free(&md);
+        /* a NaN back reaches the far plane, a back of 0.25 lets z = 0.9 pass */
+        r = tr(&m, mkray(-1, 0.5, 0.9, 1, 0, 0, 0, 10));
+        EXPECT_HIT(r, 2, 1, 0);
+        CHECK(ref_map_set_back_from_raw(&m, f, 0, REF_FORMAT_FLOAT32, 1) == 0, "float back rev");
+        CHECK(m.b[0] == 0.75 && m.b[1] == 1 && m.b[2] == 0 && m.b[3] == 1 && m.b[4] == (double)one_minus &&
+                  m.b[5] == 0 && m.b[6] == 1 && m.b[7] == 1,
+              "float back reversed values %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g", m.b[0], m.b[1],
+              m.b[2], m.b[3], m.b[4], m.b[5], m.b[6], m.b[7]);
+        ref_map_free(&m);
+    }
+    {
+        unsigned char px[4] = { 0, 255, 128, 51 };
+        ref_map m = map_const(2, 2, 0.0);
+        CHECK(ref_map_set_back_from_raw(&m, px, 0, REF_FORMAT_UNORM8, 0) == 0, "8-bit back");
+        CHECK(m.b[0] == 0 && m.b[1] == 1 && m.b[2] == 128.0 / 255.0 && m.b[3] == 51.0 / 255.0,
+              "8-bit back values");
+        CHECK(ref_map_set_back_from_raw(&m, px, 0, REF_FORMAT_UNORM8, 1) == 0, "8-bit back rev");
+        CHECK(m.b[0] == 1 && m.b[1] == 0 && m.b[2] == 127.0 / 255.0 && m.b[3] == 204.0 / 255.0,
+              "8-bit back reversed values");
+        ref_map_free(&m);
+        m = map_const(2, 2, 0.4); /* backs in front of d = 0.4 become 0.4 */
+        CHECK(ref_map_set_back_from_raw(&m, px, 0, REF_FORMAT_UNORM8, 0) == 0, "8-bit back over 0.4");
+        CHECK(m.b[0] == 0.4 && m.b[1] == 1 && m.b[2] == 128.0 / 255.0 && m.b[3] == 0.4,
+              "8-bit back max(d, back)");
+        ref_map_free(&m);
+    }
+    {
+        /* 16-bit, padded rows, unaligned start */
+        unsigned char buf[1 + 2 * 8];
+        unsigned short vals[4] = { 0, 65535, 1, 40000 };
+        ref_map m = map_const(2, 2, 0.0);
+        memset(buf, 0xAB, sizeof buf);
+        memcpy(buf + 1, &vals[0], 2);
+        memcpy(buf + 3, &vals[1], 2);
+        memcpy(buf + 1 + 8, &vals[2], 2);
+        memcpy(buf + 3 + 8, &vals[3], 2);
+        CHECK(ref_map_set_back_from_raw(&m, buf + 1, 8, REF_FORMAT_UNORM16, 0) == 0, "16-bit back");
+        CHECK(m.b[0] == 0 && m.b[1] == 1 && m.b[2] == 1.0 / 65535.0 && m.b[3] == 40000.0 / 65535.0,
+              "16-bit back values");
+        CHECK(ref_map_set_back_from_raw(&m, buf + 1, 8, REF_FORMAT_UNORM16, 1) == 0, "16-bit back rev");
+        CHECK(m.b[0] == 1 && m.b[1] == 0 && m.b[2] == 65534.0 / 65535.0 && m.b[3] == 25535.0 / 65535.0,
+              "16-bit back reversed values");
+        ref_map_free(&m);
+    }
+    {
+        /* (e) the checker. Texels 0..2 are slabs [0.5, 0.55], texel 3 is solid
+           to the far plane: a level ray at z = 0.7 passes under three and
+           hits the fourth's side at x = 3. */
+        ref_map m = map_const(4, 1, 0.5);
+        float bk[4] = { 0.55f, 0.55f, 0.55f, 1.0f };
+        CHECK(ref_map_set_back_from_raw(&m, bk, 0, REF_FORMAT_FLOAT32, 0) == 0, "set_back (e)");
+        ray = mkray(0.5, 0.5, 0.7, 1, 0, 0, 0, 10);
+        r = ref_trace_ray(&m, &ray);
+        EXPECT_HIT(r, 2.5, 3, 0);
+        EXPECT_FACE(r, REF_FACE_SIDE);
+        a = ans(REF_HIT, 2.5, 3, 0);
+        a.face = REF_FACE_SIDE;
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "side past slabs refused: %s", why);
+        CHECK(ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit side past slabs refused: %s", why);
+        /* the right point, but told on texel 2, which the ray passes under */
+        a = ans(REF_HIT, 2.5, 2, 0);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "hit on a texel passed under accepted");
+        CHECK(!ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit on a texel passed under accepted");
+        /* a point under texel 1, told as a hit on it */
+        a = ans(REF_HIT, 1.0, 1, 0);
+        CHECK(!ref_check(&m, &ray, &a, 1, why, sizeof why) && strstr(why, "box"),
+              "any-hit: a point behind a slab's back accepted (%s)", why);
+        /* the same point with infinite thickness is a hit on texel 1 */
+        free(m.b);
+        m.b = NULL;
+        CHECK(ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit, infinite thickness, refused: %s", why);
+        ref_map_free(&m);
+    }
+    {
+        /* BACK faces in the checker: the slab [0.5, 0.6] */
+        ref_map m = map_const(4, 4, 0.5);
+        set_back_const(&m, 0.6f);
+        ray = mkray(1.5, 1.5, 0.8, 0.25, 0, -1, 0, 10); /* from below, as in (b) */
+        a = ans(REF_HIT, (double)0.8f - (double)0.6f, 1, 1);
+        a.face = REF_FACE_BACK;
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "back at the back refused: %s", why);
+        /* any-hit knows no exact face: the point must lie on z = b */
+        CHECK(ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit back at the back refused: %s", why);
+        a.face = REF_FACE_TOP;
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "top claimed for a back hit accepted");
+        a.face = REF_FACE_INSIDE;
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "inside claimed for a back hit accepted");
+        ray = mkray(1.5, 1.5, 0, 0, 0, 1, 0, 1); /* down onto the top */
+        a = ans(REF_HIT, 0.5, 1, 1);
+        a.face = REF_FACE_TOP;
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "top refused: %s", why);
+        a.face = REF_FACE_BACK;
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why) && strstr(why, "face"),
+              "back claimed for a top hit accepted");
+        CHECK(!ref_check(&m, &ray, &a, 1, why, sizeof why), "any-hit: back claimed for a top hit accepted");
+        ref_map_free(&m);
+    }
+    {
+        /* a ray rising into a slab's lower edge (x = 1, z = b): the exact face
+           is the side, and the back is right too, the top is not */
+        ref_map m = map_const(3, 1, 1.0);
+        float bk[3] = { 1.0f, 0.625f, 1.0f };
+        set_d(&m, 1, 0, 0.5);
+        CHECK(ref_map_set_back_from_raw(&m, bk, 0, REF_FORMAT_FLOAT32, 0) == 0, "set_back edge");
+        ray = mkray(0.5, 0.5, 0.875, 1, 0, -0.5, 0, 10);
+        r = ref_trace_ray(&m, &ray);
+        EXPECT_HIT(r, 0.5, 1, 0);
+        a = ans(REF_HIT, 0.5, 1, 0);
+        a.face = r.face == REF_FACE_BACK ? REF_FACE_SIDE : REF_FACE_BACK; /* the one not reported */
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "the back edge, other face (%d) refused: %s", a.face,
+              why);
+        a.face = REF_FACE_TOP;
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "top at the back edge accepted");
+        ref_map_free(&m);
+    }
+    {
+        /* (f) bad arguments: -1, and the map left as it was */
+        ref_map m = map_const(2, 2, 0.5);
+        float f[4] = { 0.75f, 0.75f, 0.75f, 0.75f };
+        double *d0 = m.d, *b0;
+        CHECK(ref_map_set_back_from_raw(&m, NULL, 0, REF_FORMAT_FLOAT32, 0) == -1, "NULL data accepted");
+        CHECK(m.b == NULL && m.d == d0 && m.w == 2 && m.h == 2 && m.d[0] == 0.5, "NULL data changed the map");
+        CHECK(ref_map_set_back_from_raw(NULL, f, 0, REF_FORMAT_FLOAT32, 0) == -1, "NULL map accepted");
+        CHECK(ref_map_set_back_from_raw(&m, f, 4, REF_FORMAT_FLOAT32, 0) == -1, "short stride accepted");
+        CHECK(ref_map_set_back_from_raw(&m, f, 0, 7, 0) == -1, "bad format accepted");
+        CHECK(m.b == NULL, "b set on failure");
+        CHECK(ref_map_set_back_from_raw(&m, f, 0, REF_FORMAT_FLOAT32, 0) == 0, "set_back");
+        b0 = m.b;
+        CHECK(ref_map_set_back_from_raw(&m, NULL, 0, REF_FORMAT_FLOAT32, 0) == -1 && m.b == b0 &&
+                  m.b[0] == (double)0.75f,
+              "a failed set_back changed the back map");
+        ref_map_free(&m);
+        CHECK(ref_map_set_back_from_raw(&m, f, 0, REF_FORMAT_FLOAT32, 0) == -1, "a freed map accepted");
+        CHECK(ref_map_from_raw(&m, f, 2, 2, 0, REF_FORMAT_FLOAT32, 0) == 0 && m.b == NULL, "from_raw: b not NULL");
+        ref_map_free(&m);
+    }
+}
+
 static void test_random(void)
 {
     static const double levels[6] = { 0, 0.25, 0.5, 0.75, 1, 0.3 };
@@ -711,6 +996,21 @@ static void test_random(void)
         int w = 1 + (int)(rnd() * 9), h = 1 + (int)(rnd() * 9), k, q;
         ref_map m = map_const(w, h, 1);
         for (k = 0; k < w * h; k++) m.d[k] = n % 2 ? levels[(int)(rnd() * 6)] : rnd();
+        if (n % 4 >= 2) {
+            /* finite thickness: backs behind the surface (on the quarter
+               grid for the level maps, so quantised rays graze them), in
+               front of it (clamped to d), NaN (the far plane) */
+            float *bk = (float *)malloc((size_t)w * (size_t)h * sizeof(float));
+            for (k = 0; k < w * h; k++) {
+                double u = rnd();
+                if (u < 0.15) bk[k] = (float)(m.d[k] * rnd());
+                else if (u < 0.25) bk[k] = (float)strtod("nan", NULL);
+                else if (n % 2) bk[k] = (float)(m.d[k] + 0.25 * (int)(rnd() * 3));
+                else bk[k] = (float)(m.d[k] + 0.5 * rnd());
+            }
+            if (ref_map_set_back_from_raw(&m, bk, 0, REF_FORMAT_FLOAT32, 0) != 0) bad_brute++;
+            free(bk);
+        }
         for (q = 0; q < 100; q++) {
             int quant = (q % 3) != 0, c;
             ref_ray ray;
@@ -758,9 +1058,10 @@ static void test_random(void)
                         ok = 0;
                     {
                         double px = o[0] + r.t * v[0], py = o[1] + r.t * v[1],
-                               pz = o[2] + r.t * v[2], d = m.d[r.y * w + r.x];
+                               pz = o[2] + r.t * v[2], d = m.d[r.y * w + r.x],
+                               bk = back_of(&m, r.x, r.y);
                         if (!(px >= r.x - 1e-9 && px <= r.x + 1 + 1e-9 && py >= r.y - 1e-9 &&
-                              py <= r.y + 1 + 1e-9 && pz >= d - 1e-9 && pz <= 1 + 1e-9))
+                              py <= r.y + 1 + 1e-9 && pz >= d - 1e-9 && pz <= bk + 1e-9))
                             ok = 0;
                     }
                 }
@@ -806,6 +1107,7 @@ int main(void)
     test_from_raw();
     test_check();
     test_faces();
+    test_thickness();
     test_random();
     printf("%d passed, %d failed\n", g_pass, g_fail);
     return g_fail > 0 ? 1 : 0;

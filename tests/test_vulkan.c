@@ -604,6 +604,13 @@ static void test_bad_arguments_no_device(void)
           "buffer sizes of 3x2 unorm8 (one node): %u %u", (unsigned)a, (unsigned)b);
     CHECK(lrt_vk_bvh_buffer_sizes(0, 2, LRT_FORMAT_FLOAT32, NULL, &a, &b) == LRT_ERROR_INVALID_SIZE, "buffer sizes: 0 wide");
     CHECK(lrt_vk_bvh_buffer_sizes(3, 2, (lrt_format)0, NULL, &a, &b) == LRT_ERROR_INVALID_FORMAT, "buffer sizes: format 0");
+    { /* the kernels have no back codes: a back-map tree is refused, not half made */
+        lrt_build_options thick;
+        memset(&thick, 0, sizeof thick);
+        thick.thickness = LRT_THICKNESS_BACK_MAP;
+        CHECK(lrt_vk_bvh_buffer_sizes(3, 2, LRT_FORMAT_FLOAT32, &thick, &a, &b) == LRT_ERROR_INVALID_OPTION,
+              "buffer sizes: a back-map tree on the GPU");
+    }
     CHECK(lrt_vk_bvh_buffer_sizes(3, 2, LRT_FORMAT_FLOAT32, NULL, NULL, &b) == LRT_ERROR_NULL_POINTER, "buffer sizes: NULL");
     CHECK(lrt_vk_bvh_create(NULL, &bd, &bvh) == LRT_ERROR_NULL_POINTER, "bvh: null context");
     lrt_vk_bvh_destroy(NULL, NULL);

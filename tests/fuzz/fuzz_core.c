@@ -343,7 +343,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         ref_map_from_raw(&ref, d.data, (int)w, (int)h, d.row_stride, (int)d.format, (int)(d.flags & 1)) != 0)
         FAIL("the reference could not read a map the library accepted");
     {
-        ref_map unit = {1, 1, NULL};
+        ref_map unit = {1, 1, NULL, NULL};
         double one = 1.0;
         unit.d = &one;
         for (k = 0; k < nrays; ++k) rays[k] = make_ray(&in, ref.d ? &ref : &unit);
