@@ -106,8 +106,11 @@ $(B)/ssr $(B)/ao $(B)/shadows: $(B)/%: examples/%.c $(EXAMPLE_HDR) | deps $(B)
 examples: $(addprefix $(B)/,$(EXAMPLES)) $(B)/vulkan_inline
 
 # the README's pictures: the demo's, at 512x512
-pictures: $(B)/demo
+pictures: $(B)/demo $(B)/ssr
 	$(B)/demo --size 512 --no-gpu --out examples/pictures
+	$(B)/ssr --size 512 --out examples/pictures
+	$(B)/ssr --size 512 --thickness 0.3 --out examples/pictures
+	$(B)/ssr --size 512 --thickness back --out examples/pictures
 
 # the examples as tests: their effects against the reference, their
 # pictures, their answers to bad files (tests/test_examples.c)

@@ -168,6 +168,7 @@ static bvh_stats measure_bvh(const lrt_depth *depth, uint32_t node_bits, lrt_bvh
     lrt_bvh bvh;
     double ms[UPDATE_RUNS];
     int k;
+    memset(&opt, 0, sizeof opt);
     opt.node_bits = node_bits;
     for (k = -1; k < BUILD_RUNS; ++k) { /* k = -1: warm-up */
         double t0 = now_ms();
@@ -427,7 +428,7 @@ static int march64_trace(const example_frame *f, const lrt_ray *rays, lrt_hit *h
     sc.width = f->w;
     sc.height = f->h;
     sc.depth = f->depth;
-    sc.lrt = f->lrt;
+    sc.lrt = f->lrt[0];
     rs.name = "reflection";
     rs.rays = rays;
     rs.count = (size_t)f->w * f->h;
@@ -530,8 +531,9 @@ static int pictures(const example_options *o)
     printf("  %-36s %10.1f %12.2f\n", "reflections, 64-step march", ms_march, (double)traced / ms_march / 1e3);
     printf("  %-36s %10.1f %12.2f\n", "ambient occlusion, 16 rays/texel", ms_ao, (double)n * AO_RAYS / ms_ao / 1e3);
     printf("  %-36s %10.1f %12.2f\n", "contact shadows", ms_sh, (double)n / ms_sh / 1e3);
-    printf("  the march agrees with linear_rt on %.1f%% of the %lu reflection rays (same texel, or both miss)\n\n",
-           traced ? 100.0 * (double)agree / (double)traced : 0.0, (unsigned long)traced);
+    printf("  the march agrees with linear_rt on %.1f%% of the %lu reflection rays (same texel, or both miss)%s\n\n",
+           traced ? 100.0 * (double)agree / (double)traced : 0.0, (unsigned long)traced,
+           f.back ? "; the march has no thickness: linear_rt's rays pass behind objects, the march's stop" : "");
     rc = bad ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
 done:
     free(rays);

@@ -52,6 +52,10 @@ typedef struct example_options {
     int reversed_z;
     const char *out_dir;          /* pictures go here */
     int threads;
+    /* --thickness T (metres, view space) or --thickness back (the embedded
+       scene's back-face depth); 0 / 0: infinite, the default */
+    float thickness;
+    int thickness_back;
 } example_options;
 
 typedef struct example_frame {
@@ -63,7 +67,8 @@ typedef struct example_frame {
     float *pos;          /* w * h * 3: view-space position of each texel's centre */
     float *nrm;          /* w * h * 3: view-space normal facing the eye; 0 0 0 for the sky */
     float *lift;         /* w * h: screen-space z by which a ray from this texel is lifted */
-    lrt_depth lrt;
+    float *back;         /* w * h back depths with a thickness, else NULL */
+    lrt_depth lrt[2];    /* the depth, then (LRT_DEPTH_BACK_FOLLOWS) its back map */
     lrt_bvh bvh;
 } example_frame;
 
@@ -88,7 +93,7 @@ EXAMPLE_FN void example_default_options(example_options *o)
 EXAMPLE_FN const char *example_options_usage(void)
 {
     return "[--size N] [--depth FILE [--color FILE] [--width W --height H] [--fov DEG --near N --far F] "
-           "[--reversed-z]] [--out DIR] [--threads T]";
+           "[--reversed-z]] [--thickness METRES|back] [--out DIR] [--threads T]";
 }
 
 static int example__number(const char *s, double lo, double hi, double *v)
@@ -110,7 +115,7 @@ EXAMPLE_FN int example_parse_option(example_options *o, int argc, char **argv, i
     int is_value_option = !strcmp(k, "--size") || !strcmp(k, "--depth") || !strcmp(k, "--color") ||
                           !strcmp(k, "--width") || !strcmp(k, "--height") || !strcmp(k, "--fov") ||
                           !strcmp(k, "--near") || !strcmp(k, "--far") || !strcmp(k, "--out") ||
-                          !strcmp(k, "--threads");
+                          !strcmp(k, "--threads") || !strcmp(k, "--thickness");
     if (!strcmp(k, "--reversed-z")) {
         o->reversed_z = 1;
         return 1;
@@ -131,6 +136,8 @@ EXAMPLE_FN int example_parse_option(example_options *o, int argc, char **argv, i
     else if (!strcmp(k, "--near") && example__number(v, 1e-6, 1e9, &x)) o->near_z = (float)x;
     else if (!strcmp(k, "--far") && example__number(v, 1e-6, 1e12, &x)) o->far_z = (float)x;
     else if (!strcmp(k, "--threads") && example__number(v, 1, 64, &x)) o->threads = (int)x;
+    else if (!strcmp(k, "--thickness") && !strcmp(v, "back")) o->thickness_back = 1;
+    else if (!strcmp(k, "--thickness") && example__number(v, 1e-6, 1e9, &x)) o->thickness = (float)x;
     else {
         fprintf(stderr, "%s: bad value '%s'\n", k, v);
         return -1;
@@ -245,6 +252,21 @@ static void example__normals_row(void *ctx, uint32_t j)
     surface_normals_row(f->depth, f->pos, f->w, f->h, j, f->nrm, f->lift);
 }
 
+/* A constant view-space thickness T as a back map: each texel's back is the
+   depth its view-space point gets T further from the eye (MODEL.md's
+   constant thickness, rounded to float once here); the sky stays at 1. */
+static void example__constant_back(example_frame *f, float thickness)
+{
+    size_t k, n = (size_t)f->w * f->h;
+    for (k = 0; k < n; ++k) {
+        float p[3], s[3];
+        p[0] = f->pos[3 * k];
+        p[1] = f->pos[3 * k + 1];
+        p[2] = f->pos[3 * k + 2] - thickness; /* view space looks down -z */
+        f->back[k] = f->depth[k] >= 1.0f || !lrt_camera_project(&f->camera, p, s) ? 1.0f : s[2] > 1.0f ? 1.0f : s[2];
+    }
+}
+
 EXAMPLE_FN void example_frame_free(example_frame *f)
 {
     lrt_bvh_destroy(&f->bvh);
@@ -253,6 +275,7 @@ EXAMPLE_FN void example_frame_free(example_frame *f)
     free(f->pos);
     free(f->nrm);
     free(f->lift);
+    free(f->back);
     memset(f, 0, sizeof *f);
 }
 
@@ -265,6 +288,7 @@ EXAMPLE_FN int example_frame_load(example_frame *f, const example_options *o)
     float proj[16];
     char why[512];
     size_t n, k;
+    lrt_build_options build;
     lrt_result r;
     memset(f, 0, sizeof *f);
     if (o->depth_file) {
@@ -323,11 +347,35 @@ EXAMPLE_FN int example_frame_load(example_frame *f, const example_options *o)
     }
     example_parallel_rows(f->h, o->threads, NULL, example__positions_row, f);
     example_parallel_rows(f->h, o->threads, NULL, example__normals_row, f);
-    f->lrt.data = f->depth;
-    f->lrt.width = f->w;
-    f->lrt.height = f->h;
-    f->lrt.format = LRT_FORMAT_FLOAT32;
-    if ((r = lrt_bvh_build(&f->bvh, &f->lrt, NULL, NULL)) != LRT_SUCCESS) {
+    f->lrt[0].data = f->depth;
+    f->lrt[0].width = f->w;
+    f->lrt[0].height = f->h;
+    f->lrt[0].format = LRT_FORMAT_FLOAT32;
+    memset(&build, 0, sizeof build);
+    if (o->thickness_back || o->thickness > 0.0f) {
+        if (o->thickness_back && o->depth_file) {
+            fprintf(stderr, "--thickness back: a back-face depth is made for the embedded scene only\n");
+            example_frame_free(f);
+            return EXAMPLE_EXIT_BAD_INPUT;
+        }
+        if (!(f->back = (float *)malloc(n * sizeof(float)))) {
+            fprintf(stderr, "out of memory for a %ux%u back map\n", f->w, f->h);
+            example_frame_free(f);
+            return EXAMPLE_EXIT_FAILED;
+        }
+        if (o->thickness_back) {
+            scene_camera cam = scene_default_camera();
+            scene_render_back((int)f->w, (int)f->h, &cam, f->back);
+        } else {
+            example__constant_back(f, o->thickness);
+        }
+        f->lrt[0].flags = LRT_DEPTH_BACK_FOLLOWS;
+        f->lrt[1] = f->lrt[0];
+        f->lrt[1].data = f->back;
+        f->lrt[1].flags = 0;
+        build.thickness = LRT_THICKNESS_BACK_MAP;
+    }
+    if ((r = lrt_bvh_build(&f->bvh, f->lrt, &build, NULL)) != LRT_SUCCESS) {
         fprintf(stderr, "lrt_bvh_build: %s\n", lrt_result_string(r));
         example_frame_free(f);
         return EXAMPLE_EXIT_FAILED;
@@ -348,7 +396,7 @@ static void example__trace_row(void *ctx, uint32_t row)
 {
     example__trace_job *t = (example__trace_job *)ctx;
     size_t first = (size_t)row * t->per_row;
-    lrt_trace_range(&t->f->bvh, &t->f->lrt, t->rays, t->hits, first, first + t->per_row, t->flags);
+    lrt_trace_range(&t->f->bvh, t->f->lrt, t->rays, t->hits, first, first + t->per_row, t->flags);
 }
 
 /* Traces f->h * per_row rays (per_row for each texel row, in row order). */

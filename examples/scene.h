@@ -3,7 +3,9 @@
    A deterministic outdoor yard built in code and rasterised on the CPU by
    casting one view ray per pixel: a ground plane, boxes, spheres and thin
    poles under a sky. Gives depth (Vulkan convention, 0 near, 1 far, sky = 1)
-   and an optional RGB colour. No file, no randomness, any size.
+   and an optional RGB colour, and the depth of a back-face pass (the
+   nearest back face of each pixel: thickness from a back map). No file, no
+   randomness, any size.
 
    Header-only, static functions: include it where it is used. */
 #ifndef LRT_SCENE_H
@@ -97,6 +99,45 @@ static float scene__hit(const scene__prim *p, const float o[3], const float d[3]
     }
 }
 
+/* Farthest t > 0 of the ray (o, d) inside primitive p (its back face), or -1.
+   Like scene__hit, a pole has no caps. */
+static inline float scene__exit(const scene__prim *p, const float o[3], const float d[3])
+{
+    if (p->kind == 0) {
+        float t0 = -1e30f, t1 = 1e30f;
+        int k;
+        for (k = 0; k < 3; ++k) {
+            float inv = 1.0f / d[k];
+            float ta = (p->a[k] - o[k]) * inv, tb = (p->b[k] - o[k]) * inv;
+            if (ta > tb) { float x = ta; ta = tb; tb = x; }
+            if (d[k] == 0.0f) {
+                if (o[k] < p->a[k] || o[k] > p->b[k]) return -1.0f;
+                continue;
+            }
+            t0 = ta > t0 ? ta : t0;
+            t1 = tb < t1 ? tb : t1;
+        }
+        return (t0 <= t1 && t1 > 0.0f) ? t1 : -1.0f;
+    } else if (p->kind == 1) {
+        float oc[3] = {o[0] - p->a[0], o[1] - p->a[1], o[2] - p->a[2]};
+        float b = oc[0] * d[0] + oc[1] * d[1] + oc[2] * d[2];
+        float c = oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2] - p->b[0] * p->b[0];
+        float a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        float disc = b * b - a * c, t;
+        if (disc < 0.0f) return -1.0f;
+        t = (-b + sqrtf(disc)) / a;
+        return t > 0.0f ? t : -1.0f;
+    } else {
+        float ox = o[0] - p->a[0], oz = o[2] - p->a[2];
+        float a = d[0] * d[0] + d[2] * d[2], b = ox * d[0] + oz * d[2], c = ox * ox + oz * oz - p->b[0] * p->b[0];
+        float disc = b * b - a * c, t, y;
+        if (a == 0.0f || disc < 0.0f) return -1.0f;
+        t = (-b + sqrtf(disc)) / a;
+        y = o[1] + t * d[1];
+        return (t > 0.0f && y >= p->a[1] && y <= p->a[1] + p->b[1]) ? t : -1.0f;
+    }
+}
+
 /* The camera's rotation: view = m * (world - eye), m row-major (3x3), eye =
    (0, height, 0). View space is the renderer's camera space: x right, y up,
    looking down -z. */
@@ -109,25 +150,47 @@ static inline void scene_view_from_world(const scene_camera *cam, float m[9])
     m[6] = 0.0f; m[7] = sp;   m[8] = cp;
 }
 
-/* Renders depth (w*h floats, row 0 = top of the image) and, if rgb is not
-   NULL, colour (w*h*3 bytes). */
-static void scene_render(int w, int h, const scene_camera *cam, float *depth, uint8_t *rgb)
+/* Pixel (x, y)'s view ray from the eye o, in world space (the camera
+   pitched down about x), and the cosine factor that turns its t into a
+   distance along the camera's forward axis. */
+static void scene__pixel_ray(int w, int h, const scene_camera *cam, int x, int y, float o[3], float d[3], float *forward)
 {
     const float pi = 3.14159265358979f;
     float th = tanf(cam->fov_y_deg * pi / 360.0f), aspect = (float)w / (float)h;
     float cp = cosf(cam->pitch_deg * pi / 180.0f), sp = sinf(cam->pitch_deg * pi / 180.0f);
-    float n = cam->near_z, f = cam->far_z;
+    /* view direction in camera space (x right, y up, -z forward), pitched down */
+    float cx = (2.0f * ((float)x + 0.5f) / (float)w - 1.0f) * th * aspect;
+    float cy = (1.0f - 2.0f * ((float)y + 0.5f) / (float)h) * th;
+    const float dc[3] = {cx, cy, -1.0f};
+    /* rotated about x so that the forward axis is (0, -sin p, -cos p) */
+    d[0] = dc[0];
+    d[1] = dc[1] * cp + dc[2] * sp;
+    d[2] = -dc[1] * sp + dc[2] * cp;
+    o[0] = 0.0f;
+    o[1] = cam->height;
+    o[2] = 0.0f;
+    *forward = -d[1] * sp - d[2] * cp;
+}
+
+/* The perspective depth of a point t along a pixel's ray (1: nothing there) */
+static float scene__depth(const scene_camera *cam, float t, float forward)
+{
+    float n = cam->near_z, f = cam->far_z, zview = t * forward, dep;
+    if (t >= 1e29f || zview >= f) return 1.0f;
+    dep = (f * (zview - n)) / (zview * (f - n));
+    return dep < 0.0f ? 0.0f : dep > 1.0f ? 1.0f : dep;
+}
+
+/* Renders depth (w*h floats, row 0 = top of the image) and, if rgb is not
+   NULL, colour (w*h*3 bytes). */
+static void scene_render(int w, int h, const scene_camera *cam, float *depth, uint8_t *rgb)
+{
     int x, y, i;
     for (y = 0; y < h; ++y) {
         for (x = 0; x < w; ++x) {
-            /* view direction in camera space (x right, y up, -z forward), pitched down */
-            float cx = (2.0f * ((float)x + 0.5f) / (float)w - 1.0f) * th * aspect;
-            float cy = (1.0f - 2.0f * ((float)y + 0.5f) / (float)h) * th;
-            float dc[3] = {cx, cy, -1.0f};
-            /* rotated about x so that the forward axis is (0, -sin p, -cos p) */
-            float d[3] = {dc[0], dc[1] * cp + dc[2] * sp, -dc[1] * sp + dc[2] * cp};
-            float o[3] = {0.0f, cam->height, 0.0f};
-            float best = 1e30f, col[3] = {0.55f, 0.70f, 0.95f}, zview, dep;
+            float o[3], d[3], forward;
+            float best = 1e30f, col[3] = {0.55f, 0.70f, 0.95f};
+            scene__pixel_ray(w, h, cam, x, y, o, d, &forward);
             if (d[1] < 0.0f) { /* ground y = 0: a checker */
                 float t = -o[1] / d[1];
                 float gx = o[0] + t * d[0], gz = o[2] + t * d[2];
@@ -146,16 +209,29 @@ static void scene_render(int w, int h, const scene_camera *cam, float *depth, ui
                     col[2] = scene__prims[i].rgb[2];
                 }
             }
-            /* distance along the camera's forward axis; perspective depth */
-            zview = best * (-d[1] * sp - d[2] * cp);
-            if (best >= 1e29f || zview >= f) dep = 1.0f;
-            else dep = (f * (zview - n)) / (zview * (f - n));
-            if (dep < 0.0f) dep = 0.0f;
-            if (dep > 1.0f) dep = 1.0f;
-            depth[(size_t)y * (size_t)w + (size_t)x] = dep;
+            depth[(size_t)y * (size_t)w + (size_t)x] = scene__depth(cam, best, forward);
             if (rgb) {
                 for (i = 0; i < 3; ++i) rgb[((size_t)y * (size_t)w + (size_t)x) * 3 + (size_t)i] = (uint8_t)(col[i] * 255.0f + 0.5f);
             }
+        }
+    }
+}
+
+/* Renders what a back-face depth pass gives (w*h floats): the depth of the
+   nearest back face along each pixel's ray, 1 where there is none (the
+   ground is a plane with no back: solid to the far plane). */
+static inline void scene_render_back(int w, int h, const scene_camera *cam, float *back)
+{
+    int x, y, i;
+    for (y = 0; y < h; ++y) {
+        for (x = 0; x < w; ++x) {
+            float o[3], d[3], forward, best = 1e30f;
+            scene__pixel_ray(w, h, cam, x, y, o, d, &forward);
+            for (i = 0; i < SCENE__PRIMS; ++i) {
+                float t = scene__exit(&scene__prims[i], o, d);
+                if (t > 0.0f && t < best) best = t;
+            }
+            back[(size_t)y * (size_t)w + (size_t)x] = scene__depth(cam, best, forward);
         }
     }
 }

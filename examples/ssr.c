@@ -7,8 +7,12 @@
    hit; shaded from the colour buffer at the hit texel, or from the sky when
    the ray leaves the screen or reaches the far plane unblocked.
 
-   build/ssr [--size N] [--depth FILE ...]    writes out/ssr.png
-   (make examples builds it; example.h lists the options.)
+   build/ssr [--size N] [--depth FILE ...]    writes out/ssr.png and out/ssr_faces.png
+   build/ssr --thickness 0.3                  a 0.3 m thick depth layer: ssr_thick.png, ssr_thick_faces.png
+   build/ssr --thickness back                 the scene's back faces: ssr_back.png, ssr_back_faces.png
+   (make examples builds it; example.h lists the options.) The faces picture
+   shows which face of its texel each reflection hit: the top (a surface the
+   camera sees) green, a side orange, the back red, inside blue; misses grey.
 
    The demo and the tests include this file with EXAMPLE_NO_MAIN defined and
    call ssr_make_rays / ssr_shade themselves. */
@@ -107,6 +111,17 @@ EXAMPLE_FN void ssr_shade(const example_frame *f, const lrt_hit *hits, uint8_t *
     }
 }
 
+/* The face of each texel's reflection hit as a colour (see the top). */
+EXAMPLE_FN void ssr_faces(const example_frame *f, const lrt_hit *hits, uint8_t *out)
+{
+    static const uint8_t colours[5][3] = {{96, 96, 96}, {60, 170, 75}, {235, 140, 40}, {210, 40, 40}, {60, 90, 220}};
+    size_t k, n = (size_t)f->w * f->h;
+    for (k = 0; k < n; ++k) {
+        const uint32_t face = hits[k].kind == LRT_HIT && hits[k].face <= LRT_FACE_INSIDE ? hits[k].face : 0u;
+        memcpy(&out[3 * k], f->depth[k] >= 1.0f ? f->rgb + 3 * k : colours[face], 3);
+    }
+}
+
 #ifndef EXAMPLE_NO_MAIN
 int main(int argc, char **argv)
 {
@@ -141,7 +156,15 @@ int main(int argc, char **argv)
     printf("ssr: %ux%u, %zu reflection rays: set-up %.1f ms, trace %.1f ms on %d threads, %.1f%% hit (%.1f%% on a top face)\n",
            f.w, f.h, n, t1 - t0, t2 - t1, o.threads, 100.0 * (double)hit_count / (double)n,
            100.0 * (double)top_count / (double)n);
-    rc = example_write_png(o.out_dir, "ssr.png", f.w, f.h, 3, out) ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
+    {
+        const char *tag = o.thickness_back ? "_back" : o.thickness > 0.0f ? "_thick" : "";
+        char name[32];
+        snprintf(name, sizeof name, "ssr%s.png", tag);
+        rc = example_write_png(o.out_dir, name, f.w, f.h, 3, out) ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
+        ssr_faces(&f, hits, out);
+        snprintf(name, sizeof name, "ssr%s_faces.png", tag);
+        if (rc == EXAMPLE_EXIT_OK && example_write_png(o.out_dir, name, f.w, f.h, 3, out)) rc = EXAMPLE_EXIT_FAILED;
+    }
     free(rays);
     free(hits);
     free(out);

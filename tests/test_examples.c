@@ -39,6 +39,10 @@ static size_t judge(const example_frame *f, const lrt_ray *rays, const lrt_hit *
     ref_map m;
     size_t k, bad = 0;
     if (ref_map_from_raw(&m, f->depth, (int)f->w, (int)f->h, 0, REF_FORMAT_FLOAT32, 0) != 0) return n;
+    if (f->back && ref_map_set_back_from_raw(&m, f->back, 0, REF_FORMAT_FLOAT32, 0) != 0) {
+        ref_map_free(&m);
+        return n;
+    }
     for (k = 0; k < n; ++k) {
         ref_ray q = to_ref_ray(&rays[k]);
         ref_answer a;
@@ -165,7 +169,8 @@ static size_t texel_of(const example_frame *f, float x, float y, float z)
     return (size_t)s[1] * f->w + (size_t)s[0];
 }
 
-static void test_effects(const example_frame *f)
+/* returns how many reflection rays hit (infinite thickness) */
+static size_t test_effects(const example_frame *f)
 {
     size_t n = (size_t)f->w * f->h, k, hit = 0, open, corner;
     lrt_ray *rays = (lrt_ray *)malloc(n * AO_RAYS * sizeof *rays);
@@ -174,7 +179,7 @@ static void test_effects(const example_frame *f)
     uint8_t *img = (uint8_t *)malloc(n * 3);
     if (!rays || !hits || !occ || !img) {
         CHECK(0, "out of memory");
-        return;
+        return 0;
     }
     ssr_make_rays(f, rays, 2);
     example_trace(f, rays, hits, f->w, 0, 2, NULL);
@@ -202,6 +207,7 @@ static void test_effects(const example_frame *f)
     free(hits);
     free(occ);
     free(img);
+    return hit;
 }
 
 /* ---- the programs ------------------------------------------------------------------ */
@@ -241,6 +247,61 @@ static int png_size(const char *path, int *w, int *h)
     ok = stbi_info_from_memory(bytes, (int)size, w, h, &c);
     free(bytes);
     return ok;
+}
+
+/* Reflections in a thick depth layer (a constant thickness, then the
+   scene's back faces): every ray exact against the reference with the same
+   back map, and fewer hits than with infinite thickness, as rays now pass
+   behind objects. */
+static void test_thickness(size_t infinite_hits)
+{
+    int mode;
+    for (mode = 0; mode < 2; ++mode) {
+        example_options o;
+        example_frame f;
+        size_t n, k, hit = 0, top = 0;
+        lrt_ray *rays;
+        lrt_hit *hits;
+        example_default_options(&o);
+        o.size = SIZE;
+        if (mode) o.thickness_back = 1;
+        else o.thickness = 0.3f;
+        if (example_frame_load(&f, &o) != EXAMPLE_EXIT_OK) {
+            CHECK(0, "thickness %d: frame", mode);
+            continue;
+        }
+        n = (size_t)f.w * f.h;
+        rays = (lrt_ray *)malloc(n * sizeof *rays);
+        hits = (lrt_hit *)malloc(n * sizeof *hits);
+        if (rays && hits) {
+            size_t back = 0;
+            for (k = 0; k < n; ++k) back += f.back[k] < 1.0f && f.back[k] > f.depth[k];
+            CHECK(back > n / 20, "%s: a back map with depth in it (%lu texels)", mode ? "back faces" : "0.3 m",
+                  (unsigned long)back);
+            ssr_make_rays(&f, rays, 2);
+            example_trace(&f, rays, hits, f.w, 0, 2, NULL);
+            for (k = 0; k < n; ++k) {
+                hit += hits[k].kind == LRT_HIT;
+                top += hits[k].kind == LRT_HIT && hits[k].face == LRT_FACE_TOP;
+            }
+            CHECK(judge(&f, rays, hits, n, 0, mode ? "reflection, back faces" : "reflection, 0.3 m") == 0,
+                  "every reflection ray in a thick layer agrees with the reference");
+            CHECK(hit < infinite_hits && top > 0, "%s: %lu hits (%lu on a top face), fewer than infinite thickness's %lu",
+                  mode ? "back faces" : "0.3 m", (unsigned long)hit, (unsigned long)top, (unsigned long)infinite_hits);
+        }
+        free(rays);
+        free(hits);
+        example_frame_free(&f);
+    }
+    { /* a back-face depth exists for the embedded scene only */
+        char out[512];
+        int rc = run("build/ssr --depth " DIR "/good.pfm --thickness back --out " DIR "/pics", out, sizeof out);
+        CHECK(rc == EXAMPLE_EXIT_BAD_INPUT && strstr(out, "--thickness back"), "--thickness back with a file: exit %d: %s",
+              rc, out);
+        rc = run("build/ssr --size 40 --thickness -1 --out " DIR "/pics", out, sizeof out);
+        CHECK(rc == EXAMPLE_EXIT_BAD_INPUT && strstr(out, "--thickness: bad value"), "a negative thickness: exit %d: %s",
+              rc, out);
+    }
 }
 
 static void test_programs(void)
@@ -312,6 +373,7 @@ int main(void)
 {
     example_options o;
     example_frame f;
+    size_t refl_hits;
     mkdir("build", 0777);
     mkdir(DIR, 0777);
     test_camera();
@@ -319,8 +381,9 @@ int main(void)
     o.size = SIZE;
     CHECK(example_frame_load(&f, &o) == EXAMPLE_EXIT_OK, "embedded scene frame");
     test_frame(&f);
-    test_effects(&f);
+    refl_hits = test_effects(&f);
     example_frame_free(&f);
     test_programs();
+    test_thickness(refl_hits);
     return check_summary();
 }

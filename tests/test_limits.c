@@ -125,6 +125,7 @@ static void test_layout_sizes(void)
                     lrt_build_options opt;
                     uint64_t auto_bits = f == LRT_FORMAT_UNORM8 ? 8 : 16;
                     want_layout wa;
+                    memset(&opt, 0, sizeof opt);
                     opt.node_bits = bits;
                     if (lrt_bvh_memory_size(dims[a], dims[b], f, &opt, &mem) != LRT_SUCCESS ||
                         (uint64_t)mem != want.bytes + 15u)

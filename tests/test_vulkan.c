@@ -523,6 +523,7 @@ static void test_2d_dispatch(void)
         const int w = 8192, h = 4096;
         VkDeviceSize nodes_bytes, counters_bytes;
         lrt_build_options opt;
+        memset(&opt, 0, sizeof opt);
         opt.node_bits = 8;
         lrt_vk_bvh_buffer_sizes((uint32_t)w, (uint32_t)h, LRT_FORMAT_UNORM8, &opt, &nodes_bytes, &counters_bytes);
         if (nodes_bytes > g_limits.maxStorageBufferRange || counters_bytes > g_limits.maxStorageBufferRange ||
