@@ -299,7 +299,8 @@ typedef struct lrt_allocator {
        lrt_depth maps[2] = {{depth, w, h, 0, LRT_FORMAT_FLOAT32, LRT_DEPTH_BACK_FOLLOWS},
                             {back,  w, h, 0, LRT_FORMAT_FLOAT32, 0}};
        lrt_bvh_build(&bvh, maps, &options, NULL); ... lrt_trace(&bvh, maps, ...);
-   CPU only so far: the Vulkan kernels refuse it. */
+   On the GPU the same with two lrt_vk_depth (both buffers or both images),
+   and options.thickness in lrt_vk_bvh_desc: the kernels answer as the CPU. */
 typedef enum lrt_thickness {
     LRT_THICKNESS_INFINITE = 0,   /* [depth, 1]: today's solid, the default */
     LRT_THICKNESS_BACK_MAP = 1,   /* [depth, max(depth, back)] */
@@ -576,7 +577,7 @@ LINEAR_RT_API void lrt_vk_bvh_destroy(lrt_vk_context *ctx, lrt_vk_bvh *bvh);
 /* ---- depth on the GPU ---------------------------------------------------------- */
 typedef struct lrt_vk_depth {
     lrt_format format;           /* as lrt_depth; images: see view */
-    uint32_t flags;              /* LRT_DEPTH_REVERSED_Z */
+    uint32_t flags;              /* LRT_DEPTH_REVERSED_Z; LRT_DEPTH_BACK_FOLLOWS: a back map in the next one */
     uint32_t width, height;      /* must equal the BVH's */
     /* either a storage buffer (usage STORAGE_BUFFER) ... */
     VkBuffer buffer;
@@ -3439,11 +3440,13 @@ struct lrt_vk_context {
 typedef struct lrt__vk_push {
     uint32_t width, height, format, flags, node_bits, level_count, depth_offset, row_stride;
     uint32_t rect_x0, rect_y0, rect_x1, rect_y1, build, ray_first, ray_count, trace_flags;
+    uint32_t back_offset, back_row_stride; /* a back-map tree's back map (buffers) */
 } lrt__vk_push;
 
 enum {
     LRT__VK_BIND_DEPTH_BUFFER = 0, LRT__VK_BIND_DEPTH_IMAGE = 1, LRT__VK_BIND_NODES = 2,
-    LRT__VK_BIND_COUNTERS = 3, LRT__VK_BIND_RAYS = 4, LRT__VK_BIND_HITS = 5, LRT__VK_BINDINGS = 6
+    LRT__VK_BIND_COUNTERS = 3, LRT__VK_BIND_RAYS = 4, LRT__VK_BIND_HITS = 5,
+    LRT__VK_BIND_BACK_BUFFER = 6, LRT__VK_BIND_BACK_IMAGE = 7, LRT__VK_BINDINGS = 8
 };
 #define LRT__VK_GROUP 64u           /* invocations per workgroup, in x */
 #define LRT__VK_GROUPS_PER_ROW 65535u /* above this many groups the dispatch is 2D */
@@ -3563,6 +3566,8 @@ static VkResult lrt__vk_create_objects(lrt_vk_context *c, VkPipelineCache cache)
     }
     b[LRT__VK_BIND_DEPTH_IMAGE].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     b[LRT__VK_BIND_DEPTH_IMAGE].pImmutableSamplers = &c->sampler; /* pushes give the view alone */
+    b[LRT__VK_BIND_BACK_IMAGE].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    b[LRT__VK_BIND_BACK_IMAGE].pImmutableSamplers = &c->sampler;
     memset(&li, 0, sizeof li);
     li.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
     li.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
@@ -3705,9 +3710,7 @@ static lrt_result lrt__vk_layout(uint32_t width, uint32_t height, lrt_format for
     lrt_result r;
     if ((r = lrt__check_size(width, height)) != LRT_SUCCESS) return r;
     if (!lrt__format_bytes(format)) return LRT_ERROR_INVALID_FORMAT;
-    if ((r = lrt__options_layout(width, height, format, options, layout)) != LRT_SUCCESS) return r;
-    /* the kernels have no back codes yet: a back-map tree is CPU only */
-    return layout->back_codes ? LRT_ERROR_INVALID_OPTION : LRT_SUCCESS;
+    return lrt__options_layout(width, height, format, options, layout);
 }
 
 LINEAR_RT_DEF lrt_result lrt_vk_bvh_buffer_sizes(uint32_t width, uint32_t height, lrt_format format,
@@ -3835,6 +3838,11 @@ typedef struct lrt__vk_source {
     VkDescriptorBufferInfo buffer; /* the depth binding's range: from an aligned offset */
     VkDescriptorImageInfo view;
     uint32_t depth_offset, row_stride;
+    /* the back map's, the same way (a back-map tree); else the depth's again,
+       so that the binding the kernels name always holds something valid */
+    VkDescriptorBufferInfo back_buffer;
+    VkDescriptorImageInfo back_view;
+    uint32_t back_offset, back_row_stride;
 } lrt__vk_source;
 
 static int lrt__vk_layout_ok(VkImageLayout layout)
@@ -3855,54 +3863,80 @@ static int lrt__vk_layout_ok(VkImageLayout layout)
 }
 
 /* Everything about a BVH and its depth that can be wrong, before recording. */
+/* One map (the depth, or its back map) as the kernels bind it: a buffer
+   range from an aligned offset (*offset: the map's first byte in it), or a
+   sampled image view. */
+static lrt_result lrt__vk_map(const lrt_vk_context *c, const lrt_vk_depth *map, uint32_t bpp, int *image,
+                              VkDescriptorBufferInfo *buffer, VkDescriptorImageInfo *view, uint32_t *offset,
+                              uint32_t *row_stride)
+{
+    if (map->buffer == VK_NULL_HANDLE && map->view == VK_NULL_HANDLE) return LRT_ERROR_NULL_POINTER;
+    if (map->buffer != VK_NULL_HANDLE && map->view != VK_NULL_HANDLE) return LRT_ERROR_INVALID_OPTION;
+    *image = map->buffer == VK_NULL_HANDLE;
+    if (!*image) {
+        const VkDeviceSize row_bytes = (VkDeviceSize)map->width * bpp, max_range = c->limits.maxStorageBufferRange;
+        /* one row spans row_bytes whatever its stride, which is then never used */
+        const VkDeviceSize stride = map->row_stride && map->height > 1 ? map->row_stride : row_bytes;
+        VkDeviceSize base, rem, span;
+        if (stride < row_bytes) return LRT_ERROR_INVALID_STRIDE;
+        if (map->offset % bpp || stride % bpp) return LRT_ERROR_MISALIGNED;
+        base = map->offset - map->offset % lrt__vk_storage_alignment(c);
+        rem = map->offset - base;
+        /* the bound range, in words: rem + stride * (height - 1) + row_bytes, rounded up */
+        if (stride > max_range) return LRT_ERROR_LIMIT_EXCEEDED;
+        span = rem + stride * (map->height - 1u) + row_bytes;
+        span = lrt__vk_align_up(span, 4);
+        if (span > max_range) return LRT_ERROR_LIMIT_EXCEEDED;
+        buffer->buffer = map->buffer;
+        buffer->offset = base;
+        buffer->range = span;
+        *offset = (uint32_t)rem;
+        *row_stride = (uint32_t)stride;
+    } else {
+        if (!lrt__vk_layout_ok(map->layout)) return LRT_ERROR_INVALID_OPTION;
+        if (map->width > c->limits.maxImageDimension2D || map->height > c->limits.maxImageDimension2D)
+            return LRT_ERROR_LIMIT_EXCEEDED; /* no such image on this device */
+        view->sampler = c->sampler; /* immutable in the layout anyway */
+        view->imageView = map->view;
+        view->imageLayout = map->layout;
+    }
+    return LRT_SUCCESS;
+}
+
 static lrt_result lrt__vk_check(const lrt_vk_context *c, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
                                 const lrt_vk_depth *depth, lrt__vk_source *src)
 {
+    const lrt_vk_depth *back = depth + 1; /* read only with LRT_DEPTH_BACK_FOLLOWS */
     uint32_t bpp;
+    int back_image;
     lrt_result r;
     if (!c || !cmd || !bvh || !depth) return LRT_ERROR_NULL_POINTER;
     if (!bvh->created) return LRT_ERROR_INVALID_BVH;
     if ((r = lrt__check_size(depth->width, depth->height)) != LRT_SUCCESS) return r;
     bpp = lrt__format_bytes(depth->format);
     if (!bpp) return LRT_ERROR_INVALID_FORMAT;
-    if (depth->flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) return LRT_ERROR_INVALID_OPTION;
+    if (depth->flags & ~(uint32_t)(LRT_DEPTH_REVERSED_Z | LRT_DEPTH_BACK_FOLLOWS)) return LRT_ERROR_INVALID_OPTION;
     if (depth->width != bvh->layout.width || depth->height != bvh->layout.height) return LRT_ERROR_SIZE_MISMATCH;
     /* the tree's ranges against this context's device (create checked its own) */
     if ((VkDeviceSize)bvh->layout.bytes > c->limits.maxStorageBufferRange ||
         bvh->counters_bytes > c->limits.maxStorageBufferRange)
         return LRT_ERROR_LIMIT_EXCEEDED;
     memset(src, 0, sizeof *src);
-    if (depth->buffer == VK_NULL_HANDLE && depth->view == VK_NULL_HANDLE) return LRT_ERROR_NULL_POINTER;
-    if (depth->buffer != VK_NULL_HANDLE && depth->view != VK_NULL_HANDLE) return LRT_ERROR_INVALID_OPTION;
-    if (depth->buffer != VK_NULL_HANDLE) {
-        const VkDeviceSize row_bytes = (VkDeviceSize)depth->width * bpp, max_range = c->limits.maxStorageBufferRange;
-        /* one row spans row_bytes whatever its stride, which is then never used */
-        const VkDeviceSize stride = depth->row_stride && depth->height > 1 ? depth->row_stride : row_bytes;
-        VkDeviceSize base, rem, span;
-        if (stride < row_bytes) return LRT_ERROR_INVALID_STRIDE;
-        if (depth->offset % bpp || stride % bpp) return LRT_ERROR_MISALIGNED;
-        base = depth->offset - depth->offset % lrt__vk_storage_alignment(c);
-        rem = depth->offset - base;
-        /* the bound range, in words: rem + stride * (height - 1) + row_bytes, rounded up */
-        if (stride > max_range) return LRT_ERROR_LIMIT_EXCEEDED;
-        span = rem + stride * (depth->height - 1u) + row_bytes;
-        span = lrt__vk_align_up(span, 4);
-        if (span > max_range) return LRT_ERROR_LIMIT_EXCEEDED;
-        src->buffer.buffer = depth->buffer;
-        src->buffer.offset = base;
-        src->buffer.range = span;
-        src->depth_offset = (uint32_t)rem;
-        src->row_stride = (uint32_t)stride;
-    } else {
-        if (!lrt__vk_layout_ok(depth->layout)) return LRT_ERROR_INVALID_OPTION;
-        if (depth->width > c->limits.maxImageDimension2D || depth->height > c->limits.maxImageDimension2D)
-            return LRT_ERROR_LIMIT_EXCEEDED; /* no such image on this device */
-        src->image = 1;
-        src->view.sampler = c->sampler; /* immutable in the layout anyway */
-        src->view.imageView = depth->view;
-        src->view.imageLayout = depth->layout;
-    }
-    return LRT_SUCCESS;
+    if ((r = lrt__vk_map(c, depth, bpp, &src->image, &src->buffer, &src->view, &src->depth_offset, &src->row_stride)) !=
+        LRT_SUCCESS)
+        return r;
+    src->back_buffer = src->buffer;
+    src->back_view = src->view;
+    /* a back map exactly with a back-map tree, described as the depth is (lrt__check_back) */
+    if (((depth->flags & LRT_DEPTH_BACK_FOLLOWS) != 0) != (bvh->layout.back_codes != 0)) return LRT_ERROR_THICKNESS_MISMATCH;
+    if (!bvh->layout.back_codes) return LRT_SUCCESS;
+    if (back->width != depth->width || back->height != depth->height) return LRT_ERROR_SIZE_MISMATCH;
+    if (back->format != depth->format) return LRT_ERROR_INVALID_FORMAT;
+    if (back->flags != (depth->flags & LRT_DEPTH_REVERSED_Z)) return LRT_ERROR_INVALID_OPTION;
+    if ((r = lrt__vk_map(c, back, bpp, &back_image, &src->back_buffer, &src->back_view, &src->back_offset,
+                         &src->back_row_stride)) != LRT_SUCCESS)
+        return r;
+    return back_image == src->image ? LRT_SUCCESS : LRT_ERROR_INVALID_OPTION; /* both buffers, or both images */
 }
 
 /* Workgroups for n invocations: 1D up to 65535 groups, then rows of them. */
@@ -3935,6 +3969,8 @@ static void lrt__vk_push_common(const lrt_vk_bvh *bvh, const lrt_vk_depth *depth
     pc->level_count = bvh->layout.level_count;
     pc->depth_offset = src->depth_offset;
     pc->row_stride = src->row_stride;
+    pc->back_offset = src->back_offset;
+    pc->back_row_stride = src->back_row_stride;
 }
 
 /* Binds, pushes descriptors (depth, nodes, then two more: counters, or rays
@@ -3943,11 +3979,11 @@ static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, int pipeline,
                            const lrt__vk_source *src, const VkDescriptorBufferInfo *extra, const uint32_t *extra_binding,
                            uint32_t extra_count, const lrt__vk_push *pc, uint32_t gx, uint32_t gy)
 {
-    VkWriteDescriptorSet w[4];
+    VkWriteDescriptorSet w[5];
     VkDescriptorBufferInfo nodes;
     uint32_t k;
     memset(w, 0, sizeof w);
-    for (k = 0; k < 2 + extra_count; ++k) {
+    for (k = 0; k < 3 + extra_count; ++k) {
         w[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
         w[k].descriptorCount = 1;
         w[k].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -3969,8 +4005,16 @@ static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, int pipeline,
         w[2 + k].dstBinding = extra_binding[k];
         w[2 + k].pBufferInfo = &extra[k];
     }
+    if (src->image) { /* the back map (the depth again without one) */
+        w[2 + k].dstBinding = LRT__VK_BIND_BACK_IMAGE;
+        w[2 + k].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        w[2 + k].pImageInfo = &src->back_view;
+    } else {
+        w[2 + k].dstBinding = LRT__VK_BIND_BACK_BUFFER;
+        w[2 + k].pBufferInfo = &src->back_buffer;
+    }
     c->p_vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipelines[pipeline]);
-    c->p_vkCmdPushDescriptorSetKHR(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipeline_layout, 0, 2 + extra_count, w);
+    c->p_vkCmdPushDescriptorSetKHR(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipeline_layout, 0, 3 + extra_count, w);
     c->p_vkCmdPushConstants(cmd, c->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, (uint32_t)sizeof *pc, pc);
     c->p_vkCmdDispatch(cmd, gx, gy, 1);
 }

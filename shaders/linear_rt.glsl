@@ -7,7 +7,10 @@
 //   #define LRT_NODE_WORD(i)      word i of the node array (uint)
 //   #define LRT_DEPTH_WORD(i)     word i of the depth buffer (LRT_DEPTH_IMAGE 0)
 //   #define LRT_DEPTH_TEXEL(x, y) texelFetch(depth, ivec2(x, y), 0).r (LRT_DEPTH_IMAGE 1)
-// and passes an LrtParams (the push constants of shaders/README.md).
+// and passes an LrtParams (the push constants of shaders/README.md). For a
+// back-map tree (thickness, LRT_DEPTH_BACK_FOLLOWS in LrtParams.flags) also
+//   #define LRT_BACK_WORD(i) / LRT_BACK_TEXEL(x, y)  the back map, as the depth
+// (without them such a tree cannot be traced here).
 // Float and integer arithmetic only: no shaderFloat64, no reliance on fma.
 //
 // The numbers follow linear_rt.h step by step, so both paths give the same
@@ -34,10 +37,19 @@
 #define LRT_FACE_SIDE 2u
 #define LRT_FACE_BACK 3u
 #define LRT_FACE_INSIDE 4u
+#define LRT_DEPTH_BACK_FOLLOWS 2u // LrtParams.flags: a back-map tree (thickness)
+
+#ifndef LRT_BACK_WORD
+#define LRT_BACK_WORD(i) 0u
+#endif
+#ifndef LRT_BACK_TEXEL
+#define LRT_BACK_TEXEL(x, y) 1.0
+#endif
 #define LRT_INF uintBitsToFloat(0x7f800000u)
 
 struct LrtParams {
     uint width, height, format, flags, node_bits, level_count, depth_offset, row_stride;
+    uint back_offset, back_row_stride; // the back map's, in bytes (buffers; back-map trees only)
 };
 
 // lrt_hit of linear_rt.h, fields apart; lrt_hit_word3 packs kind and face
@@ -130,21 +142,22 @@ uint lrt_clamp_float_bits(float g)
 }
 
 #if LRT_DEPTH_IMAGE
-uint lrt_depth_raw(LrtParams p, uint x, uint y)
+// the raw value of a texel fetched from an image (depth or back map)
+uint lrt_raw_of_texel(LrtParams p, float f)
 {
-    float f = LRT_DEPTH_TEXEL(x, y);
     bool rev = (p.flags & 1u) != 0u;
     if (p.format == 1u) { uint v = uint(f * 255.0 + 0.5); return rev ? 255u - v : v; }
     if (p.format == 2u) { uint v = uint(f * 65535.0 + 0.5); return rev ? 65535u - v : v; }
     precise float g = rev ? 1.0 - f : f;
     return lrt_clamp_float_bits(g);
 }
+
+uint lrt_depth_raw(LrtParams p, uint x, uint y) { return lrt_raw_of_texel(p, LRT_DEPTH_TEXEL(x, y)); }
+uint lrt_back_map_raw(LrtParams p, uint x, uint y) { return lrt_raw_of_texel(p, LRT_BACK_TEXEL(x, y)); }
 #else
-uint lrt_depth_raw(LrtParams p, uint x, uint y)
+// the raw value of the texel at byte addr of a buffer whose word holding it is word
+uint lrt_raw_of_word(LrtParams p, uint word, uint addr)
 {
-    uint bpp = p.format == 1u ? 1u : p.format == 2u ? 2u : 4u;
-    uint addr = p.depth_offset + y * p.row_stride + x * bpp;
-    uint word = LRT_DEPTH_WORD(addr >> 2);
     bool rev = (p.flags & 1u) != 0u;
     if (p.format == 1u) { uint v = (word >> ((addr & 3u) * 8u)) & 0xffu; return rev ? 255u - v : v; }
     if (p.format == 2u) { uint v = (word >> ((addr & 2u) * 8u)) & 0xffffu; return rev ? 65535u - v : v; }
@@ -152,7 +165,31 @@ uint lrt_depth_raw(LrtParams p, uint x, uint y)
     precise float g = rev ? 1.0 - f : f;
     return lrt_clamp_float_bits(g);
 }
+
+uint lrt_texel_addr(LrtParams p, uint offset, uint stride, uint x, uint y)
+{
+    return offset + y * stride + x * (p.format == 1u ? 1u : p.format == 2u ? 2u : 4u);
+}
+
+uint lrt_depth_raw(LrtParams p, uint x, uint y)
+{
+    uint addr = lrt_texel_addr(p, p.depth_offset, p.row_stride, x, y);
+    return lrt_raw_of_word(p, LRT_DEPTH_WORD(addr >> 2), addr);
+}
+
+uint lrt_back_map_raw(LrtParams p, uint x, uint y)
+{
+    uint addr = lrt_texel_addr(p, p.back_offset, p.back_row_stride, x, y);
+    return lrt_raw_of_word(p, LRT_BACK_WORD(addr >> 2), addr);
+}
 #endif
+
+// texel (x, y)'s back depth, raw: max(depth, back) (a back in front of the
+// depth is the depth); raw values order as depths do
+uint lrt_back_raw(LrtParams p, uint x, uint y)
+{
+    return max(lrt_depth_raw(p, x, y), lrt_back_map_raw(p, x, y));
+}
 
 // ============================================================================
 // Heights: code = qmax - floor(depth * qmax), rounded so a bound never cuts a hit
@@ -173,6 +210,20 @@ uint lrt_floor_scaled(uint dbits, uint qmax)
     return (lo >> uint(sh)) | (hi << uint(32 - sh));
 }
 
+// is d * qmax a whole number (lrt_floor_scaled's shifted-out bits all 0)
+bool lrt_scaled_is_whole(uint dbits, uint qmax)
+{
+    uint e = (dbits >> 23) & 0xffu;
+    if (e == 0u) return true; // 0
+    uint m = (dbits & 0x7fffffu) | 0x800000u, hi, lo;
+    umulExtended(m, qmax, hi, lo);
+    int sh = 150 - int(e);
+    if (sh <= 0) return true;
+    if (sh >= 64) return hi == 0u && lo == 0u;
+    if (sh >= 32) return lo == 0u && (hi & ((1u << uint(sh - 32)) - 1u)) == 0u;
+    return (lo & ((1u << uint(sh)) - 1u)) == 0u;
+}
+
 uint lrt_texel_code(LrtParams p, uint x, uint y)
 {
     uint qmax = p.node_bits == 16u ? 65535u : 255u;
@@ -180,6 +231,17 @@ uint lrt_texel_code(LrtParams p, uint x, uint y)
     if (p.format == 1u) return qmax - (raw * qmax) / 255u;
     if (p.format == 2u) return qmax - (raw * qmax) / 65535u; // < 2^32
     return qmax - lrt_floor_scaled(raw, qmax);
+}
+
+// a back-map tree's back code of texel (x, y): ceil(b * qmax), rounded UP
+// so that a node's back is never shallower than a texel's under it
+uint lrt_texel_back_code(LrtParams p, uint x, uint y)
+{
+    uint qmax = p.node_bits == 16u ? 65535u : 255u;
+    uint raw = lrt_back_raw(p, x, y);
+    if (p.format == 1u) return (raw * qmax + 254u) / 255u;
+    if (p.format == 2u) return (raw * qmax + 65534u) / 65535u; // < 2^32
+    return lrt_floor_scaled(raw, qmax) + (lrt_scaled_is_whole(raw, qmax) ? 0u : 1u);
 }
 
 // ============================================================================
@@ -692,6 +754,24 @@ float lrt_widen(float ex)
 }
 
 // the exact test of a candidate texel against its true depth
+// the t where the ray's z reaches a raw back depth: lrt_depth_plane's t,
+// and for a z that does not change, the box [.., b] holds the ray wholly
+// or not at all, from the other side than a depth plane does
+float lrt_back_plane(LrtSetup s, uint format, uint raw)
+{
+    if (!s.zero.z) return lrt_depth_plane(s, format, raw);
+    bool unorm = format != 3u && raw != (format == 1u ? 255u : 65535u);
+    bool inside = s.o.z <= (format == 3u ? uintBitsToFloat(raw) : 1.0); // o.z <= b
+    if (unorm) { // o.z * max <= v, without rounding
+        float qm = format == 1u ? 255.0 : 65535.0, pp, e;
+        lrt_two_prod(s.o.z, qm, pp, e);
+        inside = pp < float(raw) || (pp == float(raw) && e <= 0.0);
+    }
+    return (s.neg.z != 0u) == inside ? -LRT_INF : LRT_INF;
+}
+
+bool lrt_has_back(LrtParams p) { return (p.flags & LRT_DEPTH_BACK_FOLLOWS) != 0u; }
+
 bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float ex, out float t)
 {
     t = 0.0;
@@ -699,6 +779,11 @@ bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float e
     float tz = lrt_depth_plane(s, p.format, lrt_depth_raw(p, tx, ty));
     if (s.neg.z != 0u) ex = min(tz, ex);
     else en = max(tz, en);
+    if (lrt_has_back(p)) { // the back plane: entered going up (v.z < 0), left going down
+        float tb = lrt_back_plane(s, p.format, lrt_back_raw(p, tx, ty));
+        if (s.neg.z != 0u) en = max(tb, en);
+        else ex = min(tb, ex);
+    }
     t = en;
     return en <= lrt_widen(ex);
 }
@@ -711,7 +796,9 @@ uint lrt_face(LrtParams p, LrtSetup s, uint tx, uint ty, float t)
     if (s.neg.z == 0u && !s.zero.z && lrt_depth_plane(s, p.format, lrt_depth_raw(p, tx, ty)) == t) return LRT_FACE_TOP;
     precise float xe = (float(tx + s.neg.x) - s.o.x) * s.iv.x, ye = (float(ty + s.neg.y) - s.o.y) * s.iv.y;
     if ((!s.zero.x && xe == t) || (!s.zero.y && ye == t)) return LRT_FACE_SIDE;
-    if (s.neg.z != 0u && !s.zero.z && lrt_depth_plane(s, 3u, floatBitsToUint(1.0)) == t) return LRT_FACE_BACK;
+    if (s.neg.z != 0u && !s.zero.z &&
+        (lrt_has_back(p) ? lrt_depth_plane(s, p.format, lrt_back_raw(p, tx, ty)) : lrt_depth_plane(s, 3u, floatBitsToUint(1.0))) == t)
+        return LRT_FACE_BACK;
     return LRT_FACE_INSIDE;
 }
 
@@ -736,6 +823,14 @@ uint lrt_grid_h(uint height, uint lv) { return (height + (1u << lrt_span_h_log2(
 uint lrt_level_slots(LrtParams p, uint lv)
 {
     return lv >= p.level_count ? 1u : lrt_grid_w(p.width, lv + 1u) * lrt_grid_h(p.height, lv + 1u) * 8u;
+}
+
+// the first back code of a back-map tree: after every node's heights
+uint lrt_back_codes(LrtParams p)
+{
+    uint total = 0u;
+    for (uint lv = 1u; lv <= p.level_count; ++lv) total += lrt_level_slots(p, lv);
+    return total * 8u;
 }
 
 // first code of node (nx, ny) of stored level lv, whose first node is at
@@ -809,8 +904,10 @@ uint lrt_code_in(uvec4 w, uint node_bits, uint slot)
     return (w[slot >> 2] >> ((slot & 3u) * 8u)) & 0xffu;
 }
 
-// is child box [xa,xb] x [ya,yb] x [its decoded depth, 1] met (lrt_test_children)
-bool lrt_child_met(LrtSetup s, float xa, float xb, float ya, float yb, uint code, float decode_scale, float qmaxf)
+// is child box [xa,xb] x [ya,yb] x [its decoded depth, its decoded back or 1] met
+// (lrt_test_children); back_scale 0: no back codes
+bool lrt_child_met(LrtSetup s, float xa, float xb, float ya, float yb, uint code, float decode_scale, float qmaxf,
+                   uint back_code, float back_scale)
 {
     float en = s.t_lo, ex = s.t_hi;
     lrt_slab(xa, xb, s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
@@ -827,6 +924,18 @@ bool lrt_child_met(LrtSetup s, float xa, float xb, float ya, float yb, uint code
     }
     if (s.neg.z != 0u) ex = min(tz, ex);
     else en = max(tz, en);
+    if (back_scale != 0.0) { // the back plane: a decoded back never shallower than the true one
+        precise float bz = float(back_code) * back_scale;
+        float tb;
+        if (s.zero.z) {
+            tb = (s.neg.z != 0u) == (s.o.z <= bz) ? -LRT_INF : LRT_INF;
+        } else {
+            precise float tt = (bz - s.o.z) * s.iv.z;
+            tb = tt;
+        }
+        if (s.neg.z != 0u) en = max(tb, en);
+        else ex = min(tb, ex);
+    }
     return en <= lrt_widen(ex);
 }
 
@@ -835,7 +944,8 @@ bool lrt_child_met(LrtSetup s, float xa, float xb, float ya, float yb, uint code
 // node test: the same planes, the decoded bounds, exits widened. The loop
 // runs over slots, so a child's column and row are constants once it is
 // unrolled and the 5 + 3 planes of a 4x2 (3 + 5 of a 2x4) node are shared.
-uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint ny, uint flip, float decode_scale, float qmaxf)
+uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint ny, uint flip, float decode_scale, float qmaxf,
+                       uint back_base, float back_scale)
 {
     uint cl = lv - 1u;
     bool tall = lrt_bw_log2(cl) == 1u;
@@ -851,19 +961,32 @@ uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint
         w.x = LRT_NODE_WORD(slot0 >> 2);
         w.y = LRT_NODE_WORD((slot0 >> 2) + 1u);
     }
+    uvec4 b = uvec4(0u); // the back codes, the same way
+    if (back_scale != 0.0) {
+        uint b0 = back_base + slot0;
+        if (p.node_bits == 16u) {
+            b = uvec4(LRT_NODE_WORD(b0 >> 1), LRT_NODE_WORD((b0 >> 1) + 1u), LRT_NODE_WORD((b0 >> 1) + 2u),
+                      LRT_NODE_WORD((b0 >> 1) + 3u));
+        } else {
+            b.x = LRT_NODE_WORD(b0 >> 2);
+            b.y = LRT_NODE_WORD((b0 >> 2) + 1u);
+        }
+    }
     uint mask = 0u;
     if (tall) { // 2 columns, 4 rows: slot = row << 1 | column
         for (uint slot = 0u; slot < 8u; ++slot) {
             uint c = slot & 1u, r = slot >> 1;
             if (lrt_child_met(s, x0 + float(c) * sw, x0 + float(c + 1u) * sw, y0 + float(r) * sh, y0 + float(r + 1u) * sh,
-                              lrt_code_in(w, p.node_bits, slot), decode_scale, qmaxf))
+                              lrt_code_in(w, p.node_bits, slot), decode_scale, qmaxf, lrt_code_in(b, p.node_bits, slot),
+                              back_scale))
                 mask |= 1u << (slot ^ flip);
         }
     } else { // 4 columns, 2 rows: slot = row << 2 | column
         for (uint slot = 0u; slot < 8u; ++slot) {
             uint c = slot & 3u, r = slot >> 2;
             if (lrt_child_met(s, x0 + float(c) * sw, x0 + float(c + 1u) * sw, y0 + float(r) * sh, y0 + float(r + 1u) * sh,
-                              lrt_code_in(w, p.node_bits, slot), decode_scale, qmaxf))
+                              lrt_code_in(w, p.node_bits, slot), decode_scale, qmaxf, lrt_code_in(b, p.node_bits, slot),
+                              back_scale))
                 mask |= 1u << (slot ^ flip);
         }
     }
@@ -896,6 +1019,9 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
     // just below 1/qmax, the same float as linear_rt.h's decode_scale
     float decode_scale = p.node_bits == 16u ? uintBitsToFloat(0x37800078u) : uintBitsToFloat(0x3b808079u);
     float qmaxf = p.node_bits == 16u ? 65535.0 : 255.0;
+    // just above 1/qmax, linear_rt.h's back_scale; 0: no back codes
+    float back_scale = !lrt_has_back(p) ? 0.0 : p.node_bits == 16u ? uintBitsToFloat(0x37800088u) : uintBitsToFloat(0x3b808089u);
+    uint back_base = lrt_has_back(p) ? lrt_back_codes(p) : 0u;
     uint flip_wide = (s.neg.x != 0u ? 3u : 0u) | (s.neg.y != 0u ? 4u : 0u); // children in 4x2 blocks
     uint flip_tall = (s.neg.x != 0u ? 1u : 0u) | (s.neg.y != 0u ? 6u : 0u); // in 2x4 blocks
     // the position: a texel of the current node (of level lv)
@@ -907,7 +1033,7 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax,
     for (;;) {
         uint nxl = px >> lrt_span_w_log2(lv), nyl = py >> lrt_span_h_log2(lv);
         uint flip = lrt_bw_log2(lv - 1u) == 1u ? flip_tall : flip_wide;
-        uint m = lrt_test_children(p, s, lv, off, nxl, nyl, flip, decode_scale, qmaxf) & eligible;
+        uint m = lrt_test_children(p, s, lv, off, nxl, nyl, flip, decode_scale, qmaxf, back_base, back_scale) & eligible;
         if (lv == 1u) { // texels: the exact test, in visiting order
             while (m != 0u) {
                 uint k = uint(findLSB(m)), slot = k ^ flip;

@@ -7,14 +7,20 @@ layout(local_size_x = 64) in;
 layout(push_constant) uniform LrtPush {
     uint width, height, format, flags, node_bits, level_count, depth_offset, row_stride;
     uint rect_x0, rect_y0, rect_x1, rect_y1, build, ray_first, ray_count, trace_flags;
+    uint back_offset, back_row_stride;
 } pc;
 
 #if LRT_DEPTH_IMAGE
 layout(set = 0, binding = 1) uniform sampler2D lrt_depth_image;
 #define LRT_DEPTH_TEXEL(x, y) texelFetch(lrt_depth_image, ivec2(int(x), int(y)), 0).r
+// a back-map tree's back map (thickness): the depth again when there is none
+layout(set = 0, binding = 7) uniform sampler2D lrt_back_image;
+#define LRT_BACK_TEXEL(x, y) texelFetch(lrt_back_image, ivec2(int(x), int(y)), 0).r
 #else
 layout(set = 0, binding = 0, std430) readonly buffer LrtDepth { uint words[]; } lrt_depth;
 #define LRT_DEPTH_WORD(i) lrt_depth.words[i]
+layout(set = 0, binding = 6, std430) readonly buffer LrtBack { uint words[]; } lrt_back;
+#define LRT_BACK_WORD(i) lrt_back.words[i]
 #endif
 layout(set = 0, binding = 2, std430) coherent buffer LrtNodes { uint words[]; } lrt_nodes;
 #define LRT_NODE_WORD(i) lrt_nodes.words[i]
@@ -32,6 +38,8 @@ LrtParams lrt_params()
     p.level_count = pc.level_count;
     p.depth_offset = pc.depth_offset;
     p.row_stride = pc.row_stride;
+    p.back_offset = pc.back_offset;
+    p.back_row_stride = pc.back_row_stride;
     return p;
 }
 

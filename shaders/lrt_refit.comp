@@ -13,6 +13,9 @@
 // well as rise: a parent is recomputed from its children, never max-ed with
 // its old value. Children outside the rectangle keep their codes (their
 // heights are read back); padding children are written (as 0) on a build.
+// A back-map tree (thickness) refits its back codes (after all the heights,
+// lrt_back_codes) alongside, the same way: a parent's is the max of its
+// children's.
 #include "lrt_common.glsl"
 
 layout(set = 0, binding = 3, std430) coherent buffer LrtCounters { uint c[]; } lrt_counters;
@@ -55,6 +58,9 @@ uint lrt_codes_max(uint codes[8])
 void main()
 {
     LrtParams p = lrt_params();
+    bool back = lrt_has_back(p);
+    uint bb = back ? lrt_back_codes(p) : 0u; // the back codes' first slot
+    uint bcodes[8], bheights[8];
     // the rectangle at level 1 and at level 2 (one level-2 node: 2x4 level-1 nodes, 8x8 texels)
     uint x0 = pc.rect_x0 >> 2, x1 = pc.rect_x1 >> 2, y0 = pc.rect_y0 >> 1, y1 = pc.rect_y1 >> 1;
     uint cols = (x1 >> 1) - (x0 >> 1) + 1u, idx = lrt_invocation();
@@ -64,9 +70,12 @@ void main()
     if (p.level_count == 1u) { // the one level-1 node is the root
         for (uint s = 0u; s < 8u; ++s) {
             uint tx = s & 3u, ty = s >> 2;
-            codes[s] = (tx < p.width && ty < p.height) ? lrt_texel_code(p, tx, ty) : 0u;
+            bool real = tx < p.width && ty < p.height;
+            codes[s] = real ? lrt_texel_code(p, tx, ty) : 0u;
+            bcodes[s] = real && back ? lrt_texel_back_code(p, tx, ty) : 0u;
         }
         lrt_store_node(0u, codes);
+        if (back) lrt_store_node(bb, bcodes);
         return;
     }
     // level 1 starts the node array; node (nx, ny) of level 2 has its 8
@@ -76,21 +85,28 @@ void main()
     for (uint c = 0u; c < 8u; ++c) {
         uint cx = nx * 2u + (c & 1u), cy = ny * 4u + (c >> 1), slot0 = block + c * 8u;
         if (cx >= w1 || cy >= h1) { // a padding child: height 0, its node 0 on a build
-            heights[c] = 0u;
+            heights[c] = bheights[c] = 0u;
             if (pc.build != 0u) lrt_store_zero_node(slot0);
+            if (pc.build != 0u && back) lrt_store_zero_node(bb + slot0);
         } else if (cx < x0 || cx > x1 || cy < y0 || cy > y1) { // outside the rectangle: as it is
             heights[c] = lrt_node_max(slot0);
+            bheights[c] = back ? lrt_node_max(bb + slot0) : 0u;
         } else {
             for (uint s = 0u; s < 8u; ++s) {
                 uint tx = cx * 4u + (s & 3u), ty = cy * 2u + (s >> 2);
-                codes[s] = (tx < p.width && ty < p.height) ? lrt_texel_code(p, tx, ty) : 0u;
+                bool real = tx < p.width && ty < p.height;
+                codes[s] = real ? lrt_texel_code(p, tx, ty) : 0u;
+                bcodes[s] = real && back ? lrt_texel_back_code(p, tx, ty) : 0u;
             }
             lrt_store_node(slot0, codes);
             heights[c] = lrt_codes_max(codes);
+            if (back) lrt_store_node(bb + slot0, bcodes);
+            bheights[c] = lrt_codes_max(bcodes);
         }
     }
     LrtLayout L = lrt_layout(p.width, p.height);
     lrt_store_node(lrt_node_slot(L, 2u, nx, ny), heights);
+    if (back) lrt_store_node(bb + lrt_node_slot(L, 2u, nx, ny), bheights);
     if (L.count == 2u) return;
 
     // climb: count in at the parent; its counter is indexed by the parent's
@@ -118,12 +134,15 @@ void main()
             uint cy = (py << bhl) + (bwl == 2u ? (s >> 2) : (s >> 1));
             if (cx < L.w[lv] && cy < L.h[lv]) {
                 codes[s] = lrt_node_max(first_child + s * 8u);
+                bcodes[s] = back ? lrt_node_max(bb + first_child + s * 8u) : 0u;
             } else { // a padding child: height 0, and on a build its node is 0 too
-                codes[s] = 0u;
+                codes[s] = bcodes[s] = 0u;
                 if (pc.build != 0u) lrt_store_zero_node(first_child + s * 8u);
+                if (pc.build != 0u && back) lrt_store_zero_node(bb + first_child + s * 8u);
             }
         }
         lrt_store_node(lrt_node_slot(L, lv + 1u, px, py), codes);
+        if (back) lrt_store_node(bb + lrt_node_slot(L, lv + 1u, px, py), bcodes);
         nx = px;
         ny = py;
         x0 >>= bwl;

@@ -59,7 +59,13 @@ typedef struct gpu_depth {
     vkt_buffer buffer;
     vkt_image image;
     int source;
+    /* a back-map tree's maps: pair[0] the depth (LRT_DEPTH_BACK_FOLLOWS), pair[1] its back map */
+    int thick;
+    lrt_vk_depth pair[2];
 } gpu_depth;
+
+/* the lrt_vk_depth the calls take: the depth, or the pair */
+static const lrt_vk_depth *gpu_maps(const gpu_depth *g) { return g->thick ? g->pair : &g->depth; }
 
 /* Texels of a CPU depth map (any stride) as rows of dst_stride bytes. */
 static void copy_rows(const lrt_depth *d, unsigned char *dst, size_t dst_stride)
@@ -141,13 +147,14 @@ static int gpu_build(const lrt_depth *d, uint32_t node_bits, gpu_depth *g, lrt_v
     bd.height = d->height;
     bd.format = d->format;
     bd.options.node_bits = node_bits;
+    bd.options.thickness = g->thick ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
     bd.flags = LRT_VK_BVH_HOST_VISIBLE;
     r = lrt_vk_bvh_create(g_ctx, &bd, bvh);
     CHECK(r == LRT_SUCCESS && bvh->mapped, "%s: lrt_vk_bvh_create: %s", what, lrt_result_string(r));
     if (r != LRT_SUCCESS) return 1;
     memset(bvh->mapped, 0xa5, bvh->layout.bytes); /* the build must write every byte */
     if (vkt_begin(&g_t)) return 1;
-    r = lrt_vk_cmd_build(g_ctx, g_t.cmd, bvh, &g->depth);
+    r = lrt_vk_cmd_build(g_ctx, g_t.cmd, bvh, gpu_maps(g));
     CHECK(r == LRT_SUCCESS, "%s: lrt_vk_cmd_build: %s", what, lrt_result_string(r));
     vkt_host_barrier(&g_t);
     return vkt_submit(&g_t);
@@ -203,7 +210,7 @@ static int gpu_trace(const lrt_vk_bvh *bvh, const gpu_depth *g, const lrt_ray *r
     memset(hb.map, 0xff, (size_t)hb.size);
     if (vkt_begin(&g_t)) return 1;
     vkt_compute_barrier(&g_t); /* the build of an earlier submission -> this trace */
-    r = lrt_vk_cmd_trace(g_ctx, g_t.cmd, bvh, &g->depth, rb.buffer, first * sizeof(lrt_ray), hb.buffer,
+    r = lrt_vk_cmd_trace(g_ctx, g_t.cmd, bvh, gpu_maps(g), rb.buffer, first * sizeof(lrt_ray), hb.buffer,
                          first * sizeof(lrt_hit), (uint32_t)n, flags);
     CHECK(r == LRT_SUCCESS, "%s: lrt_vk_cmd_trace: %s", what, lrt_result_string(r));
     vkt_host_barrier(&g_t);
@@ -266,7 +273,7 @@ static void trace_case(const test_map *m, const lrt_bvh *cpu, const lrt_vk_bvh *
         kinds[i] = (int)(i % RAY_KIND_COUNT);
         rays[i] = make_ray(m, kinds[i]);
     }
-    CHECK(lrt_trace(cpu, &m->depth, rays, cpu_hits, n, 0) == LRT_SUCCESS, "%s: CPU trace", what);
+    CHECK(lrt_trace(cpu, m->back_storage ? m->pair : &m->depth, rays, cpu_hits, n, 0) == LRT_SUCCESS, "%s: CPU trace", what);
     if (gpu_trace(gpu, g, rays, gpu_hits, n, 0, 0, what) == 0) judge(what, m, rays, kinds, gpu_hits, cpu_hits, n, 0);
     else CHECK(0, "%s: GPU trace failed", what);
     if (n >= 300) { /* any hit, a slice at an offset: ray_first */
@@ -287,20 +294,23 @@ static void trace_case(const test_map *m, const lrt_bvh *cpu, const lrt_vk_bvh *
 
 /* ---- (a) build, then (c) trace on the same map ------------------------------------- */
 static void build_case(int w, int h, int shape, lrt_format format, int reversed, uint32_t node_bits, int source,
-                       VkFormat image_format, size_t nrays)
+                       VkFormat image_format, size_t nrays, int thick)
 {
     test_map m;
     lrt_bvh cpu;
     lrt_vk_bvh gpu;
     lrt_build_options opt;
-    gpu_depth g;
+    gpu_depth g, gb;
     char what[200];
     make_map(&m, w, h, shape, format, reversed, (w + h) & 1);
+    if (thick) add_back(&m);
     memset(&opt, 0, sizeof opt);
     opt.node_bits = node_bits;
-    CHECK(lrt_bvh_build(&cpu, &m.depth, &opt, NULL) == LRT_SUCCESS, "CPU build");
-    snprintf(what, sizeof what, "%dx%d %s fmt=%d%s nodes=%u %s", w, h, m.name, (int)format, reversed ? " reversed" : "",
-             cpu.layout.node_bits, src_names[source]);
+    opt.thickness = thick ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
+    CHECK(lrt_bvh_build(&cpu, thick ? m.pair : &m.depth, &opt, NULL) == LRT_SUCCESS, "CPU build");
+    snprintf(what, sizeof what, "%dx%d %s fmt=%d%s nodes=%u %s%s", w, h, m.name, (int)format, reversed ? " reversed" : "",
+             cpu.layout.node_bits, src_names[source], thick ? " back map" : "");
+    memset(&gb, 0, sizeof gb);
     if (source == SRC_IMAGE) {
         size_t len = strlen(what);
         snprintf(what + len, sizeof what - len, " (VkFormat %d)", (int)image_format);
@@ -312,7 +322,10 @@ static void build_case(int w, int h, int shape, lrt_format format, int reversed,
         }
     }
     memset(&gpu, 0, sizeof gpu);
-    if (gpu_depth_create(&m.depth, source, image_format, &g) == 0 && gpu_build(&m.depth, node_bits, &g, &gpu, what) == 0) {
+    if (gpu_depth_create(&m.depth, source, image_format, &g) == 0 &&
+        (!thick || gpu_depth_create(&m.pair[1], source, image_format, &gb) == 0) &&
+        (!thick || (g.thick = 1, g.pair[0] = g.depth, g.pair[0].flags |= LRT_DEPTH_BACK_FOLLOWS, g.pair[1] = gb.depth, 1)) &&
+        gpu_build(&m.depth, node_bits, &g, &gpu, what) == 0) {
         CHECK(gpu.layout.node_bits == cpu.layout.node_bits && gpu.layout.level_count == cpu.layout.level_count,
               "%s: layouts differ", what);
         CHECK(same_nodes(&gpu, &cpu, what), "%s: GPU build differs from the CPU build", what);
@@ -322,6 +335,7 @@ static void build_case(int w, int h, int shape, lrt_format format, int reversed,
     }
     lrt_vk_bvh_destroy(g_ctx, &gpu);
     gpu_depth_destroy(&g);
+    gpu_depth_destroy(&gb);
     lrt_bvh_destroy(&cpu);
     free_map(&m);
 }
@@ -371,20 +385,29 @@ static void test_build_and_trace(void)
             const int shape = (int)((s + (size_t)f) % 4); /* noise, terraces, scene, poles */
             const size_t nrays = w * h >= 1000 ? 2600 : 1300;
             /* auto node bits; the other precision with reversed Z at an offset; an image */
-            build_case(w, h, shape, fmt, 0, 0, SRC_PACKED, VK_FORMAT_UNDEFINED, nrays);
-            build_case(w, h, shape, fmt, 1, fmt == LRT_FORMAT_UNORM8 ? 16u : 8u, SRC_OFFSET, VK_FORMAT_UNDEFINED, nrays);
-            build_case(w, h, shape, fmt, (int)(s & 1), (s & 2) ? 8u : 16u, SRC_IMAGE, default_image_format(fmt, 1), nrays);
+            build_case(w, h, shape, fmt, 0, 0, SRC_PACKED, VK_FORMAT_UNDEFINED, nrays, 0);
+            build_case(w, h, shape, fmt, 1, fmt == LRT_FORMAT_UNORM8 ? 16u : 8u, SRC_OFFSET, VK_FORMAT_UNDEFINED, nrays, 0);
+            build_case(w, h, shape, fmt, (int)(s & 1), (s & 2) ? 8u : 16u, SRC_IMAGE, default_image_format(fmt, 1), nrays, 0);
         }
         /* float values the model clamps (NaN, inf, out of [0,1]) */
-        build_case(w, h, SHAPE_WILD, LRT_FORMAT_FLOAT32, (int)(s & 1), 0, SRC_OFFSET, VK_FORMAT_UNDEFINED, 1300);
-        build_case(w, h, SHAPE_WILD, LRT_FORMAT_FLOAT32, 0, 8, SRC_IMAGE, VK_FORMAT_R32_SFLOAT, 1300);
-        build_case(w, h, SHAPE_FAR, LRT_FORMAT_UNORM16, 0, 0, SRC_IMAGE, VK_FORMAT_R16_UNORM, 0);
+        build_case(w, h, SHAPE_WILD, LRT_FORMAT_FLOAT32, (int)(s & 1), 0, SRC_OFFSET, VK_FORMAT_UNDEFINED, 1300, 0);
+        build_case(w, h, SHAPE_WILD, LRT_FORMAT_FLOAT32, 0, 8, SRC_IMAGE, VK_FORMAT_R32_SFLOAT, 1300, 0);
+        build_case(w, h, SHAPE_FAR, LRT_FORMAT_UNORM16, 0, 0, SRC_IMAGE, VK_FORMAT_R16_UNORM, 0, 0);
     }
     /* the large sizes of the issue */
-    build_case(1282, 1110, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 0, SRC_PACKED, VK_FORMAT_UNDEFINED, 30000);
-    build_case(1282, 1110, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, SRC_IMAGE, VK_FORMAT_D16_UNORM, 5000);
-    build_case(1024, 1024, SHAPE_SCENE, LRT_FORMAT_UNORM8, 0, 0, SRC_OFFSET, VK_FORMAT_UNDEFINED, 5000);
-    build_case(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 1, 16, SRC_IMAGE, VK_FORMAT_D32_SFLOAT, 30000);
+    build_case(1282, 1110, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 0, SRC_PACKED, VK_FORMAT_UNDEFINED, 30000, 0);
+    build_case(1282, 1110, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, SRC_IMAGE, VK_FORMAT_D16_UNORM, 5000, 0);
+    build_case(1024, 1024, SHAPE_SCENE, LRT_FORMAT_UNORM8, 0, 0, SRC_OFFSET, VK_FORMAT_UNDEFINED, 5000, 0);
+    build_case(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 1, 16, SRC_IMAGE, VK_FORMAT_D32_SFLOAT, 30000, 0);
+    /* back-map trees (thickness): a buffer at an offset with padded rows, an image, each format and node width */
+    for (f = 1; f <= 3; ++f) {
+        const lrt_format fmt = (lrt_format)f;
+        build_case(100, 37, SHAPE_SCENE, fmt, 0, 0, SRC_OFFSET, VK_FORMAT_UNDEFINED, 2600, 1);
+        build_case(33, 20, SHAPE_POLES, fmt, 1, fmt == LRT_FORMAT_UNORM8 ? 16u : 8u, SRC_IMAGE, default_image_format(fmt, 1), 1300, 1);
+    }
+    build_case(300, 200, SHAPE_WILD, LRT_FORMAT_FLOAT32, 0, 16, SRC_PACKED, VK_FORMAT_UNDEFINED, 2600, 1);
+    build_case(1, 1, SHAPE_NOISE, LRT_FORMAT_FLOAT32, 0, 8, SRC_PACKED, VK_FORMAT_UNDEFINED, 300, 1);
+    build_case(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, SRC_IMAGE, VK_FORMAT_D32_SFLOAT, 20000, 1);
 }
 
 /* ---- (b) update == the CPU's update ---------------------------------------------------- */
@@ -605,12 +628,12 @@ static void test_bad_arguments_no_device(void)
           "buffer sizes of 3x2 unorm8 (one node): %u %u", (unsigned)a, (unsigned)b);
     CHECK(lrt_vk_bvh_buffer_sizes(0, 2, LRT_FORMAT_FLOAT32, NULL, &a, &b) == LRT_ERROR_INVALID_SIZE, "buffer sizes: 0 wide");
     CHECK(lrt_vk_bvh_buffer_sizes(3, 2, (lrt_format)0, NULL, &a, &b) == LRT_ERROR_INVALID_FORMAT, "buffer sizes: format 0");
-    { /* the kernels have no back codes: a back-map tree is refused, not half made */
+    { /* a back-map tree: a second code per slot */
         lrt_build_options thick;
         memset(&thick, 0, sizeof thick);
         thick.thickness = LRT_THICKNESS_BACK_MAP;
-        CHECK(lrt_vk_bvh_buffer_sizes(3, 2, LRT_FORMAT_FLOAT32, &thick, &a, &b) == LRT_ERROR_INVALID_OPTION,
-              "buffer sizes: a back-map tree on the GPU");
+        CHECK(lrt_vk_bvh_buffer_sizes(3, 2, LRT_FORMAT_FLOAT32, &thick, &a, &b) == LRT_SUCCESS && a == 32 && b == 4,
+              "buffer sizes: a back-map tree holds twice the nodes: %lu", (unsigned long)a);
     }
     CHECK(lrt_vk_bvh_buffer_sizes(3, 2, LRT_FORMAT_FLOAT32, NULL, NULL, &b) == LRT_ERROR_NULL_POINTER, "buffer sizes: NULL");
     CHECK(lrt_vk_bvh_create(NULL, &bd, &bvh) == LRT_ERROR_NULL_POINTER, "bvh: null context");
@@ -758,6 +781,35 @@ static void test_bad_arguments(void)
     EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, &bad, NULL), LRT_ERROR_MISALIGNED, "update: offset not a texel multiple");
     bad = g.depth; bad.row_stride = (VkDeviceSize)g_limits.maxStorageBufferRange + 4;
     EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, &bad, NULL), LRT_ERROR_LIMIT_EXCEEDED, "update: span past the range limit");
+    { /* thickness: the back map (a second lrt_vk_depth) exactly with a back-map tree, described as the depth is */
+        lrt_vk_depth pair[2];
+        lrt_vk_bvh_desc tbd = bd;
+        lrt_vk_bvh thick;
+        pair[0] = g.depth;
+        pair[0].flags = LRT_DEPTH_BACK_FOLLOWS;
+        pair[1] = g.depth;
+        EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, pair, NULL), LRT_ERROR_THICKNESS_MISMATCH, "update: a back map, an infinite tree");
+        tbd.options.thickness = LRT_THICKNESS_BACK_MAP;
+        CHECK(lrt_vk_bvh_create(g_ctx, &tbd, &thick) == LRT_SUCCESS && thick.layout.bytes == 2 * bvh.layout.bytes,
+              "a back-map tree on the GPU: twice the bytes");
+        EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &thick, &g.depth, NULL), LRT_ERROR_THICKNESS_MISMATCH,
+               "update: a back-map tree without its back map");
+        EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &thick, &g.depth, rb.buffer, 0, hb.buffer, 0, 1, 0), LRT_ERROR_THICKNESS_MISMATCH,
+               "trace: a back-map tree without its back map");
+        pair[1].format = LRT_FORMAT_UNORM16;
+        EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &thick, pair, NULL), LRT_ERROR_INVALID_FORMAT, "update: a back map of another format");
+        pair[1] = g.depth; pair[1].width = 2;
+        EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &thick, pair, NULL), LRT_ERROR_SIZE_MISMATCH, "update: a back map of another size");
+        pair[1] = g.depth; pair[1].flags = LRT_DEPTH_REVERSED_Z;
+        EXPECT(lrt_vk_cmd_build(g_ctx, cmd, &thick, pair), LRT_ERROR_INVALID_OPTION, "build: a back map of the other Z direction");
+        pair[1] = g.depth; pair[1].row_stride = 8;
+        EXPECT(lrt_vk_cmd_build(g_ctx, cmd, &thick, pair), LRT_ERROR_INVALID_STRIDE, "build: a back map stride below a row");
+        pair[1] = g.depth; pair[1].buffer = VK_NULL_HANDLE;
+        memcpy(&pair[1].view, &g.depth.buffer, sizeof pair[1].view < sizeof g.depth.buffer ? sizeof pair[1].view : sizeof g.depth.buffer);
+        pair[1].layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL; /* an image back map for a buffer depth: rejected before use */
+        EXPECT(lrt_vk_cmd_build(g_ctx, cmd, &thick, pair), LRT_ERROR_INVALID_OPTION, "build: a buffer depth with an image back map");
+        lrt_vk_bvh_destroy(g_ctx, &thick);
+    }
     rect.x = 2; rect.y = 0; rect.width = 2; rect.height = 1;
     EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, &g.depth, &rect), LRT_ERROR_INVALID_RECT, "update: rect past the edge");
     rect.x = 0; rect.y = 1; rect.width = 1; rect.height = 0xffffffffu;

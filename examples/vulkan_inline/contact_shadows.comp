@@ -48,6 +48,8 @@ LrtParams params()
     p.level_count = pc.level_count;
     p.depth_offset = pc.depth_offset;
     p.row_stride = pc.row_stride;
+    p.back_offset = 0u; // no back map here (an infinite-thickness tree): flags has no bit 1
+    p.back_row_stride = 0u;
     return p;
 }
 
