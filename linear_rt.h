@@ -3370,7 +3370,10 @@ typedef struct lrt__vk_module {
 } lrt__vk_module;
 
 /* The pipelines, in this order. */
-enum { LRT__VK_REFIT_BUFFER, LRT__VK_REFIT_IMAGE, LRT__VK_TRACE_BUFFER, LRT__VK_TRACE_IMAGE, LRT__VK_PIPELINES };
+/* the four kernels, then the same for back-map trees (specialization
+   constant 0, lrt_back_trees, true: other trees' pipelines carry no back code) */
+enum { LRT__VK_REFIT_BUFFER, LRT__VK_REFIT_IMAGE, LRT__VK_TRACE_BUFFER, LRT__VK_TRACE_IMAGE, LRT__VK_MODULES,
+       LRT__VK_PIPELINES = 2 * LRT__VK_MODULES };
 
 static lrt__vk_module lrt__vk_module_at(int which)
 {
@@ -3393,7 +3396,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_get_requirements(lrt_vk_requirements *out)
     req.api_version = VK_API_VERSION_1_2;
     req.extension_count = 1;
     req.extensions[0] = VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME;
-    for (k = 0; k < LRT__VK_PIPELINES; ++k) {
+    for (k = 0; k < LRT__VK_MODULES; ++k) {
         lrt__vk_module m = lrt__vk_module_at(k);
         lrt__spv_requirements(m.code, m.bytes / 4u, &req);
     }
@@ -3587,10 +3590,20 @@ static VkResult lrt__vk_create_objects(lrt_vk_context *c, VkPipelineCache cache)
     if ((vr = c->p_vkCreatePipelineLayout(c->device, &pi, c->callbacks, &c->pipeline_layout)) != VK_SUCCESS) return vr;
 
     for (p = 0; p < LRT__VK_PIPELINES; ++p) {
-        lrt__vk_module m = lrt__vk_module_at(p);
+        lrt__vk_module m = lrt__vk_module_at(p % LRT__VK_MODULES);
+        const VkBool32 back_trees = p >= LRT__VK_MODULES;
+        VkSpecializationMapEntry entry;
+        VkSpecializationInfo spec;
         VkShaderModuleCreateInfo mi;
         VkComputePipelineCreateInfo ci;
         VkShaderModule module;
+        entry.constantID = 0;
+        entry.offset = 0;
+        entry.size = sizeof back_trees;
+        spec.mapEntryCount = 1;
+        spec.pMapEntries = &entry;
+        spec.dataSize = sizeof back_trees;
+        spec.pData = &back_trees;
         memset(&mi, 0, sizeof mi);
         mi.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
         mi.codeSize = m.bytes;
@@ -3602,6 +3615,7 @@ static VkResult lrt__vk_create_objects(lrt_vk_context *c, VkPipelineCache cache)
         ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
         ci.stage.module = module;
         ci.stage.pName = "main";
+        ci.stage.pSpecializationInfo = &spec;
         ci.layout = c->pipeline_layout;
         ci.basePipelineIndex = -1;
         vr = c->p_vkCreateComputePipelines(c->device, cache, 1, &ci, c->callbacks, &c->pipelines[p]);
@@ -4013,7 +4027,8 @@ static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, int pipeline,
         w[2 + k].dstBinding = LRT__VK_BIND_BACK_BUFFER;
         w[2 + k].pBufferInfo = &src->back_buffer;
     }
-    c->p_vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipelines[pipeline]);
+    c->p_vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
+                           c->pipelines[pipeline + (bvh->layout.back_codes ? LRT__VK_MODULES : 0)]);
     c->p_vkCmdPushDescriptorSetKHR(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipeline_layout, 0, 3 + extra_count, w);
     c->p_vkCmdPushConstants(cmd, c->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, (uint32_t)sizeof *pc, pc);
     c->p_vkCmdDispatch(cmd, gx, gy, 1);

@@ -25,6 +25,11 @@ layout(set = 0, binding = 6, std430) readonly buffer LrtBack { uint words[]; } l
 layout(set = 0, binding = 2, std430) coherent buffer LrtNodes { uint words[]; } lrt_nodes;
 #define LRT_NODE_WORD(i) lrt_nodes.words[i]
 
+// back-map trees get pipelines of their own (the host sets this to true for
+// them): with false the back code folds away, so other trees pay nothing
+layout(constant_id = 0) const bool lrt_back_trees = false;
+#define LRT_BACK_TREES lrt_back_trees
+
 #include "linear_rt.glsl"
 
 LrtParams lrt_params()
