@@ -23,6 +23,11 @@ typedef struct bench_scene {
     uint32_t width, height;
     const float *depth;      /* width*height floats, row 0 first: 0 near, 1 far (already standard Z) */
     lrt_depth lrt;           /* the same map as linear_rt takes it (LRT_FORMAT_FLOAT32, packed) */
+    /* thickness (MODEL.md): NULL, or each texel's back depth (a back-face
+       pass; texel (i,j)'s box is [depth, max(depth, back)]); a method runs
+       such a scene under that model, or says in build() why it cannot */
+    const float *back;
+    lrt_depth pair[2];       /* with back: lrt with LRT_DEPTH_BACK_FOLLOWS, then the back map */
 } bench_scene;
 
 enum { BENCH_ANY_HIT = 1u }; /* bench_rays.flags: occlusion; any hit will do */

@@ -345,6 +345,10 @@ static int emb_build(bench_method *m, const bench_scene *sc, double *ms, char *w
     emb *e = (emb *)m->impl;
     const uint32_t W = sc->width, H = sc->height;
     const float *D = sc->depth;
+    if (sc->back) { /* its geometry is the infinite layer's: it would answer another model */
+        bmc_why(why, n, "no thickness model: its heightfield geometry reaches the far plane");
+        return 1;
+    }
     double t0 = bench_now_ms();
     size_t nv, nt;
     uint32_t i, j;

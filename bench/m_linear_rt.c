@@ -63,8 +63,9 @@ static int cpu_build(bench_method *m, const bench_scene *sc, double *ms, char *w
     c->built = 0;
     memset(&o, 0, sizeof o);
     o.node_bits = c->node_bits;
+    o.thickness = sc->back ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
     t0 = bench_now_ms();
-    r = lrt_bvh_build(&c->bvh, &sc->lrt, &o, NULL);
+    r = lrt_bvh_build(&c->bvh, sc->back ? sc->pair : &sc->lrt, &o, NULL);
     *ms = bench_now_ms() - t0;
     if (r != LRT_SUCCESS) {
         snprintf(why, n, "lrt_bvh_build: %s", lrt_result_string(r));
@@ -78,7 +79,7 @@ static int cpu_update(bench_method *m, const bench_scene *sc, double *ms, char *
 {
     lrt_cpu *c = (lrt_cpu *)m->impl;
     double t0 = bench_now_ms();
-    lrt_result r = lrt_bvh_update(&c->bvh, &sc->lrt, NULL);
+    lrt_result r = lrt_bvh_update(&c->bvh, sc->back ? sc->pair : &sc->lrt, NULL);
     *ms = bench_now_ms() - t0;
     if (r != LRT_SUCCESS) {
         snprintf(why, n, "lrt_bvh_update: %s", lrt_result_string(r));
@@ -98,7 +99,7 @@ static int cpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *r
     double t0 = bench_now_ms();
     for (k = 0; k < t; ++k) {
         sl[k].bvh = &c->bvh;
-        sl[k].depth = &sc->lrt;
+        sl[k].depth = sc->back ? sc->pair : &sc->lrt;
         sl[k].rays = rs->rays;
         sl[k].hits = hits;
         sl[k].first = rs->count * (size_t)k / (size_t)t;
@@ -217,15 +218,20 @@ static int gpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *
     return 0;
 }
 
-static lrt_vk_depth gpu_depth(const lrt_gpu *g, const bench_scene *sc)
+/* the depth, and with thickness its back map right after it in the same buffer */
+static void gpu_depth(const lrt_gpu *g, const bench_scene *sc, lrt_vk_depth d[2])
 {
-    lrt_vk_depth d;
-    memset(&d, 0, sizeof d);
-    d.format = LRT_FORMAT_FLOAT32;
-    d.width = sc->width;
-    d.height = sc->height;
-    d.buffer = g->depth.buffer;
-    return d;
+    memset(d, 0, 2 * sizeof *d);
+    d[0].format = LRT_FORMAT_FLOAT32;
+    d[0].width = sc->width;
+    d[0].height = sc->height;
+    d[0].buffer = g->depth.buffer;
+    if (sc->back) {
+        d[0].flags = LRT_DEPTH_BACK_FOLLOWS;
+        d[1] = d[0];
+        d[1].flags = 0;
+        d[1].offset = (VkDeviceSize)sc->width * sc->height * 4u;
+    }
 }
 
 /* One submission around one recorded command, timed by two timestamps. */
@@ -234,9 +240,10 @@ typedef enum { GPU_BUILD, GPU_UPDATE, GPU_TRACE } gpu_op;
 static int gpu_run(lrt_gpu *g, const bench_scene *sc, gpu_op op, uint32_t count, uint32_t flags, double *ms,
                    char *why, size_t n)
 {
-    lrt_vk_depth d = gpu_depth(g, sc);
+    lrt_vk_depth d[2];
     uint64_t ts[2];
     lrt_result r;
+    gpu_depth(g, sc, d);
     if (vkt_begin(&g->t)) {
         snprintf(why, n, "vkBeginCommandBuffer failed");
         return 1;
@@ -244,9 +251,9 @@ static int gpu_run(lrt_gpu *g, const bench_scene *sc, gpu_op op, uint32_t count,
     vkt_compute_barrier(&g->t); /* the last submission's commands -> this one */
     g->t.vkCmdResetQueryPool(g->t.cmd, g->pool, 0, 2);
     g->t.vkCmdWriteTimestamp(g->t.cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, g->pool, 0);
-    if (op == GPU_BUILD) r = lrt_vk_cmd_build(g->ctx, g->t.cmd, &g->bvh, &d);
-    else if (op == GPU_UPDATE) r = lrt_vk_cmd_update(g->ctx, g->t.cmd, &g->bvh, &d, NULL);
-    else r = lrt_vk_cmd_trace(g->ctx, g->t.cmd, &g->bvh, &d, g->rays.buffer, 0, g->hits.buffer, 0, count, flags);
+    if (op == GPU_BUILD) r = lrt_vk_cmd_build(g->ctx, g->t.cmd, &g->bvh, d);
+    else if (op == GPU_UPDATE) r = lrt_vk_cmd_update(g->ctx, g->t.cmd, &g->bvh, d, NULL);
+    else r = lrt_vk_cmd_trace(g->ctx, g->t.cmd, &g->bvh, d, g->rays.buffer, 0, g->hits.buffer, 0, count, flags);
     g->t.vkCmdWriteTimestamp(g->t.cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->pool, 1);
     vkt_host_barrier(&g->t);
     if (r != LRT_SUCCESS || vkt_submit(&g->t) ||
@@ -264,7 +271,7 @@ static int gpu_build(bench_method *m, const bench_scene *sc, double *ms, char *w
     lrt_gpu *g = (lrt_gpu *)m->impl;
     lrt_vk_bvh_desc bd;
     lrt_result r;
-    size_t bytes = (size_t)sc->width * sc->height * 4u + 4u;
+    const size_t map_bytes = (size_t)sc->width * sc->height * 4u, bytes = (sc->back ? 2u : 1u) * map_bytes + 4u;
     if (g->has_bvh) lrt_vk_bvh_destroy(g->ctx, &g->bvh);
     if (g->has_depth) vkt_buffer_destroy(&g->t, &g->depth);
     g->has_bvh = g->has_depth = 0;
@@ -273,6 +280,7 @@ static int gpu_build(bench_method *m, const bench_scene *sc, double *ms, char *w
     bd.height = sc->height;
     bd.format = LRT_FORMAT_FLOAT32;
     bd.options.node_bits = g->node_bits;
+    bd.options.thickness = sc->back ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
     if ((r = lrt_vk_bvh_create(g->ctx, &bd, &g->bvh)) != LRT_SUCCESS) {
         snprintf(why, n, "lrt_vk_bvh_create: %s", lrt_result_string(r));
         return 1;
@@ -283,14 +291,17 @@ static int gpu_build(bench_method *m, const bench_scene *sc, double *ms, char *w
         return 1;
     }
     g->has_depth = 1;
-    memcpy(g->depth.map, sc->depth, (size_t)sc->width * sc->height * 4u);
+    memcpy(g->depth.map, sc->depth, map_bytes);
+    if (sc->back) memcpy((unsigned char *)g->depth.map + map_bytes, sc->back, map_bytes);
     return gpu_run(g, sc, GPU_BUILD, 0, 0, ms, why, n);
 }
 
 static int gpu_update(bench_method *m, const bench_scene *sc, double *ms, char *why, size_t n)
 {
     lrt_gpu *g = (lrt_gpu *)m->impl;
-    memcpy(g->depth.map, sc->depth, (size_t)sc->width * sc->height * 4u);
+    const size_t map_bytes = (size_t)sc->width * sc->height * 4u;
+    memcpy(g->depth.map, sc->depth, map_bytes);
+    if (sc->back) memcpy((unsigned char *)g->depth.map + map_bytes, sc->back, map_bytes);
     return gpu_run(g, sc, GPU_UPDATE, 0, 0, ms, why, n);
 }
 

@@ -63,6 +63,7 @@ typedef struct march {
 typedef struct march_job {
     const march *m;
     const float *depth;
+    const float *back; /* thickness: the scene's back depths, or NULL (infinite) */
     uint32_t w, h;
     const lrt_ray *rays;
     lrt_hit *hits;
@@ -88,13 +89,24 @@ static void report_hit(const lrt_ray *r, double t, uint32_t i, uint32_t j, lrt_h
    this one (behind) keep the sample that is behind, and its texel and t are
    reported. Whatever lies between two samples is unseen: thin things are
    stepped over and grazing hits come late. */
-static int behind(const float *dm, uint32_t w, uint32_t h, const double o[3], const double v[3], double t,
-                  uint32_t *i, uint32_t *j)
+/* texel k's back depth under the scene's model: max(depth, back), or 1 (infinite) */
+static double back_at(const march_job *jb, size_t k)
+{
+    double d = (double)bmc_depth(jb->depth[k]), b;
+    if (!jb->back) return 1.0;
+    b = (double)bmc_depth(jb->back[k]);
+    return b > d ? b : d;
+}
+
+/* the sample at t inside its texel's solid [depth, back] */
+static int behind(const march_job *jb, const double o[3], const double v[3], double t, uint32_t *i, uint32_t *j)
 {
     double x = o[0] + t * v[0], y = o[1] + t * v[1], z = o[2] + t * v[2];
-    *i = bmc_texel(x, w);
-    *j = bmc_texel(y, h);
-    return z >= (double)bmc_depth(dm[(size_t)*j * w + *i]);
+    size_t k;
+    *i = bmc_texel(x, jb->w);
+    *j = bmc_texel(y, jb->h);
+    k = (size_t)*j * jb->w + *i;
+    return z >= (double)bmc_depth(jb->depth[k]) && z <= back_at(jb, k);
 }
 
 static void linear_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
@@ -112,13 +124,13 @@ static void linear_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
     prev = t0;
     for (k = 0; k <= n; ++k) {
         double t = k == n ? t1 : t0 + (t1 - t0) * (double)k / (double)n;
-        if (behind(jb->depth, w, h, o, v, t, &i, &j)) {
+        if (behind(jb, o, v, t, &i, &j)) {
             double lo = prev, hi = t;
             if (k > 0)
                 for (b = 0; b < MARCH_BISECTIONS; ++b) {
                     double mid = 0.5 * (lo + hi);
                     uint32_t mi, mj;
-                    if (behind(jb->depth, w, h, o, v, mid, &mi, &mj)) {
+                    if (behind(jb, o, v, mid, &mi, &mj)) {
                         hi = mid;
                         i = mi;
                         j = mj;
@@ -174,17 +186,20 @@ static double dda_s(const dda_line *L, double e)
 static int dda_test(const march_job *jb, const dda_line *L, double ss, double sa, double sb, uint32_t *i, uint32_t *j,
                     double *s_hit)
 {
-    double d, za, zb, lo, hi;
+    double d, za, zb, lo, hi, thick;
+    size_t k;
     *i = bmc_texel(L->x0 + ss * L->dx, jb->w);
     *j = bmc_texel(L->y0 + ss * L->dy, jb->h);
-    d = (double)bmc_depth(jb->depth[(size_t)*j * jb->w + *i]);
+    k = (size_t)*j * jb->w + *i;
+    d = (double)bmc_depth(jb->depth[k]);
+    thick = jb->back ? back_at(jb, k) - d : DDA_THICKNESS; /* a scene's own thickness where it has one */
     za = L->z0 + sa * L->dz;
     zb = L->z0 + sb * L->dz;
     lo = za < zb ? za : zb;
     hi = za < zb ? zb : za;
-    if (!(hi >= d && lo <= d + DDA_THICKNESS)) return 0;
-    if (za >= d && za <= d + DDA_THICKNESS) *s_hit = sa;
-    else *s_hit = sa + ((za < d ? d : d + DDA_THICKNESS) - za) / (zb - za) * (sb - sa);
+    if (!(hi >= d && lo <= d + thick)) return 0;
+    if (za >= d && za <= d + thick) *s_hit = sa;
+    else *s_hit = sa + ((za < d ? d : d + thick) - za) / (zb - za) * (sb - sa);
     return 1;
 }
 
@@ -301,11 +316,23 @@ static void hiz_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
         uint32_t cx = bmc_texel((x + nx) * inv_s, lw), cy = bmc_texel((y + ny) * inv_s, lh);
         zmin = (double)(lv == 0 ? bmc_depth(level[(size_t)cy * lw + cx]) : level[(size_t)cy * lw + cx]);
         if (z >= zmin) {
-            if (lv == 0) {
+            if (lv > 0) {
+                --lv;
+                continue;
+            }
+            if (z <= back_at(jb, (size_t)cy * lw + cx)) {
                 report_hit(r, t, cx, cy, hit);
                 return;
             }
-            --lv;
+            /* behind this texel's back (thickness): on to the next texel */
+            tx = v[0] > 0.0 ? ((double)(cx + 1u) - o[0]) / v[0] : v[0] < 0.0 ? ((double)cx - o[0]) / v[0] : HUGE_VAL;
+            ty = v[1] > 0.0 ? ((double)(cy + 1u) - o[1]) / v[1] : v[1] < 0.0 ? ((double)cy - o[1]) / v[1] : HUGE_VAL;
+            tb = tx < ty ? tx : ty;
+            if (tb >= t1) {
+                bmc_set_miss(hit, bmc_miss_kind(r, w, h));
+                return;
+            }
+            if (tb > t) t = tb;
             continue;
         }
         tx = v[0] > 0.0 ? ((double)(cx + 1u) * s - o[0]) / v[0] : v[0] < 0.0 ? ((double)cx * s - o[0]) / v[0] : HUGE_VAL;
@@ -464,6 +491,7 @@ static int march_trace(bench_method *bm, const bench_scene *sc, const bench_rays
     }
     jb.m = m;
     jb.depth = sc->depth;
+    jb.back = sc->back;
     jb.w = sc->width;
     jb.h = sc->height;
     jb.rays = rs->rays;

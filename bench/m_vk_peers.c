@@ -1339,6 +1339,10 @@ static int vkp_build(bench_method *m, const bench_scene *sc, double *ms, char *w
 {
     vkp *p = (vkp *)m->impl;
     *ms = 0;
+    if (sc->back) { /* these kernels trace the infinite layer: they would answer another model */
+        snprintf(why, n, "no thickness model in this Vulkan method");
+        return 1;
+    }
     if (!p->dev) {
         snprintf(why, n, "not open");
         return 1;

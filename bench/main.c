@@ -72,6 +72,7 @@ static float rnd01(void)
 typedef struct scene {
     bench_scene s;
     float *depth;
+    float *back;              /* "yard back": the yard's back-face depth (thickness), else NULL */
     ref_map ref;
     /* A scene with a camera (--depth FILE): its reflection, ao and shadow
        rays are view-space segments built as examples/ssr.c, ao.c and
@@ -100,6 +101,17 @@ static void scene_finish(scene *sc, const char *name, uint32_t w, uint32_t h)
         fprintf(stderr, "bench: out of memory\n");
         exit(2);
     }
+    if (sc->back) { /* every method, the reference included, runs this scene under the back-map model */
+        sc->s.back = sc->back;
+        sc->s.pair[0] = sc->s.lrt;
+        sc->s.pair[0].flags = LRT_DEPTH_BACK_FOLLOWS;
+        sc->s.pair[1] = sc->s.lrt;
+        sc->s.pair[1].data = sc->back;
+        if (ref_map_set_back_from_raw(&sc->ref, sc->back, 0, REF_FORMAT_FLOAT32, 0) != 0) {
+            fprintf(stderr, "bench: out of memory\n");
+            exit(2);
+        }
+    }
 }
 
 static int scene_set_camera(scene *sc, float fov_deg, float near_z, float far_z, const float view_from_world[9],
@@ -109,17 +121,23 @@ static int scene_set_camera(scene *sc, float fov_deg, float near_z, float far_z,
    shadow rays built as the examples build them), 1 poles (thin features),
    2 terraces (8-bit steps facing the camera), 3 noise (the worst case for
    culling); the last three are maps without a camera, whose secondary rays
-   come from screen-space normals */
+   come from screen-space normals; 4 "yard back", the yard with thickness:
+   its objects end at their back faces (a back-face depth pass), so rays
+   pass behind them */
 static void scene_make(scene *sc, int kind, uint32_t w, uint32_t h)
 {
-    static const char *names[4] = {"yard", "poles", "terraces", "noise"};
+    static const char *names[5] = {"yard", "poles", "terraces", "noise", "yard back"};
     uint32_t i, j;
     memset(sc, 0, sizeof *sc);
     sc->depth = (float *)malloc(sizeof(float) * w * h);
     if (!sc->depth) exit(2);
-    if (kind == 0) {
+    if (kind == 0 || kind == 4) {
         scene_camera cam = scene_default_camera();
         scene_render((int)w, (int)h, &cam, sc->depth, NULL);
+        if (kind == 4) {
+            if (!(sc->back = (float *)malloc(sizeof(float) * w * h))) exit(2);
+            scene_render_back((int)w, (int)h, &cam, sc->back);
+        }
     } else {
         for (j = 0; j < h; ++j)
             for (i = 0; i < w; ++i) {
@@ -136,7 +154,7 @@ static void scene_make(scene *sc, int kind, uint32_t w, uint32_t h)
             }
     }
     scene_finish(sc, names[kind], w, h);
-    if (kind == 0) { /* the yard has a camera: its reflection, AO and shadow rays are the examples' */
+    if (kind == 0 || kind == 4) { /* the yard has a camera: its reflection, AO and shadow rays are the examples' */
         scene_camera cam = scene_default_camera();
         float view_from_world[9];
         char why[256];
@@ -151,6 +169,7 @@ static void scene_make(scene *sc, int kind, uint32_t w, uint32_t h)
 static void scene_free(scene *sc)
 {
     free(sc->depth);
+    free(sc->back);
     free(sc->pos);
     free(sc->nrm);
     free(sc->lift);
@@ -940,7 +959,7 @@ int main(int argc, char **argv)
     bench_method m[64];
     const char *skipped[64];
     char machine[512], whybuf[64][160];
-    scene scenes[4];
+    scene scenes[5];
     ray_set sets[SET_COUNT];
     stab_case stab[STAB_CASES];
     lrt_hit *hits;
@@ -1029,8 +1048,8 @@ int main(int argc, char **argv)
         if (scene_load(&scenes[0], &o)) return 1;
         ns = 1;
     } else {
-        for (k = 0; k < (o.quick ? 2 : 4); ++k) scene_make(&scenes[k], k, o.size, o.size);
-        ns = o.quick ? 2 : 4;
+        for (k = 0; k < (o.quick ? 2 : 5); ++k) scene_make(&scenes[k], k, o.size, o.size);
+        ns = o.quick ? 2 : 5;
     }
     if (o.depth_file)
         snprintf(machine, sizeof machine,
