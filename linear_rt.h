@@ -5,8 +5,8 @@
    (h = 1 - z); an 8-wide BVH is laid over it once; each frame only its heights
    are refitted; rays walk it with a traversal made for this one tree shape.
    What a hit means is fixed by MODEL.md of the project: every texel is the
-   closed box [i,i+1] x [j,j+1] x [depth,1] and a ray hits the first box it
-   touches.
+   closed box [i,i+1] x [j,j+1] x [depth,1] (with a back map: [depth, back])
+   and a ray hits the first box it touches.
 
    DO THIS
        #define LINEAR_RT_IMPLEMENTATION
@@ -170,8 +170,9 @@
    WHAT IT DOES NOT DO
    - no GPU work of its own: it records into your command buffers and never
      submits, waits or owns a queue; no view-space rays (the caller clips them
-     to the near plane and projects them to screen space); no thickness
-     model: everything behind the depth is solid (MODEL.md).
+     to the near plane and projects them to screen space); thickness only
+     from a back map (LRT_THICKNESS_BACK_MAP): MODEL.md's constant and
+     relative thickness are back maps the caller makes (examples/example.h).
 
    LICENCE: MIT, at the end of this file.
 */
@@ -359,18 +360,18 @@ typedef enum lrt_hit_kind {
     LRT_HIT_KIND_MAX_ENUM = 0x7fffffff
 } lrt_hit_kind;
 
-/* Where a hit lies on its texel's box [x, x+1] x [y, y+1] x [depth, 1]
-   (MODEL.md, "the face of a hit"): on the top, a surface the camera sees;
-   on a side or the back (the far plane z = 1, met by a ray coming from
-   behind it), which the camera does not see, where an engine may fall
-   back; or inside: the origin at tmin already in the solid. On an edge
-   shared by faces any of them is right; ties are told as top, then side,
-   then back. */
+/* Where a hit lies on its texel's box [x, x+1] x [y, y+1] x [depth, back]
+   (back = 1 without a back map; MODEL.md, "the face of a hit"): on the
+   top, a surface the camera sees; on a side or the back (z = back, met by
+   a ray coming from behind it), which the camera does not see, where an
+   engine may fall back; or inside: the origin at tmin already in the
+   solid. On an edge shared by faces any of them is right; ties are told
+   as top, then side, then back. */
 typedef enum lrt_hit_face {
     LRT_FACE_NONE = 0,           /* a miss */
     LRT_FACE_TOP = 1,            /* on z = depth of the texel */
     LRT_FACE_SIDE = 2,           /* on x = x, x + 1 or y = y, y + 1 */
-    LRT_FACE_BACK = 3,           /* on z = 1, entered from behind */
+    LRT_FACE_BACK = 3,           /* on z = back (1 without a back map), entered from behind */
     LRT_FACE_INSIDE = 4          /* the origin at tmin, inside the box: t = tmin */
 } lrt_hit_face;
 
@@ -2337,14 +2338,16 @@ LRT__FORCE_INLINE void lrt__z_plane8(__m256 tz, uint32_t neg_z, __m256 *enter, _
    in visiting order. */
 LRT__FORCE_INLINE void lrt__box8(const lrt__walk *w, const lrt__ray_setup *s, const lrt__walk_level *v, float x0, float y0,
                                  __m128i c16, size_t slot0, uint32_t tall, uint32_t wide, uint32_t neg_z, __m256 *enter,
-                                 __m256 *exit)
+                                 __m256 *exit, __m256 *enter_xy, __m256 *exit_xy)
 {
     const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(c16), s->sg->order[tall]);
     const __m256 dz = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), codes));
     lrt__slabs8(s, v, x0, y0, tall, enter, exit);
+    *enter_xy = *enter;
+    *exit_xy = *exit;
     lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(dz, _mm256_set1_ps(w->decode_scale)), s->vo[2]), s->viv[2]),
                   neg_z, enter, exit);
-    if (w->back_codes) { /* the back plane: the other side of the box */
+    if (w->back_codes && !s->zk) { /* the back plane; not for a z scaled by 2^zk: unscaled codes would cut it */
         const __m256i back = _mm256_permutevar8x32_epi32(
             _mm256_cvtepu16_epi32(lrt__load_codes(w, w->back_codes + slot0, wide)), s->sg->order[tall]);
         const __m256 bz = _mm256_mul_ps(_mm256_cvtepi32_ps(back), _mm256_set1_ps(w->back_scale));
@@ -2385,7 +2388,9 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
 
 /* Children of node (nx, ny) at level lv whose boxes the ray meets, as a bit
    mask in visiting order (bit k is slot k ^ flip, lrt__order_mask);
-   enter[k] / exit[k] bound the ray inside the child of lane k (LRT__LANE).
+   enter[k] / exit[k] bound the ray inside the x and y slabs of the child of
+   lane k (LRT__LANE): the texel test adds the texel's own z planes, so no
+   node's rounded bound ever moves a hit's t (or its face).
    Slot k of a wide (4x2) node is column k&3, row k>>2; of a tall (2x4) node
    column k&1, row k>>1. Each plane's t is computed once, the same way at
    every level, which keeps the culling monotone. tall is a constant where
@@ -2402,10 +2407,10 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
 #endif
 #if LRT__AVX
     {
-        __m256 en, ex;
-        lrt__box8(w, s, v, x0, y0, c16, slot0, tall, wide, neg_z, &en, &ex);
-        _mm256_storeu_ps(enter, en);
-        _mm256_storeu_ps(exit, ex);
+        __m256 en, ex, en_xy, ex_xy;
+        lrt__box8(w, s, v, x0, y0, c16, slot0, tall, wide, neg_z, &en, &ex, &en_xy, &ex_xy);
+        _mm256_storeu_ps(enter, en_xy);
+        _mm256_storeu_ps(exit, ex_xy);
         mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
     }
 #elif LRT__SSE
@@ -2421,17 +2426,17 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
             __m128 en = _mm_max_ps(xe[k], s->vt_lo), ex = _mm_min_ps(xx[k], s->vt_hi); /* maxps/minps keep the 2nd operand on NaN */
             en = _mm_max_ps(ye[k], en);
             ex = _mm_min_ps(yx[k], ex);
+            _mm_storeu_ps(enter + 4 * (size_t)k, en); /* the slabs alone: the texel test adds its own planes */
+            _mm_storeu_ps(exit + 4 * (size_t)k, ex);
             if (neg_z) ex = _mm_min_ps(tz, ex); /* the z plane leaves (v.z < 0) or enters */
             else en = _mm_max_ps(tz, en);
-            if (w->back_codes) { /* the back plane: the other side of the box */
+            if (w->back_codes && !s->zk) { /* the back plane; not for a z scaled by 2^zk: unscaled codes would cut it */
                 const __m128i b16 = lrt__load_codes(w, w->back_codes + slot0, wide);
                 const __m128 bz = _mm_cvtepi32_ps(k ? _mm_unpackhi_epi16(b16, zero) : _mm_unpacklo_epi16(b16, zero));
                 const __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(bz, _mm_set1_ps(w->back_scale)), s->vo[2]), s->viv[2]);
                 if (neg_z) en = _mm_max_ps(tb, en);
                 else ex = _mm_min_ps(tb, ex);
             }
-            _mm_storeu_ps(enter + 4 * (size_t)k, en);
-            _mm_storeu_ps(exit + 4 * (size_t)k, ex);
             { /* lrt__widen: ex + |ex| 2^-21 where that stays finite, else ex */
                 const __m128 grown = _mm_add_ps(ex, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), ex), _mm_set1_ps(LRT__WIDEN_EXIT)));
                 const __m128 ok = _mm_cmple_ps(grown, _mm_set1_ps(3.40282347e38f));
@@ -2459,15 +2464,15 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
             en = LRT__MAX_KEEP(py[r + s->neg_y], en);
             ex = LRT__MIN_KEEP(px[c + 1 - s->neg_x], ex);
             ex = LRT__MIN_KEEP(py[r + 1 - s->neg_y], ex);
+            enter[k] = en; /* the slabs alone: the texel test adds its own planes */
+            exit[k] = ex;
             if (neg_z) ex = LRT__MIN_KEEP(tz, ex);
             else en = LRT__MAX_KEEP(tz, en);
-            if (w->back_codes) { /* the back plane: the other side of the box */
+            if (w->back_codes && !s->zk) { /* the back plane; not for a z scaled by 2^zk: unscaled codes would cut it */
                 const float tb = (bz[k] - s->o[2]) * s->iv[2];
                 if (neg_z) en = LRT__MAX_KEEP(tb, en);
                 else ex = LRT__MIN_KEEP(tb, ex);
             }
-            enter[k] = en;
-            exit[k] = ex;
             mask |= (uint32_t)(en <= lrt__widen(ex)) << k;
         }
     }
@@ -2499,7 +2504,7 @@ LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray
     /* X0 and Y0 wait for the parent's test, the codes' load is ahead of them */
     __m256 en = _mm256_max_ps(_mm256_max_ps(xe, ye), neg_z ? s->vt_lo : _mm256_max_ps(tz, s->vt_lo));
     __m256 ex = _mm256_min_ps(_mm256_min_ps(xx, yx), neg_z ? _mm256_min_ps(tz, s->cull_hi) : s->cull_hi);
-    if (w->back_codes) { /* the back plane, with margins of its own (lrt__cull_constants) */
+    if (w->back_codes && !s->zk) { /* the back plane, with margins of its own (lrt__cull_constants) */
         const __m256i back = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(lrt__load_codes(w, w->back_codes + slot0, wide)),
                                                          g->order[tall]);
         const __m256 tb = LRT__EXACT_MADD8(_mm256_cvtepi32_ps(back), s->cull_ba, s->cull_bb);
@@ -3920,11 +3925,12 @@ static lrt_result lrt__vk_map(const lrt_vk_context *c, const lrt_vk_depth *map, 
 static lrt_result lrt__vk_check(const lrt_vk_context *c, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
                                 const lrt_vk_depth *depth, lrt__vk_source *src)
 {
-    const lrt_vk_depth *back = depth + 1; /* read only with LRT_DEPTH_BACK_FOLLOWS */
+    const lrt_vk_depth *back;
     uint32_t bpp;
     int back_image;
     lrt_result r;
     if (!c || !cmd || !bvh || !depth) return LRT_ERROR_NULL_POINTER;
+    back = depth + 1; /* read only with LRT_DEPTH_BACK_FOLLOWS */
     if (!bvh->created) return LRT_ERROR_INVALID_BVH;
     if ((r = lrt__check_size(depth->width, depth->height)) != LRT_SUCCESS) return r;
     bpp = lrt__format_bytes(depth->format);

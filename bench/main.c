@@ -722,16 +722,24 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
                 o->depth_file, first->s.width, first->s.height, (double)o->fov_deg, (double)o->near_z,
                 (double)o->far_z);
     else fprintf(md, "\n## Speed and accuracy, scene \"yard\" (%u x %u), per ray set\n\n", o->size, o->size);
-    fprintf(md, "| method | device | rays | build ms | update ms | trace ms | M rays/s | bytes/texel | right %% | false hits %% | false misses %% | mean dist (texels) |\n");
-    fprintf(md, "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-    for (i = 0; i < g_nres; ++i) {
-        const result *r = &g_res[i];
-        if (strcmp(r->scene, "yard") != 0 && strcmp(r->scene, "file") != 0) continue;
-        if (!r->ok) continue;
-        fprintf(md, "| %s | %s%s | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.3f |\n", r->method,
-                r->device, r->threads ? (r->threads == 1 ? " 1t" : " mt") : "", r->set, r->build_ms, r->update_ms,
-                r->trace_ms, mrays(r), r->bytes_per_texel, pct(r->sc.right, r->sc.n), pct(r->sc.false_hits, r->sc.n),
-                pct(r->sc.false_misses, r->sc.n), r->sc.both_hit ? r->sc.dist_sum / (double)r->sc.both_hit : 0.0);
+    for (k = 0; k < 2; ++k) { /* the yard (or the file), then the yard with thickness */
+        if (k == 1) {
+            if (o->depth_file) break;
+            fprintf(md, "\n## Thickness: scene \"yard back\" (%u x %u), the yard's objects ending at their back faces, "
+                        "every method under that model (those without one are skipped)\n\n", o->size, o->size);
+        }
+        fprintf(md, "| method | device | rays | build ms | update ms | trace ms | M rays/s | bytes/texel | right %% | false hits %% | false misses %% | mean dist (texels) |\n");
+        fprintf(md, "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        for (i = 0; i < g_nres; ++i) {
+            const result *r = &g_res[i];
+            if (k == 0 ? strcmp(r->scene, "yard") != 0 && strcmp(r->scene, "file") != 0 : strcmp(r->scene, "yard back") != 0)
+                continue;
+            if (!r->ok) continue;
+            fprintf(md, "| %s | %s%s | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.3f |\n", r->method,
+                    r->device, r->threads ? (r->threads == 1 ? " 1t" : " mt") : "", r->set, r->build_ms, r->update_ms,
+                    r->trace_ms, mrays(r), r->bytes_per_texel, pct(r->sc.right, r->sc.n), pct(r->sc.false_hits, r->sc.n),
+                    pct(r->sc.false_misses, r->sc.n), r->sc.both_hit ? r->sc.dist_sum / (double)r->sc.both_hit : 0.0);
+        }
     }
     /* one point per method: secondary rays (reflection + segments) of every scene */
     fprintf(dat, "# method device mrays_per_s right_pct exact\n");
@@ -739,7 +747,9 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
         double ms = 0, right = 0, n = 0, rays = 0;
         for (i = 0; i < g_nres; ++i) {
             const result *r = &g_res[i];
-            if (!r->ok || strcmp(r->method, m[k].name) != 0 || (strcmp(r->set, "reflection") && strcmp(r->set, "segments")))
+            /* the infinite layer's scenes: a method without thickness has no yard back */
+            if (!r->ok || strcmp(r->method, m[k].name) != 0 || (strcmp(r->set, "reflection") && strcmp(r->set, "segments")) ||
+                strcmp(r->scene, "yard back") == 0)
                 continue;
             ms += r->trace_ms;
             rays += (double)r->rays;

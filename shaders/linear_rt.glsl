@@ -930,7 +930,8 @@ bool lrt_child_met(LrtSetup s, float xa, float xb, float ya, float yb, uint code
     }
     if (s.neg.z != 0u) ex = min(tz, ex);
     else en = max(tz, en);
-    if (back_scale != 0.0) { // the back plane: a decoded back never shallower than the true one
+    if (back_scale != 0.0 && s.zk == 0) { // the back plane: a decoded back never shallower than the true one
+        // (not for a z scaled by 2^zk, lrt_setup_rare: the unscaled codes would cut its back planes)
         precise float bz = float(back_code) * back_scale;
         float tb;
         if (s.zero.z) {

@@ -171,6 +171,66 @@ static void test_thickness_grazing(void)
     }
 }
 
+/* The fuzzer's finds on back-map trees (tests/fuzz/fuzz_core.c), each failing
+   before its fix: (a) a z so slow beside x that the ray's z is scaled by
+   2^zk (lrt__setup_rare): the nodes' unscaled back codes culled the texel
+   it starts in; (b) a hit entering by a texel's back took the node's
+   rounded back plane as its t, one ulp late, and was told as inside. */
+static void test_thickness_found(void)
+{
+    static const struct {
+        int w, h, tx, ty;
+        uint16_t d, back;
+        float o[3], v[3], tmin, tmax;
+        int face;
+    } cases[2] = {
+        {42, 1, 40, 0, 3654, 57837, {40.5f, 0.5f, 0.7f}, {-5.0f, 0.0f, -0x1p-131f}, 0.0f, 0.8125f, LRT_FACE_INSIDE},
+        {4, 4, 0, 2, 176, 176, {0.75f, 3.0f, 0x1.8b162cp-2f}, {0.0f, -0.125f, -0x1.1p-4f}, 0.0f, 0x1.3ap+3f, LRT_FACE_BACK},
+    };
+    int k;
+    for (k = 0; k < 2; ++k) {
+        uint16_t depth[64], back[64];
+        lrt_depth pair[2];
+        lrt_build_options opt;
+        lrt_bvh bvh;
+        lrt_ray r;
+        lrt_hit h;
+        ref_map m;
+        ref_ray q;
+        ref_answer a;
+        char why[256];
+        int i, n = cases[k].w * cases[k].h;
+        for (i = 0; i < n; ++i) depth[i] = back[i] = 65535;
+        depth[cases[k].ty * cases[k].w + cases[k].tx] = cases[k].d;
+        back[cases[k].ty * cases[k].w + cases[k].tx] = cases[k].back;
+        memset(pair, 0, sizeof pair);
+        pair[0].data = depth;
+        pair[0].width = pair[1].width = (uint32_t)cases[k].w;
+        pair[0].height = pair[1].height = (uint32_t)cases[k].h;
+        pair[0].format = pair[1].format = LRT_FORMAT_UNORM16;
+        pair[0].flags = LRT_DEPTH_BACK_FOLLOWS;
+        pair[1].data = back;
+        memset(&opt, 0, sizeof opt);
+        opt.node_bits = 16;
+        opt.thickness = LRT_THICKNESS_BACK_MAP;
+        memcpy(r.origin, cases[k].o, sizeof r.origin);
+        memcpy(r.dir, cases[k].v, sizeof r.dir);
+        r.tmin = cases[k].tmin;
+        r.tmax = cases[k].tmax;
+        CHECK(lrt_bvh_build(&bvh, pair, &opt, NULL) == LRT_SUCCESS && lrt_trace(&bvh, pair, &r, &h, 1, 0) == LRT_SUCCESS,
+              "thickness find %d: build and trace", k);
+        CHECK(h.kind == LRT_HIT && (int)h.x == cases[k].tx && (int)h.y == cases[k].ty && h.face == cases[k].face,
+              "thickness find %d: kind %u (%u,%u) face %u", k, h.kind, h.x, h.y, h.face);
+        ref_map_from_raw(&m, depth, cases[k].w, cases[k].h, 0, REF_FORMAT_UNORM16, 0);
+        ref_map_set_back_from_raw(&m, back, 0, REF_FORMAT_UNORM16, 0);
+        q = to_ref(&r);
+        a = to_answer(&h);
+        CHECK(ref_check(&m, &q, &a, 0, why, sizeof why), "thickness find %d: %s", k, why);
+        ref_map_free(&m);
+        lrt_bvh_destroy(&bvh);
+    }
+}
+
 /* ---- 2. the named cases of MODEL.md ------------------------------------------ */
 static lrt_hit trace1(const lrt_bvh *bvh, const test_map *m, float ox, float oy, float oz, float vx, float vy, float vz,
                       float tmin, float tmax)
@@ -670,5 +730,6 @@ int main(void)
     test_ranges();
     test_differential();
     test_thickness_grazing();
+    test_thickness_found();
     return check_summary();
 }

@@ -1,14 +1,27 @@
 /* tests/fuzz/fuzz_core.c - libFuzzer harness of the CPU path of linear_rt.h.
 
    The input bytes are read as a depth map (size, format, flags, row stride,
-   data offset, node bits, depth values), a batch of rays and a dirty rect.
+   data offset, node bits, depth values), a batch of rays and a dirty rect,
+   and (byte 16, the thickness selector) the tree's thickness model
+   (LRT_THICKNESS_INFINITE, LRT_THICKNESS_BACK_MAP or an invalid value), the
+   LRT_DEPTH_BACK_FOLLOWS flag and the back map that follows the depth
+   (its stride, its values from the depth's palette, or one fault: NULL,
+   another size, format or Z direction, a bad stride, bad flags). A 0 there
+   is the infinite model with the flags as before: an older input with a 0
+   inserted at byte 16 reads as it did (but for the one texel of a 1x1
+   8-bit map, which older versions left unfilled).
    It builds (lrt_bvh_build and lrt_bvh_build_in into exactly
    lrt_bvh_memory_size heap bytes), traces, judges every answer with the
    exact reference of tests/reference.h (ref_check: MODEL.md's "Right, and
-   how right"), then changes the depth inside the rect, updates and compares
-   the nodes with a fresh build byte for byte. Every result code must be one
-   the header documents for the inputs given; any disagreement prints what
-   differed and aborts. */
+   how right"; with the back map as the reference's b), then changes the
+   depth (and the back map) inside the rect, updates and compares the nodes
+   with a fresh build byte for byte. It also traces and updates a back-map
+   tree without its back map, an infinite one with one, and a back-map tree
+   with a faulty back map. Every result code must be one the header
+   documents for the inputs given; any disagreement prints what differed
+   and aborts. The depth structs and both maps are heap blocks of exactly
+   their size (one lrt_depth without LRT_DEPTH_BACK_FOLLOWS), so ASan sees
+   any read past them. */
 #define LINEAR_RT_IMPLEMENTATION
 #include "../../linear_rt.h"
 #include "../reference.h"
@@ -36,7 +49,7 @@ static float f32(input *in) { uint32_t b = u32(in); float f; memcpy(&f, &b, 4); 
 typedef uint32_t codes;
 #define CODE(c) ((codes)1u << (c))
 
-static char g_map[160]; /* the map under test, for failure messages */
+static char g_map[256]; /* the map under test, for failure messages */
 
 static void expect(const char *what, lrt_result got, codes errors)
 {
@@ -49,6 +62,19 @@ static void expect(const char *what, lrt_result got, codes errors)
 /* ---- the depth map -------------------------------------------------------- */
 static uint32_t bytes_per_texel(uint32_t format) { return format >= 1 && format <= 3 ? (format == 3 ? 4u : format) : 0u; }
 
+/* A map's stride against its rows (the depth's own, or the back map's
+   against the depth's width, height and format): INVALID_STRIDE,
+   SIZE_OVERFLOW, else its byte span. */
+static codes stride_errors(size_t row_stride, uint32_t width, uint32_t height, uint32_t bpp, size_t *span)
+{
+    size_t row = (size_t)width * bpp, stride = row_stride ? row_stride : row;
+    if (stride < row) return CODE(LRT_ERROR_INVALID_STRIDE);
+    if (height > 1 && stride > ((size_t)PTRDIFF_MAX - row) / (height - 1))
+        return CODE(LRT_ERROR_SIZE_OVERFLOW); /* the span, stride*(h-1) + row, exceeds PTRDIFF_MAX */
+    if (height >= 1) *span = stride * (height - 1) + row;
+    return 0;
+}
+
 /* What lrt__check_depth must say about a map, from the header's words alone. */
 static codes depth_errors(const lrt_depth *d, size_t *span)
 {
@@ -59,20 +85,92 @@ static codes depth_errors(const lrt_depth *d, size_t *span)
     if (d->width == 0 || d->height == 0 || d->width > LINEAR_RT_MAX_DIM || d->height > LINEAR_RT_MAX_DIM)
         e |= CODE(LRT_ERROR_INVALID_SIZE);
     if (!bpp) e |= CODE(LRT_ERROR_INVALID_FORMAT);
-    if (d->flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) e |= CODE(LRT_ERROR_INVALID_OPTION);
-    if (bpp && d->width <= LINEAR_RT_MAX_DIM && d->height <= LINEAR_RT_MAX_DIM) {
-        size_t row = (size_t)d->width * bpp, stride = d->row_stride ? d->row_stride : row;
-        if (stride < row) e |= CODE(LRT_ERROR_INVALID_STRIDE);
-        else if (d->height > 1 && stride > ((size_t)PTRDIFF_MAX - row) / (d->height - 1))
-            e |= CODE(LRT_ERROR_SIZE_OVERFLOW); /* the span, stride*(h-1) + row, exceeds PTRDIFF_MAX */
-        else if (d->height >= 1) *span = stride * (d->height - 1) + row;
-    }
+    if (d->flags & ~(uint32_t)(LRT_DEPTH_REVERSED_Z | LRT_DEPTH_BACK_FOLLOWS)) e |= CODE(LRT_ERROR_INVALID_OPTION);
+    if (bpp && d->width <= LINEAR_RT_MAX_DIM && d->height <= LINEAR_RT_MAX_DIM)
+        e |= stride_errors(d->row_stride, d->width, d->height, bpp, span);
     return e;
 }
 
+/* The options: node bits not 0/8/16, a thickness not one of lrt_thickness. */
 static codes bits_errors(const lrt_build_options *o)
 {
-    return o && o->node_bits != 0 && o->node_bits != 8 && o->node_bits != 16 ? CODE(LRT_ERROR_INVALID_OPTION) : 0;
+    codes e = 0;
+    if (o && o->node_bits != 0 && o->node_bits != 8 && o->node_bits != 16) e |= CODE(LRT_ERROR_INVALID_OPTION);
+    if (o && o->thickness != LRT_THICKNESS_INFINITE && o->thickness != LRT_THICKNESS_BACK_MAP)
+        e |= CODE(LRT_ERROR_INVALID_OPTION);
+    return e;
+}
+
+static uint32_t thickness_of(const lrt_build_options *o) { return o ? o->thickness : (uint32_t)LRT_THICKNESS_INFINITE; }
+
+/* The back map (dp[1]) against the depth dp[0] and the thickness model
+   (the options' for a build, the tree's for update and trace), from the
+   header's words: LRT_DEPTH_BACK_FOLLOWS exactly with a back-map model,
+   else THICKNESS_MISMATCH (and dp[1] is not looked at); with both, dp[1]
+   has data, the depth's size, format and Z direction, no other flag and
+   a stride of its own that fits the depth's rows. *span: the back map's
+   bytes when that stride is valid. dp[1] is read only when the flag is set. */
+static codes back_errors(const lrt_depth *dp, uint32_t thickness, size_t *span)
+{
+    const lrt_depth *d = &dp[0];
+    int follows = (d->flags & LRT_DEPTH_BACK_FOLLOWS) != 0, back_model = thickness == LRT_THICKNESS_BACK_MAP;
+    const lrt_depth *b;
+    uint32_t bpp = bytes_per_texel((uint32_t)d->format);
+    codes e = 0;
+    *span = 0;
+    if (follows != back_model) return CODE(LRT_ERROR_THICKNESS_MISMATCH);
+    if (!follows) return 0;
+    b = &dp[1];
+    if (!b->data) e |= CODE(LRT_ERROR_NULL_POINTER);
+    if (b->width != d->width || b->height != d->height) e |= CODE(LRT_ERROR_SIZE_MISMATCH);
+    if (b->format != d->format) e |= CODE(LRT_ERROR_INVALID_FORMAT);
+    if (b->flags != (d->flags & LRT_DEPTH_REVERSED_Z)) e |= CODE(LRT_ERROR_INVALID_OPTION);
+    if (bpp && d->width >= 1 && d->height >= 1 && d->width <= LINEAR_RT_MAX_DIM && d->height <= LINEAR_RT_MAX_DIM)
+        e |= stride_errors(b->row_stride, d->width, d->height, bpp, span);
+    return e;
+}
+
+/* What lrt__check_pair (update, trace) must say about a tree and a map pair. */
+static codes pair_errors(const lrt_bvh *bvh, const lrt_depth *dp)
+{
+    size_t span;
+    codes e = depth_errors(&dp[0], &span);
+    if (!bvh->built) e |= CODE(LRT_ERROR_INVALID_BVH);
+    else if (dp[0].width != bvh->layout.width || dp[0].height != bvh->layout.height) e |= CODE(LRT_ERROR_SIZE_MISMATCH);
+    return e | back_errors(dp, bvh->layout.back_codes ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE, &span);
+}
+
+/* A heap copy of a depth and, with LRT_DEPTH_BACK_FOLLOWS, its back map:
+   exactly the lrt_depth structs the library may read. */
+static lrt_depth *depth_pair(const lrt_depth *depth, const lrt_depth *back)
+{
+    size_t n = (depth->flags & LRT_DEPTH_BACK_FOLLOWS) ? 2 : 1;
+    lrt_depth *p = (lrt_depth *)malloc(n * sizeof *p);
+    if (!p) return NULL;
+    p[0] = *depth;
+    if (n == 2) p[1] = *back;
+    return p;
+}
+
+/* One fault of a back map (k = 0..7): NULL data, another width, another
+   height, another format, the other Z direction, a stride below a row, a
+   stride whose span overflows, a flag bit of its own. Some are no fault
+   for some maps (no stride is below a one-byte row; one row never
+   overflows): back_errors() says. */
+static void back_fault(lrt_depth *b, const lrt_depth *d, uint32_t k, uint8_t x)
+{
+    static const uint32_t odd_formats[4] = {0, 4, 255, 0x80000000u};
+    size_t row = (size_t)d->width * (bytes_per_texel((uint32_t)d->format) ? bytes_per_texel((uint32_t)d->format) : 4u);
+    switch (k & 7) {
+    case 0: b->data = NULL; break;
+    case 1: b->width = (x & 1) || d->width <= 1 ? d->width + 1 + (x >> 5) : d->width - 1; break;
+    case 2: b->height = (x & 1) || d->height <= 1 ? d->height + 1 + (x >> 5) : d->height - 1; break;
+    case 3: b->format = (lrt_format)((x & 1) ? odd_formats[(x >> 1) & 3] : 1u + ((uint32_t)d->format + (x >> 1 & 1)) % 3u); break;
+    case 4: b->flags = (d->flags & LRT_DEPTH_REVERSED_Z) ^ LRT_DEPTH_REVERSED_Z; break;
+    case 5: b->row_stride = row > 1 ? 1 + (size_t)x % (row - 1) : 0; break;
+    case 6: b->row_stride = ((size_t)PTRDIFF_MAX - row) / (d->height > 1 ? d->height - 1 : 1) + (x % 3); break;
+    default: b->flags = (d->flags & LRT_DEPTH_REVERSED_Z) | ((x & 1) ? (uint32_t)LRT_DEPTH_BACK_FOLLOWS : 1u << (2 + x % 30)); break;
+    }
 }
 
 /* Texel values from the input: a palette of up to 16 raw texels (ties,
@@ -101,18 +199,27 @@ static void tx_fill(texels *t, unsigned char *texel, uint32_t bpp)
     else for (b = 0; b < bpp; ++b) texel[b] = tx_byte(t);
 }
 
+/* Fill the texels of [x0, x1) x [y0, y1) of a map (row by row). */
+static void tx_fill_rect(texels *t, unsigned char *map, size_t stride, uint32_t bpp, uint32_t x0, uint32_t x1, uint32_t y0,
+                         uint32_t y1)
+{
+    uint32_t i, j;
+    for (j = y0; j < y1; ++j)
+        for (i = x0; i < x1; ++i) tx_fill(t, map + stride * j + (size_t)i * bpp, bpp);
+}
+
 /* ---- rays ---------------------------------------------------------------------
    Each of a ray's 8 floats is either 4 raw bytes (NaN, inf, huge, negative)
    or built from one byte on a grid that makes real hits, texel edges,
-   corners and grazing texel tops common. */
-static float texel_top(const ref_map *m, float x, float y)
+   corners and grazing texel tops (or backs, with a back map) common. */
+static float texel_top(const ref_map *m, float x, float y, int back)
 {
     int i, j;
     if (!(x >= 0.0f)) x = 0.0f; /* NaN too */
     if (!(y >= 0.0f)) y = 0.0f;
     i = x < (float)m->w ? (int)x : m->w - 1;
     j = y < (float)m->h ? (int)y : m->h - 1;
-    return (float)m->d[(size_t)j * (size_t)m->w + (size_t)i];
+    return (float)(back && m->b ? m->b : m->d)[(size_t)j * (size_t)m->w + (size_t)i];
 }
 
 static lrt_ray make_ray(input *in, const ref_map *m)
@@ -127,7 +234,7 @@ static lrt_ray make_ray(input *in, const ref_map *m)
         switch (k) {
         case 0: v[k] = (float)((uint32_t)b * (uint32_t)(m->w + 2) * 4u / 256u) / 4.0f - 1.0f; break; /* quarter texels */
         case 1: v[k] = (float)((uint32_t)b * (uint32_t)(m->h + 2) * 4u / 256u) / 4.0f - 1.0f; break;
-        case 2: v[k] = (b & 1) ? texel_top(m, v[0], v[1]) : (float)(b >> 1) / 127.0f; break;
+        case 2: v[k] = (b & 1) ? texel_top(m, v[0], v[1], b & 2) : (float)(b >> 1) / 127.0f; break; /* top or back */
         case 3: v[k] = (b & 3) ? (float)b / 64.0f : 0.0f; break; /* tmin */
         case 4: case 5: v[k] = (float)(int8_t)b / 8.0f; break;
         case 6: v[k] = (float)(int8_t)b / 256.0f; break;
@@ -161,18 +268,22 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
     return 0;
 }
 
-/* For a failure message: the depths around the exact hit of a ray. */
+/* For a failure message: the depths (and backs) around the exact hit of a ray. */
 static void print_neighbourhood(const ref_map *m, const ref_ray *q)
 {
     ref_result e = ref_trace_ray(m, q);
-    int i, j;
+    int i, j, back;
     if (e.kind != REF_HIT) return;
-    fprintf(stderr, "fuzz_core: exact hit t=%.17g in (%d,%d); depths of rows %d..%d, columns %d..%d:\n", e.t, e.x, e.y,
-            e.y - 2, e.y + 2, e.x - 2, e.x + 2);
-    for (j = e.y - 2; j <= e.y + 2; ++j, fputc('\n', stderr))
-        for (i = e.x - 2; i <= e.x + 2; ++i)
-            if (i >= 0 && j >= 0 && i < m->w && j < m->h) fprintf(stderr, " %.9f", m->d[(size_t)j * (size_t)m->w + (size_t)i]);
-            else fprintf(stderr, " -----------");
+    fprintf(stderr, "fuzz_core: exact hit t=%.17g in (%d,%d), face %d\n", e.t, e.x, e.y, e.face);
+    for (back = 0; back <= (m->b != NULL); ++back) {
+        const double *z = back ? m->b : m->d;
+        fprintf(stderr, "fuzz_core: %s of rows %d..%d, columns %d..%d:\n", back ? "backs" : "depths", e.y - 2, e.y + 2,
+                e.x - 2, e.x + 2);
+        for (j = e.y - 2; j <= e.y + 2; ++j, fputc('\n', stderr))
+            for (i = e.x - 2; i <= e.x + 2; ++i)
+                if (i >= 0 && j >= 0 && i < m->w && j < m->h) fprintf(stderr, " %.9f", z[(size_t)j * (size_t)m->w + (size_t)i]);
+                else fprintf(stderr, " -----------");
+    }
 }
 
 /* Every answer judged by the reference; misses must carry t = 0, x = y = 0. */
@@ -207,23 +318,28 @@ static void judge(const ref_map *m, const lrt_ray *rays, const lrt_hit *hits, si
 
 /* ---- one input ------------------------------------------------------------------ */
 enum { MAX_RAYS = 96 };
+#define MAX_MAP_BYTES ((size_t)64 << 20) /* a valid map larger than this gets NULL data */
+#define ALIGN_SLACK 15u                  /* lrt_bvh_memory_size: the nodes plus 15 bytes */
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static const uint32_t odd_formats[8] = {0, 4, 5, 7, 255, 0x10001, 0x7fffffff, 0x80000000u};
     static const uint32_t odd_sizes[4] = {0, LINEAR_RT_MAX_DIM, LINEAR_RT_MAX_DIM + 1, 0xffffffffu};
+    static const uint32_t odd_thickness[4] = {2, 7, 0x80000000u, 0xffffffffu};
     input in = {data, size, 0};
     uint8_t size_sel = u8(&in), wb = u8(&in), hb = u8(&in), fmt_sel = u8(&in), flag_sel = u8(&in);
     uint8_t stride_sel = u8(&in), bits_sel = u8(&in), depth_mode = u8(&in), ray_sel = u8(&in), trace_sel = u8(&in);
-    uint8_t rect_sel = u8(&in), rect_b[4], misc = u8(&in);
-    lrt_depth d;
+    uint8_t rect_sel = u8(&in), rect_b[4], misc = u8(&in), back_sel, tmode, back_k;
+    lrt_depth d, bk;          /* the depth, and the back map that follows it when d.flags has BACK_FOLLOWS */
+    lrt_depth *dp = NULL;     /* what the library is given: one or two heap structs (depth_pair) */
     lrt_build_options opt;
     const lrt_build_options *popt;
-    uint32_t bpp, w, h, node_bits_raw = 0, trace_flags, i, j;
-    size_t span = 0, alloc_span, mem_bytes = 0, nrays, k;
-    codes derr, berr;
-    unsigned char *store, *store2 = NULL, *mem = NULL;
+    uint32_t bpp, w, h, node_bits_raw = 0, trace_flags, thick;
+    size_t span = 0, bspan = 0, alloc_span, balloc, boff, mem_bytes = 0, nrays, k;
+    codes derr, bfaults, berr;
+    unsigned char *store, *store2 = NULL, *bstore = NULL, *bstore2 = NULL, *mem = NULL;
+    int have_map, have_back;
     lrt_bvh bvh, bvh_in, sentinel, fresh;
     lrt_ray *rays;
     lrt_hit *hits, *hits2;
@@ -235,6 +351,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memset(&bvh, 0, sizeof bvh);
     memset(&bvh_in, 0, sizeof bvh_in);
     for (k = 0; k < 4; ++k) rect_b[k] = u8(&in);
+    back_sel = u8(&in);
     if (bits_sel % 4 == 3) node_bits_raw = u32(&in);
 
     /* size: small most of the time, sometimes a few hundred, rarely invalid
@@ -262,59 +379,127 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     opt.node_bits = bits_sel % 4 == 0 ? 0u : bits_sel % 4 == 1 ? 8u : bits_sel % 4 == 2 ? 16u : node_bits_raw;
     popt = (bits_sel & 0x80) && bits_sel % 4 == 0 ? NULL : &opt;
 
+    /* thickness (byte 16): bits 0-2 (tmode) 0: the infinite model, the flags
+       as flag_sel made them; 1-4: a back-map tree with its back map; 5: a
+       back-map tree without one; 6: an infinite tree with one; 7: an invalid
+       thickness, the back map there when bit 5 is set. Bits 3-7 (back_k):
+       below 24 a valid back map (packed, padded by 1-8 bytes, or a stride
+       of exactly one row), else the fault back_k - 24 (back_fault). */
+    tmode = back_sel & 7;
+    back_k = back_sel >> 3;
+    opt.thickness = tmode == 0 || tmode == 6 ? (uint32_t)LRT_THICKNESS_INFINITE
+                    : tmode <= 5             ? (uint32_t)LRT_THICKNESS_BACK_MAP
+                                             : odd_thickness[back_k & 3];
+    if ((tmode >= 1 && tmode <= 4) || tmode == 6 || (tmode == 7 && (back_sel & 0x20))) d.flags |= LRT_DEPTH_BACK_FOLLOWS;
+    else if (tmode != 0) d.flags &= ~(uint32_t)LRT_DEPTH_BACK_FOLLOWS;
+    thick = thickness_of(popt);
+    memset(&bk, 0, sizeof bk);
+    bk.width = w;
+    bk.height = h;
+    bk.format = d.format;
+    bk.flags = d.flags & LRT_DEPTH_REVERSED_Z;
+    {
+        size_t row = (size_t)w * (bpp ? bpp : 4u);
+        bk.row_stride = back_k % 3 == 0 ? 0 : back_k % 3 == 1 ? row + 1 + back_k / 3 : row;
+    }
+    bk.data = (const void *)1; /* non-NULL for back_errors; set below */
+    if (back_k >= 24) back_fault(&bk, &d, back_k - 24u, (uint8_t)(stride_sel ^ hb));
+
     /* rays come next in the input; the depth cycles over what is left after them */
     nrays = ray_sel % (MAX_RAYS + 1);
     d.data = (const void *)1; /* non-NULL for depth_errors; set below */
     derr = depth_errors(&d, &span);
     /* memory exactly the span, at an unaligned offset, so that ASan sees any
        read past the map; a tiny block where the span is absurd (nothing may be read) */
-    alloc_span = derr & (CODE(LRT_ERROR_INVALID_SIZE) | CODE(LRT_ERROR_INVALID_FORMAT) | CODE(LRT_ERROR_INVALID_STRIDE) |
-                         CODE(LRT_ERROR_SIZE_OVERFLOW))
-                     ? 1
-                     : span;
-    store = (unsigned char *)malloc((alloc_span > ((size_t)64 << 20) ? 1 : alloc_span) + 3);
+    have_map = !(derr & (CODE(LRT_ERROR_INVALID_SIZE) | CODE(LRT_ERROR_INVALID_FORMAT) | CODE(LRT_ERROR_INVALID_STRIDE) |
+                         CODE(LRT_ERROR_SIZE_OVERFLOW)));
+    alloc_span = have_map ? span : 1;
+    store = (unsigned char *)malloc((alloc_span > MAX_MAP_BYTES ? 1 : alloc_span) + 3);
     if (!store) return 0;
     d.data = store + (misc & 3);
     /* a valid map too large to allocate (a stride just below the overflow
        boundary): only NULL data keeps the library from reading it */
-    if ((misc & 0xfc) == 0xfc || alloc_span > ((size_t)64 << 20)) { d.data = NULL; alloc_span = 1; }
+    if ((misc & 0xfc) == 0xfc || alloc_span > MAX_MAP_BYTES) { d.data = NULL; alloc_span = 1; have_map = 0; }
     derr = depth_errors(&d, &span);
-    berr = derr | bits_errors(popt);
+
+    {   /* the back map: its own span (the depth's rows, its stride) when its
+           description is valid, at an odd offset; else a tiny block */
+        lrt_depth two[2];
+        two[0] = d;
+        two[0].flags |= LRT_DEPTH_BACK_FOLLOWS;
+        two[1] = bk;
+        bfaults = back_errors(two, LRT_THICKNESS_BACK_MAP, &bspan);
+        have_back = bfaults == 0 && bspan > 0 && bspan <= MAX_MAP_BYTES;
+        balloc = have_back ? bspan : 1;
+        boff = (misc & 0x80) ? 3 : 1;
+        bstore = (unsigned char *)malloc(balloc + boff);
+        if (!bstore) { free(store); return 0; }
+        if (bk.data) bk.data = bfaults == 0 && bspan > MAX_MAP_BYTES ? NULL : bstore + boff; /* too large: NULL */
+    }
+    dp = depth_pair(&d, &bk);
 
     rays = (lrt_ray *)malloc(sizeof(lrt_ray) * (nrays ? nrays : 1));
     hits = (lrt_hit *)malloc(sizeof(lrt_hit) * (nrays ? nrays : 1));
     hits2 = (lrt_hit *)malloc(sizeof(lrt_hit) * (nrays ? nrays : 1));
     memset(&ref, 0, sizeof ref);
-    if (!rays || !hits || !hits2) goto done;
+    if (!dp || !rays || !hits || !hits2) goto done;
+    {
+        size_t unused;
+        berr = derr | bits_errors(popt) | back_errors(dp, thick, &unused);
+    }
 
-    /* fill the map (where there is one): row by row, padding too */
-    if (alloc_span > 1) {
-        size_t stride = d.row_stride ? d.row_stride : (size_t)w * bpp;
+    /* fill the maps (where there are any): row by row, padding too; the
+       back map after the depth, from the same palette (ties, backs in
+       front of the depth) */
+    {
         size_t at_rays = in.at;
         in.at = in.n < in.at + nrays * 9u ? in.n : in.at + nrays * 9u; /* roughly past the structured rays */
         tx_init(&tx, in.p + in.at, in.n - in.at, depth_mode, bpp);
         in.at = at_rays;
-        memset(store, 0xa5, alloc_span + 3);
-        for (j = 0; j < h; ++j)
-            for (i = 0; i < w; ++i) tx_fill(&tx, (unsigned char *)d.data + stride * j + (size_t)i * bpp, bpp);
+        if (have_map) {
+            memset(store, 0xa5, alloc_span + 3);
+            tx_fill_rect(&tx, (unsigned char *)d.data, d.row_stride ? d.row_stride : (size_t)w * bpp, bpp, 0, w, 0, h);
+        }
+        if (have_back) {
+            memset(bstore, 0xa5, balloc + boff);
+            tx_fill_rect(&tx, (unsigned char *)bk.data, bk.row_stride ? bk.row_stride : (size_t)w * bpp, bpp, 0, w, 0, h);
+        }
     }
 
-    /* lrt_bvh_memory_size knows size, format and node bits only */
+    /* lrt_bvh_memory_size knows size, format, node bits and thickness only;
+       a back-map tree's is twice the infinite one's (the nodes, not the slack) */
     {
         codes merr = bits_errors(popt);
         if (w == 0 || h == 0 || w > LINEAR_RT_MAX_DIM || h > LINEAR_RT_MAX_DIM) merr |= CODE(LRT_ERROR_INVALID_SIZE);
         if (!bpp) merr |= CODE(LRT_ERROR_INVALID_FORMAT);
         expect("lrt_bvh_memory_size", lrt_bvh_memory_size(w, h, d.format, popt, &mem_bytes), merr);
         if (merr) mem_bytes = 0;
+        if (!merr && thick == LRT_THICKNESS_BACK_MAP) {
+            lrt_build_options o0 = opt;
+            size_t m0 = 0;
+            o0.thickness = LRT_THICKNESS_INFINITE;
+            expect("lrt_bvh_memory_size (infinite)", lrt_bvh_memory_size(w, h, d.format, &o0, &m0), 0);
+            if (m0 < ALIGN_SLACK || mem_bytes - ALIGN_SLACK != 2 * (m0 - ALIGN_SLACK))
+                FAIL("lrt_bvh_memory_size: %zu bytes for a back-map tree, %zu for an infinite one", mem_bytes, m0);
+        }
     }
 
     /* build, twice; on an error the lrt_bvh is untouched */
     memset(&bvh, 0x5a, sizeof bvh);
     sentinel = bvh;
-    r = lrt_bvh_build(&bvh, &d, popt, NULL);
+    r = lrt_bvh_build(&bvh, dp, popt, NULL);
     expect("lrt_bvh_build", r, berr);
     if (r != LRT_SUCCESS && memcmp(&bvh, &sentinel, sizeof bvh) != 0) FAIL("lrt_bvh_build wrote the lrt_bvh on an error");
     if (r != LRT_SUCCESS) memset(&bvh, 0, sizeof bvh);
+    if (r == LRT_SUCCESS) { /* the thickness model and its bytes */
+        lrt_layout L;
+        int back = thick == LRT_THICKNESS_BACK_MAP;
+        expect("lrt_layout_compute", lrt_layout_compute(w, h, bvh.layout.node_bits, &L), 0);
+        if ((bvh.layout.back_codes != 0) != back || bvh.layout.bytes != L.bytes * (back ? 2u : 1u) ||
+            bvh.layout.bytes + ALIGN_SLACK != mem_bytes)
+            FAIL("thickness %u: the tree has back_codes %u and %zu bytes (%zu without back codes, memory size %zu)", thick,
+                 bvh.layout.back_codes, bvh.layout.bytes, L.bytes, mem_bytes);
+    }
     {   /* exactly lrt_bvh_memory_size bytes, ending at the block's end, at any alignment;
            sometimes one byte short */
         size_t shift = (misc >> 2) & 15, give = mem_bytes;
@@ -324,7 +509,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (!mem) goto done;
         if (!give) ierr |= CODE(LRT_ERROR_BUFFER_TOO_SMALL) | CODE(LRT_ERROR_NULL_POINTER); /* no size known */
         memset(&bvh_in, 0x5a, sizeof bvh_in);
-        r_in = lrt_bvh_build_in(&bvh_in, &d, popt, give ? mem + shift : NULL, give);
+        r_in = lrt_bvh_build_in(&bvh_in, dp, popt, give ? mem + shift : NULL, give);
         expect("lrt_bvh_build_in", r_in, ierr);
         if (r_in != LRT_SUCCESS && memcmp(&bvh_in, &sentinel, sizeof bvh_in) != 0)
             FAIL("lrt_bvh_build_in wrote the lrt_bvh on an error");
@@ -335,13 +520,20 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
          memcmp(bvh.nodes, bvh_in.nodes, bvh.layout.bytes) != 0))
         FAIL("lrt_bvh_build_in made another tree than lrt_bvh_build");
 
-    snprintf(g_map, sizeof g_map, "%ux%u map, format %u, flags %u, row stride %zu, %u-bit nodes", w, h,
-             (unsigned)d.format, d.flags, d.row_stride, bvh.layout.node_bits);
+    if (bvh.layout.back_codes)
+        snprintf(g_map, sizeof g_map, "%ux%u map, format %u, flags %u, row stride %zu, %u-bit nodes, back map row stride %zu",
+                 w, h, (unsigned)d.format, d.flags, d.row_stride, bvh.layout.node_bits, bk.row_stride);
+    else
+        snprintf(g_map, sizeof g_map, "%ux%u map, format %u, flags %u, row stride %zu, %u-bit nodes", w, h,
+                 (unsigned)d.format, d.flags, d.row_stride, bvh.layout.node_bits);
 
     /* rays and the trace flags */
     if (r == LRT_SUCCESS &&
         ref_map_from_raw(&ref, d.data, (int)w, (int)h, d.row_stride, (int)d.format, (int)(d.flags & 1)) != 0)
         FAIL("the reference could not read a map the library accepted");
+    if (r == LRT_SUCCESS && bvh.layout.back_codes &&
+        ref_map_set_back_from_raw(&ref, bk.data, bk.row_stride, (int)d.format, (int)(d.flags & 1)) != 0)
+        FAIL("the reference could not read a back map the library accepted");
     {
         ref_map unit = {1, 1, NULL, NULL};
         double one = 1.0;
@@ -353,43 +545,80 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (r != LRT_SUCCESS) { /* an unbuilt tree cannot be traced or updated */
         lrt_bvh zero;
         memset(&zero, 0, sizeof zero);
-        expect("lrt_trace (unbuilt)", lrt_trace(&zero, &d, rays, hits, nrays, trace_flags),
-               CODE(LRT_ERROR_INVALID_BVH) | derr);
-        expect("lrt_bvh_update (unbuilt)", lrt_bvh_update(&zero, &d, NULL), CODE(LRT_ERROR_INVALID_BVH) | derr);
+        expect("lrt_trace (unbuilt)", lrt_trace(&zero, dp, rays, hits, nrays, trace_flags), pair_errors(&zero, dp));
+        expect("lrt_bvh_update (unbuilt)", lrt_bvh_update(&zero, dp, NULL), pair_errors(&zero, dp));
         goto done;
     }
 
     /* trace: the whole batch, judged; two slices and the build_in tree agree */
     {
-        codes terr = trace_flags & ~(uint32_t)LRT_TRACE_ANY_HIT ? CODE(LRT_ERROR_INVALID_OPTION) : 0;
+        codes fe = trace_flags & ~(uint32_t)LRT_TRACE_ANY_HIT ? CODE(LRT_ERROR_INVALID_OPTION) : 0;
+        codes terr = fe | pair_errors(&bvh, dp);
         size_t split = nrays ? rect_sel % (nrays + 1) : 0;
-        r = lrt_trace(&bvh, &d, rays, hits, nrays, trace_flags);
+        r = lrt_trace(&bvh, dp, rays, hits, nrays, trace_flags);
         expect("lrt_trace", r, terr);
         if (r == LRT_SUCCESS) {
             judge(&ref, rays, hits, nrays, trace_flags);
-            expect("lrt_trace_range", lrt_trace_range(&bvh, &d, rays, hits2, 0, split, trace_flags), 0);
-            expect("lrt_trace_range", lrt_trace_range(&bvh, &d, rays, hits2, split, nrays, trace_flags), 0);
+            expect("lrt_trace_range", lrt_trace_range(&bvh, dp, rays, hits2, 0, split, trace_flags), 0);
+            expect("lrt_trace_range", lrt_trace_range(&bvh, dp, rays, hits2, split, nrays, trace_flags), 0);
             if (nrays && memcmp(hits, hits2, sizeof(lrt_hit) * nrays) != 0) FAIL("two slices differ from one batch");
             if (bvh_in.built) {
-                expect("lrt_trace (build_in)", lrt_trace(&bvh_in, &d, rays, hits2, nrays, trace_flags), 0);
+                expect("lrt_trace (build_in)", lrt_trace(&bvh_in, dp, rays, hits2, nrays, trace_flags), 0);
                 if (nrays && memcmp(hits, hits2, sizeof(lrt_hit) * nrays) != 0)
                     FAIL("the build_in tree traces otherwise");
             }
         }
-        expect("lrt_trace_range (end before first)", lrt_trace_range(&bvh, &d, rays, hits, split + 1, split, 0),
+        expect("lrt_trace_range (end before first)", lrt_trace_range(&bvh, dp, rays, hits, split + 1, split, 0),
                CODE(LRT_ERROR_TOO_MANY_RAYS));
-        if (nrays) expect("lrt_trace (NULL hits)", lrt_trace(&bvh, &d, rays, NULL, nrays, trace_flags),
+        if (nrays) expect("lrt_trace (NULL hits)", lrt_trace(&bvh, dp, rays, NULL, nrays, trace_flags),
                           CODE(LRT_ERROR_NULL_POINTER) | terr);
+
+        /* The thickness model must match: a back-map tree without its back
+           map, an infinite tree with one (the depth itself, as good a back
+           map as any); then a back-map tree with a faulty back map. Refused
+           before anything is read or written: a failed update that changed
+           the tree shows in the comparison with a rebuild below. */
+        {
+            lrt_depth flip = d, as_back = d, *dpx;
+            codes xe;
+            flip.flags ^= LRT_DEPTH_BACK_FOLLOWS;
+            as_back.flags = d.flags & LRT_DEPTH_REVERSED_Z;
+            dpx = depth_pair(&flip, &as_back);
+            if (!dpx) goto done;
+            xe = pair_errors(&bvh, dpx);
+            if (xe != CODE(LRT_ERROR_THICKNESS_MISMATCH)) FAIL("harness: a flipped flag should be a mismatch (0x%x)", (unsigned)xe);
+            expect("lrt_trace (thickness mismatch)", lrt_trace(&bvh, dpx, rays, hits2, nrays, trace_flags), xe | fe);
+            expect("lrt_trace_range (thickness mismatch)", lrt_trace_range(&bvh, dpx, rays, hits2, 0, nrays, 0), xe);
+            expect("lrt_bvh_update (thickness mismatch)", lrt_bvh_update(&bvh, dpx, NULL), xe);
+            free(dpx);
+        }
+        if (bvh.layout.back_codes) {
+            lrt_depth bad = bk, *dpf;
+            codes be;
+            back_fault(&bad, &d, (uint32_t)(ray_sel + back_sel + rect_sel), (uint8_t)(rect_b[0] ^ misc));
+            dpf = depth_pair(&d, &bad);
+            if (!dpf) goto done;
+            be = pair_errors(&bvh, dpf); /* 0 where the fault is none for this map: then it traces */
+            if (!be) { /* no fault after all: only if it reads no more than the back map's bytes */
+                size_t fspan;
+                (void)back_errors(dpf, LRT_THICKNESS_BACK_MAP, &fspan);
+                if (fspan > bspan) { dpf[1].data = NULL; be = pair_errors(&bvh, dpf); }
+            }
+            expect("lrt_trace (faulty back map)", lrt_trace(&bvh, dpf, rays, hits2, nrays, trace_flags), be | fe);
+            if (be) expect("lrt_bvh_update (faulty back map)", lrt_bvh_update(&bvh, dpf, NULL), be);
+            free(dpf);
+        }
     }
 
-    /* update: change the depth inside a rect (or anywhere, for a whole-map
-       update), then compare with a fresh build of the new map */
+    /* update: change the depth and the back map inside a rect (or
+       anywhere, for a whole-map update), then compare with a fresh build
+       of the new maps */
     {
         int whole = (rect_sel & 0xc0) == 0xc0;
         size_t stride = d.row_stride ? d.row_stride : (size_t)w * bpp;
         uint64_t x1, y1;
         codes uerr;
-        lrt_depth d2 = d;
+        lrt_depth d2 = d, bk2 = bk, *dp2;
         if (rect_sel & 0x20) { /* raw: mostly outside the map */
             rect.x = rect_b[0] * 3u; rect.y = rect_b[1] * 3u;
             rect.width = (rect_b[2] & 0x80) ? 0xffffffffu - rect_b[2] : rect_b[2];
@@ -402,45 +631,61 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         y1 = (uint64_t)rect.y + rect.height;
         uerr = x1 > w || y1 > h ? CODE(LRT_ERROR_INVALID_RECT) : 0;
         store2 = (unsigned char *)malloc(alloc_span + 3);
-        if (!store2) goto done;
+        bstore2 = (unsigned char *)malloc(balloc + boff);
+        if (!store2 || !bstore2) goto done;
         memcpy(store2, store, alloc_span + 3);
+        memcpy(bstore2, bstore, balloc + boff);
         d2.data = store2 + ((const unsigned char *)d.data - store);
+        if (bk.data) bk2.data = bstore2 + ((const unsigned char *)bk.data - bstore);
         tx_init(&tx, in.p + in.at, in.n - in.at, (uint8_t)(depth_mode ^ 0x5b), bpp);
-        for (j = 0; j < h; ++j)
-            for (i = 0; i < w; ++i) {
-                int inside = whole || (uerr == 0 && i >= rect.x && i < x1 && j >= rect.y && j < y1);
-                if (inside) tx_fill(&tx, (unsigned char *)d2.data + stride * j + (size_t)i * bpp, bpp);
-            }
-        r = lrt_bvh_update(&bvh, &d2, whole ? NULL : &rect);
-        expect("lrt_bvh_update", r, whole ? 0 : uerr);
+        if (whole || uerr == 0) {
+            uint32_t x0 = whole ? 0 : rect.x, y0 = whole ? 0 : rect.y, xe = whole ? w : (uint32_t)x1, ye = whole ? h : (uint32_t)y1;
+            tx_fill_rect(&tx, (unsigned char *)d2.data, stride, bpp, x0, xe, y0, ye);
+            if (bvh.layout.back_codes)
+                tx_fill_rect(&tx, (unsigned char *)bk2.data, bk.row_stride ? bk.row_stride : (size_t)w * bpp, bpp, x0, xe, y0,
+                             ye);
+        }
+        dp2 = depth_pair(&d2, &bk2);
+        if (!dp2) goto done;
+        r = lrt_bvh_update(&bvh, dp2, whole ? NULL : &rect);
+        expect("lrt_bvh_update", r, pair_errors(&bvh, dp2) | (whole ? 0 : uerr));
         if (r == LRT_SUCCESS) {
-            expect("lrt_bvh_build (after the update)", lrt_bvh_build(&fresh, &d2, popt, NULL), 0);
+            expect("lrt_bvh_build (after the update)", lrt_bvh_build(&fresh, dp2, popt, NULL), 0);
             if (memcmp(fresh.nodes, bvh.nodes, bvh.layout.bytes) != 0) {
                 size_t at = 0;
                 while (((unsigned char *)fresh.nodes)[at] == ((unsigned char *)bvh.nodes)[at]) ++at;
-                FAIL("%ux%u fmt %u flags %u bits %u: update of rect (%u,%u %ux%u)%s differs from a rebuild at node "
-                     "byte %zu of %zu",
-                     w, h, (unsigned)d.format, d.flags, bvh.layout.node_bits, rect.x, rect.y, rect.width, rect.height,
-                     whole ? " (whole map)" : "", at, bvh.layout.bytes);
+                FAIL("%ux%u fmt %u flags %u bits %u%s: update of rect (%u,%u %ux%u)%s differs from a rebuild at node "
+                     "byte %zu of %zu%s",
+                     w, h, (unsigned)d.format, d.flags, bvh.layout.node_bits, bvh.layout.back_codes ? " back map" : "",
+                     rect.x, rect.y, rect.width, rect.height, whole ? " (whole map)" : "", at, bvh.layout.bytes,
+                     bvh.layout.back_codes && at >= bvh.layout.bytes / 2 ? " (a back code)" : "");
             }
             lrt_bvh_destroy(&fresh);
         }
         {   /* another size is refused */
-            lrt_depth d3 = d2;
+            lrt_depth d3 = d2, *dp3;
+            codes se;
             d3.width = w > 1 ? w - 1 : w + 1;
             if (d3.width > w) d3.data = NULL; /* no bytes for a wider map: NULL is as good an answer */
-            r = lrt_bvh_update(&bvh, &d3, NULL);
-            expect("lrt_bvh_update (another size)", r,
-                   CODE(LRT_ERROR_SIZE_MISMATCH) | (d3.data ? 0 : CODE(LRT_ERROR_NULL_POINTER)));
+            dp3 = depth_pair(&d3, &bk2);
+            if (!dp3) { free(dp2); goto done; }
+            se = pair_errors(&bvh, dp3);
+            if (!(se & CODE(LRT_ERROR_SIZE_MISMATCH))) FAIL("harness: another width should be a size mismatch");
+            expect("lrt_bvh_update (another size)", lrt_bvh_update(&bvh, dp3, NULL), se);
+            free(dp3);
         }
+        free(dp2);
     }
 
 done:
     lrt_bvh_destroy(&bvh);
     lrt_bvh_destroy(&bvh_in);
     ref_map_free(&ref);
+    free(dp);
     free(store);
     free(store2);
+    free(bstore);
+    free(bstore2);
     free(mem);
     free(rays);
     free(hits);

@@ -65,8 +65,8 @@ typedef struct mock {
     uint32_t gx, gy, gz;
     lrt__vk_push pc;
     uint32_t writes;
-    VkDescriptorBufferInfo buf[6]; /* by binding */
-    int has[6];
+    VkDescriptorBufferInfo buf[8]; /* by binding */
+    int has[8];
     VkDeviceSize fill_offset, fill_size;
 } mock;
 static mock g;
@@ -290,12 +290,12 @@ static VKAPI_ATTR void VKAPI_CALL m_CmdPushDescriptorSetKHR(VkCommandBuffer c, V
     g.writes = n;
     for (k = 0; k < n; ++k) {
         uint32_t b = w[k].dstBinding;
-        if (b >= 6 || w[k].descriptorCount != 1) FAIL("descriptor write to binding %u, count %u", b, w[k].descriptorCount);
+        if (b >= 8 || w[k].descriptorCount != 1) FAIL("descriptor write to binding %u, count %u", b, w[k].descriptorCount);
         if (g.has[b]) FAIL("binding %u written twice", b);
         g.has[b] = 1;
-        if (b == 1) {
+        if (b == 1 || b == 7) { /* the depth image, the back map's image */
             if (w[k].descriptorType != VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER || !w[k].pImageInfo)
-                FAIL("binding 1 is no image");
+                FAIL("binding %u is no image", b);
         } else {
             if (w[k].descriptorType != VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || !w[k].pBufferInfo)
                 FAIL("binding %u is no storage buffer", b);
@@ -490,7 +490,11 @@ static codes depth_errors(const lrt_vk_depth *d, const lrt_vk_bvh *bvh, VkDevice
     uint32_t bpp = bpp_of(d->format);
     if (!size_ok(d->width, d->height)) e |= CODE(LRT_ERROR_INVALID_SIZE);
     if (!bpp) e |= CODE(LRT_ERROR_INVALID_FORMAT);
-    if (d->flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) e |= CODE(LRT_ERROR_INVALID_OPTION);
+    if (d->flags & ~(uint32_t)(LRT_DEPTH_REVERSED_Z | LRT_DEPTH_BACK_FOLLOWS)) e |= CODE(LRT_ERROR_INVALID_OPTION);
+    /* this harness makes infinite-thickness trees only: a back map (in a
+       second lrt_vk_depth it never has) is a mismatch, refused unread */
+    if ((d->flags & LRT_DEPTH_BACK_FOLLOWS) && bvh->created && !bvh->layout.back_codes)
+        e |= CODE(LRT_ERROR_THICKNESS_MISMATCH);
     if (bvh->created && (d->width != bvh->layout.width || d->height != bvh->layout.height))
         e |= CODE(LRT_ERROR_SIZE_MISMATCH);
     if (d->buffer == VK_NULL_HANDLE && d->view == VK_NULL_HANDLE) e |= CODE(LRT_ERROR_NULL_POINTER);
@@ -663,6 +667,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             lrt_build_options o;
             VkDeviceSize nb = 0, cnt = 0;
             size_t cpu = 0;
+            memset(&o, 0, sizeof o);
             k = u8(&in) & 3;
             o.node_bits = k == 3 ? u32(&in) : 8u * (uint32_t)k;
             if (!size_ok(w, h)) cmust |= CODE(LRT_ERROR_INVALID_SIZE);
@@ -815,13 +820,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 FAIL("%s: the fill is not the counters", what);
             if (d.buffer != VK_NULL_HANDLE) {
                 check_binding(what, 0);
+                check_binding(what, 6); /* no back map: the depth again, so the binding is never empty */
+                if (g.buf[6].buffer != g.buf[0].buffer || g.buf[6].offset != g.buf[0].offset || g.buf[6].range != g.buf[0].range)
+                    FAIL("%s: binding 6 is not the depth", what);
                 if (g.buf[0].offset + g.pc.depth_offset != d.offset || g.pc.row_stride != stride ||
                     g.buf[0].range < g.pc.depth_offset + stride * (d.height - 1u) + (VkDeviceSize)d.width * bpp_of(d.format))
                     FAIL("%s: depth bound at %llu + %u, %llu bytes, stride %u: not the map at %llu", what,
                          (unsigned long long)g.buf[0].offset, g.pc.depth_offset, (unsigned long long)g.buf[0].range,
                          g.pc.row_stride, (unsigned long long)d.offset);
-            } else if (!g.has[1]) {
-                FAIL("%s: no image bound", what);
+            } else if (!g.has[1] || !g.has[7]) {
+                FAIL("%s: no image bound (depth and back map)", what);
             }
             break;
         }

@@ -22,9 +22,10 @@ def write(harness, name, data):
 
 # ---- fuzz_core: 16 header bytes, rays, then depth bytes ------------------------
 def core(size_sel, wb, hb, fmt_sel, flag_sel, stride_sel, bits_sel, depth_mode, nrays, trace_sel, rect_sel, misc,
-         rect, rays, depth):
+         rect, rays, depth, thickness=0):
+    """thickness: fuzz_core.c's byte 16 (0: the infinite model, as before it existed)"""
     head = [size_sel, wb, hb, fmt_sel, flag_sel, stride_sel, bits_sel, depth_mode, nrays, trace_sel, rect_sel, misc]
-    return head + list(rect) + rays + depth
+    return head + list(rect) + [thickness] + rays + depth
 
 
 def structured_rays(n):
