@@ -2093,8 +2093,7 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
         w->back_codes = L->node_count * 8u;
         (void)lrt__check_back(depth, 1u, &w->back_stride); /* checked by lrt_trace */
     }
-    /* the straight float path (lrt__texels8) reads no back map */
-    w->plain_float = depth->format == LRT_FORMAT_FLOAT32 && !(depth->flags & LRT_DEPTH_REVERSED_Z) && !L->back_codes;
+    w->plain_float = depth->format == LRT_FORMAT_FLOAT32 && !(depth->flags & LRT_DEPTH_REVERSED_Z);
     w->texels8_w = w->plain_float ? L->width / 4u : 0u;
     w->texels8_h = w->plain_float ? L->height / 2u : 0u;
     for (i = 1; i <= L->level_count; ++i) {
@@ -2377,6 +2376,14 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
     /* NaN and above 1: 1, then not above 0: 0 (minps / maxps keep the 2nd operand on NaN) */
     d = _mm256_max_ps(_mm256_min_ps(d, _mm256_set1_ps(1.0f)), _mm256_setzero_ps());
     lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(d, s->vo[2]), s->viv[2]), neg_z, &en, &ex);
+    if (w->back_codes) { /* the back map's texels the same way, b = max(depth, back) (lrt__back_raw) */
+        const unsigned char *brow = (const unsigned char *)w->depth[1].data + w->back_stride * 2u * ny + 16u * (size_t)nx;
+        const __m128 b0 = _mm_loadu_ps((const float *)(const void *)brow);
+        const __m128 b1 = _mm_loadu_ps((const float *)(const void *)(brow + w->back_stride));
+        __m256 b = _mm256_permutevar8x32_ps(_mm256_insertf128_ps(_mm256_castps128_ps256(b0), b1, 1), s->sg->order[0]);
+        b = _mm256_max_ps(_mm256_max_ps(_mm256_min_ps(b, _mm256_set1_ps(1.0f)), _mm256_setzero_ps()), d);
+        lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(b, s->vo[2]), s->viv[2]), neg_z ^ 1u, &en, &ex);
+    }
     mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
     if (!mask) return 8u;
     _mm256_storeu_ps(enter, en);
