@@ -1087,38 +1087,119 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
     }
 }
 
-/* Back codes of level-1 nodes [nx0,nx1] x [ny0,ny1]: ceil(b * qmax) of
-   each texel's back depth b, rounded UP so that a node's back is never
-   shallower than a texel's under it; padding texels get 0, a box [1, 0]
-   no ray meets. A back map is a second map to read each frame, so this
-   stays a plain loop until it is measured. */
+/* Back codes of texels [x0, x0+n) of one row: ceil(b * qmax) of each
+   texel's back depth b = max(depth, back), rounded UP so that a node's back
+   is never shallower than a texel's under it (lrt__back_raw's values, one
+   loop per format as lrt__row_heights). */
+static void lrt__row_back_codes(const lrt_depth *depth, const unsigned char *drow, const unsigned char *brow, uint32_t x0,
+                                uint32_t n, uint32_t qmax, uint32_t *codes)
+{
+    const int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
+    uint32_t i;
+    if (depth->format == LRT_FORMAT_FLOAT32) {
+        i = 0;
+#if LRT__SSE
+        { /* 4 at a time: the same clamps, the max, the product in double, and
+             ceil as trunc + (trunc < x) */
+            const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
+            const __m128d q = _mm_set1_pd((double)qmax);
+            for (; n - i >= 4u; i += 4) {
+                __m128 f = _mm_loadu_ps((const float *)(const void *)(drow + 4 * (size_t)(x0 + i)));
+                __m128 g = _mm_loadu_ps((const float *)(const void *)(brow + 4 * (size_t)(x0 + i)));
+                __m128d xl, xh;
+                __m128i cl, ch;
+                if (reversed) {
+                    f = _mm_sub_ps(one, f);
+                    g = _mm_sub_ps(one, g);
+                }
+                f = _mm_max_ps(_mm_min_ps(f, one), zero); /* minps keeps 1 for NaN */
+                g = _mm_max_ps(_mm_min_ps(g, one), zero);
+                f = _mm_max_ps(f, g);
+                xl = _mm_mul_pd(_mm_cvtps_pd(f), q);
+                xh = _mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), q);
+                cl = _mm_cvttpd_epi32(xl); /* 2 lanes each, in the low half */
+                ch = _mm_cvttpd_epi32(xh);
+                /* + 1 where the truncation is below x: the compare's all-ones lanes are -1 */
+                cl = _mm_sub_epi32(cl, _mm_shuffle_epi32(_mm_castpd_si128(_mm_cmplt_pd(_mm_cvtepi32_pd(cl), xl)), _MM_SHUFFLE(3, 3, 2, 0)));
+                ch = _mm_sub_epi32(ch, _mm_shuffle_epi32(_mm_castpd_si128(_mm_cmplt_pd(_mm_cvtepi32_pd(ch), xh)), _MM_SHUFFLE(3, 3, 2, 0)));
+                _mm_storeu_si128((__m128i *)(void *)(codes + i), _mm_unpacklo_epi64(cl, ch));
+            }
+        }
+#endif
+        for (; i < n; ++i) {
+            float f, g;
+            double x;
+            uint32_t c;
+            memcpy(&f, drow + 4 * (size_t)(x0 + i), 4);
+            memcpy(&g, brow + 4 * (size_t)(x0 + i), 4);
+            if (reversed) {
+                f = 1.0f - f;
+                g = 1.0f - g;
+            }
+            f = !(f <= 1.0f) ? 1.0f : f < 0.0f ? 0.0f : f; /* NaN too */
+            g = !(g <= 1.0f) ? 1.0f : g < 0.0f ? 0.0f : g;
+            x = (double)(g > f ? g : f) * (double)qmax; /* exact in double */
+            c = (uint32_t)x;
+            codes[i] = c + ((double)c < x);
+        }
+    } else {
+        const uint32_t vmax = depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
+        for (i = 0; i < n; ++i) {
+            uint32_t v, b;
+            if (vmax == 255u) {
+                v = drow[x0 + i];
+                b = brow[x0 + i];
+            } else {
+                uint16_t a16, b16;
+                memcpy(&a16, drow + 2 * (size_t)(x0 + i), 2);
+                memcpy(&b16, brow + 2 * (size_t)(x0 + i), 2);
+                v = a16;
+                b = b16;
+            }
+            if (reversed) {
+                v = vmax - v;
+                b = vmax - b;
+            }
+            codes[i] = (uint32_t)(((uint64_t)(b > v ? b : v) * qmax + vmax - 1u) / vmax);
+        }
+    }
+}
+
+/* Back codes of level-1 nodes [nx0,nx1] x [ny0,ny1], two texel rows at a
+   time as lrt__refit_texel_parents; padding texels get 0, a box [1, 0] no
+   ray meets. */
 static void lrt__refit_back_codes(lrt_bvh *bvh, const lrt_depth *depth, size_t stride, uint32_t nx0, uint32_t nx1,
                                   uint32_t ny0, uint32_t ny1)
 {
     const lrt_layout *L = &bvh->layout;
     const uint32_t qmax = L->node_bits == 8 ? 255u : 65535u;
-    const uint32_t vmax = depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
+    const size_t base = L->node_count * 8u + L->levels[1].offset * 8u;
+    uint32_t codes[2][64 + 4];
     size_t back_stride;
-    uint32_t nx, ny, s;
+    uint32_t nx, ny, r, s, chunk;
     (void)lrt__check_back(depth, 1u, &back_stride); /* checked by the caller */
     for (ny = ny0; ny <= ny1; ++ny) {
-        for (nx = nx0; nx <= nx1; ++nx) {
-            const size_t slot0 = L->node_count * 8u + (L->levels[1].offset + lrt_layout_node_index(L, 1, nx, ny)) * 8u;
-            for (s = 0; s < 8u; ++s) {
-                const uint32_t tx = nx * 4u + (s & 3u), ty = ny * 2u + (s >> 2);
-                uint32_t code = 0;
-                if (tx < L->width && ty < L->height) {
-                    const uint32_t raw = lrt__back_raw(depth, stride, back_stride, tx, ty);
-                    if (depth->format == LRT_FORMAT_FLOAT32) {
-                        float b;
-                        memcpy(&b, &raw, 4);
-                        code = (uint32_t)ceil((double)b * (double)qmax); /* b * qmax is exact in double */
-                    } else {
-                        code = (uint32_t)(((uint64_t)raw * qmax + vmax - 1u) / vmax);
-                    }
+        const size_t row = lrt_layout_node_index(L, 1, 0, ny);
+        for (chunk = nx0; chunk <= nx1; chunk += 16) { /* 16 nodes = 64 texels a step */
+            uint32_t last = nx1 - chunk < 15 ? nx1 : chunk + 15, tx0 = chunk * 4u;
+            uint32_t n = (last - chunk + 1) * 4u, real;
+            for (r = 0; r < 2; ++r) {
+                uint32_t ty = ny * 2u + r;
+                real = tx0 >= L->width ? 0u : (L->width - tx0 < n ? L->width - tx0 : n);
+                if (ty >= L->height) real = 0;
+                if (real)
+                    lrt__row_back_codes(depth, (const unsigned char *)depth->data + stride * ty,
+                                        (const unsigned char *)depth[1].data + back_stride * ty, tx0, real, qmax, codes[r]);
+                for (s = real; s < n; ++s) codes[r][s] = 0;
+            }
+            for (nx = chunk; nx <= last; ++nx) {
+                /* level 1 groups 2x4 (lrt_layout_node_index): node nx is 8 slots after nx - 2 */
+                const size_t node = base + (row + (size_t)(nx >> 1) * 8u + (nx & 1u)) * 8u;
+                for (s = 0; s < 8u; ++s) {
+                    const uint32_t code = codes[s >> 2][(nx - chunk) * 4u + (s & 3u)];
+                    if (L->node_bits == 8) ((uint8_t *)bvh->nodes)[node + s] = (uint8_t)code;
+                    else ((uint16_t *)bvh->nodes)[node + s] = (uint16_t)code;
                 }
-                if (L->node_bits == 8) ((uint8_t *)bvh->nodes)[slot0 + s] = (uint8_t)code;
-                else ((uint16_t *)bvh->nodes)[slot0 + s] = (uint16_t)code;
             }
         }
     }
