@@ -649,10 +649,56 @@ static void stab_scene(scene *sc, const char *name, uint32_t w, uint32_t h, int 
             if (kind == 3) d = floorf((0.4f + 0.5f * (float)((i / 7u + j / 5u) % 6u) / 6.0f) * 255.0f) / 255.0f;
             sc->depth[j * w + i] = d;
         }
+    if (kind >= 4) { /* thickness: a back map, the floor solid to the far plane */
+        sc->back = (float *)malloc(sizeof(float) * w * h);
+        for (j = 0; j < h; ++j)
+            for (i = 0; i < w; ++i) {
+                float d = sc->depth[j * w + i], b = 1.0f;
+                if (kind == 4 && i >= w / 3u && i < 2u * w / 3u && j >= h / 4u && j < 3u * h / 4u) { /* a thin floating slab */
+                    d = 0.3f;
+                    b = 0.32f;
+                } else if (kind == 5 && i == w / 2u) { /* a pole, thin in depth too */
+                    d = 0.3f;
+                    b = 0.305f;
+                } else if (kind == 6) { /* a sphere: its front and back */
+                    float dx = ((float)i - 0.5f * (float)w) / (0.25f * (float)w), dy = ((float)j - 0.5f * (float)h) / (0.25f * (float)h);
+                    float rr = dx * dx + dy * dy;
+                    if (rr < 1.0f) {
+                        d = 0.5f - 0.2f * sqrtf(1.0f - rr);
+                        b = 0.5f + 0.2f * sqrtf(1.0f - rr);
+                    }
+                }
+                sc->depth[j * w + i] = d;
+                sc->back[j * w + i] = b;
+            }
+    }
     scene_finish(sc, name, w, h);
 }
 
-#define STAB_CASES 9
+#define STAB_CASES 12
+/* thickness: level rays under the slab, between its back and the floor */
+static void gen_under_slab(const scene *sc, lrt_ray *r, size_t q)
+{
+    float y = (float)sc->s.height * (0.25f + 0.5f * rnd01());
+    set_ray(r, 0.5f, y, 0.33f + 0.15f * rnd01(), (float)sc->s.width, 2.0f * (rnd01() - 0.5f), 0.001f * (rnd01() - 0.5f), 0.0f,
+            1.0f);
+    (void)q;
+}
+/* along the pole's length, inside its column, around its back */
+static void gen_pole_edge_on(const scene *sc, lrt_ray *r, size_t q)
+{
+    set_ray(r, (float)(sc->s.width / 2u) + 0.05f + 0.9f * rnd01(), 0.5f, 0.298f + 0.01f * rnd01(), 0.02f * (rnd01() - 0.5f),
+            (float)sc->s.height, 0.002f * (rnd01() - 0.5f), 0.0f, 1.0f);
+    (void)q;
+}
+/* level rays just in front of and behind the sphere's back, across its middle */
+static void gen_sphere_back(const scene *sc, lrt_ray *r, size_t q)
+{
+    float y = (float)sc->s.height * (0.4f + 0.2f * rnd01());
+    set_ray(r, 0.5f, y, 0.62f + 0.1f * rnd01(), (float)sc->s.width, 0.0f, 0.0005f * (rnd01() - 0.5f), 0.0f, 1.0f);
+    (void)q;
+}
+
 static int make_stability(stab_case *c, const options *o)
 {
     const uint32_t s = o->quick ? 64u : 256u, big = o->quick ? 512u : 2048u;
@@ -667,6 +713,10 @@ static int make_stability(stab_case *c, const options *o)
     c[k].name = "8-bit quantisation"; stab_scene(&c[k].sc, "steps", s, s, 3); stab_rays(&c[k++], n, gen_quant);
     c[k].name = "tiny map 3x2"; stab_scene(&c[k].sc, "tiny", 3, 2, 2); stab_rays(&c[k++], n, gen_random);
     c[k].name = "large map"; stab_scene(&c[k].sc, "large", big, big, 1); stab_rays(&c[k++], n, gen_random);
+    /* thickness (back maps): methods without it are skipped on these */
+    c[k].name = "under a thin slab"; stab_scene(&c[k].sc, "slab", s, s, 4); stab_rays(&c[k++], n, gen_under_slab);
+    c[k].name = "a pole edge-on"; stab_scene(&c[k].sc, "pole", s, s, 5); stab_rays(&c[k++], n, gen_pole_edge_on);
+    c[k].name = "behind a sphere"; stab_scene(&c[k].sc, "sphere", s, s, 6); stab_rays(&c[k++], n, gen_sphere_back);
     return k;
 }
 
