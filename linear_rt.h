@@ -1028,65 +1028,6 @@ LINEAR_RT_DEF size_t lrt_layout_node_index(const lrt_layout *layout, uint32_t le
       a rebuild byte for byte.
    ========================================================================== */
 
-/* Refit level-1 nodes [nx0,nx1] x [ny0,ny1] from the texels, two texel rows
-   at a time; texels outside the map get height 0 (padding). */
-static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_t stride,
-                                     uint32_t nx0, uint32_t nx1, uint32_t ny0, uint32_t ny1)
-{
-    const lrt_layout *L = &bvh->layout;
-    const uint32_t qmax = L->node_bits == 8 ? 255u : 65535u;
-    const size_t base = L->levels[1].offset;
-    uint32_t codes[2][64 + 4];
-    uint32_t nx, ny, r, s, chunk;
-    for (ny = ny0; ny <= ny1; ++ny) {
-        const size_t row = lrt_layout_node_index(L, 1, 0, ny);
-        for (chunk = nx0; chunk <= nx1; chunk += 16) { /* 16 nodes = 64 texels a step */
-            uint32_t last = nx1 - chunk < 15 ? nx1 : chunk + 15, tx0 = chunk * 4u;
-            uint32_t n = (last - chunk + 1) * 4u, real;
-            for (r = 0; r < 2; ++r) {
-                uint32_t ty = ny * 2u + r;
-                real = tx0 >= L->width ? 0u : (L->width - tx0 < n ? L->width - tx0 : n);
-                if (ty >= L->height) real = 0;
-                if (real) lrt__row_heights(depth, (const unsigned char *)depth->data + stride * ty, tx0, real, qmax, codes[r]);
-                for (s = real; s < n; ++s) codes[r][s] = 0;
-            }
-            for (nx = chunk; nx <= last; ++nx) {
-                /* level 1 groups 2x4 (lrt_layout_node_index): node nx is 8 slots after nx - 2 */
-                size_t node = (base + row + (size_t)(nx >> 1) * 8u + (nx & 1u)) * 8u;
-                const uint32_t *c0 = codes[0] + (size_t)(nx - chunk) * 4u, *c1 = codes[1] + (size_t)(nx - chunk) * 4u;
-#if LRT__SSE
-                { /* the node's 4 + 4 codes, packed (the signed packs see them moved by 2^15 when 16-bit) */
-                    const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)c0);
-                    const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)c1);
-                    if (L->node_bits == 8) {
-                        const __m128i p = _mm_packs_epi32(a, b);
-                        _mm_storel_epi64((__m128i *)(void *)((uint8_t *)bvh->nodes + node), _mm_packus_epi16(p, p));
-                    } else {
-                        const __m128i h = _mm_set1_epi32(32768);
-                        const __m128i p = _mm_packs_epi32(_mm_sub_epi32(a, h), _mm_sub_epi32(b, h));
-                        _mm_storeu_si128((__m128i *)(void *)((uint16_t *)bvh->nodes + node), _mm_xor_si128(p, _mm_set1_epi16((short)0x8000)));
-                    }
-                }
-#else
-                if (L->node_bits == 8) {
-                    uint8_t *out = (uint8_t *)bvh->nodes + node;
-                    for (s = 0; s < 4; ++s) {
-                        out[s] = (uint8_t)c0[s];
-                        out[4 + s] = (uint8_t)c1[s];
-                    }
-                } else {
-                    uint16_t *out = (uint16_t *)bvh->nodes + node;
-                    for (s = 0; s < 4; ++s) {
-                        out[s] = (uint16_t)c0[s];
-                        out[4 + s] = (uint16_t)c1[s];
-                    }
-                }
-#endif
-            }
-        }
-    }
-}
-
 /* Back codes of texels [x0, x0+n) of one row: ceil(b * qmax) of each
    texel's back depth b = max(depth, back), rounded UP so that a node's back
    is never shallower than a texel's under it (lrt__back_raw's values, one
@@ -1165,19 +1106,20 @@ static void lrt__row_back_codes(const lrt_depth *depth, const unsigned char *dro
     }
 }
 
-/* Back codes of level-1 nodes [nx0,nx1] x [ny0,ny1], two texel rows at a
-   time as lrt__refit_texel_parents; padding texels get 0, a box [1, 0] no
-   ray meets. */
-static void lrt__refit_back_codes(lrt_bvh *bvh, const lrt_depth *depth, size_t stride, uint32_t nx0, uint32_t nx1,
-                                  uint32_t ny0, uint32_t ny1)
+/* Refit level-1 nodes [nx0,nx1] x [ny0,ny1] from the texels, two texel rows
+   at a time: their heights, or (back) their back codes, which a back-map
+   tree keeps node_count * 8 codes after them. Texels outside the map get
+   code 0 (padding: height 0; a back of 0, a box [1, 0] no ray meets). */
+static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_t stride, uint32_t nx0, uint32_t nx1,
+                                     uint32_t ny0, uint32_t ny1, int back)
 {
     const lrt_layout *L = &bvh->layout;
     const uint32_t qmax = L->node_bits == 8 ? 255u : 65535u;
-    const size_t base = L->node_count * 8u + L->levels[1].offset * 8u;
+    const size_t base = L->levels[1].offset, codes_at = back ? L->node_count * 8u : 0u;
     uint32_t codes[2][64 + 4];
-    size_t back_stride;
+    size_t back_stride = 0;
     uint32_t nx, ny, r, s, chunk;
-    (void)lrt__check_back(depth, 1u, &back_stride); /* checked by the caller */
+    if (back) (void)lrt__check_back(depth, 1u, &back_stride); /* checked by the caller */
     for (ny = ny0; ny <= ny1; ++ny) {
         const size_t row = lrt_layout_node_index(L, 1, 0, ny);
         for (chunk = nx0; chunk <= nx1; chunk += 16) { /* 16 nodes = 64 texels a step */
@@ -1187,23 +1129,50 @@ static void lrt__refit_back_codes(lrt_bvh *bvh, const lrt_depth *depth, size_t s
                 uint32_t ty = ny * 2u + r;
                 real = tx0 >= L->width ? 0u : (L->width - tx0 < n ? L->width - tx0 : n);
                 if (ty >= L->height) real = 0;
-                if (real)
+                if (real && back)
                     lrt__row_back_codes(depth, (const unsigned char *)depth->data + stride * ty,
                                         (const unsigned char *)depth[1].data + back_stride * ty, tx0, real, qmax, codes[r]);
+                else if (real)
+                    lrt__row_heights(depth, (const unsigned char *)depth->data + stride * ty, tx0, real, qmax, codes[r]);
                 for (s = real; s < n; ++s) codes[r][s] = 0;
             }
             for (nx = chunk; nx <= last; ++nx) {
                 /* level 1 groups 2x4 (lrt_layout_node_index): node nx is 8 slots after nx - 2 */
-                const size_t node = base + (row + (size_t)(nx >> 1) * 8u + (nx & 1u)) * 8u;
-                for (s = 0; s < 8u; ++s) {
-                    const uint32_t code = codes[s >> 2][(nx - chunk) * 4u + (s & 3u)];
-                    if (L->node_bits == 8) ((uint8_t *)bvh->nodes)[node + s] = (uint8_t)code;
-                    else ((uint16_t *)bvh->nodes)[node + s] = (uint16_t)code;
+                size_t node = codes_at + (base + row + (size_t)(nx >> 1) * 8u + (nx & 1u)) * 8u;
+                const uint32_t *c0 = codes[0] + (size_t)(nx - chunk) * 4u, *c1 = codes[1] + (size_t)(nx - chunk) * 4u;
+#if LRT__SSE
+                { /* the node's 4 + 4 codes, packed (the signed packs see them moved by 2^15 when 16-bit) */
+                    const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)c0);
+                    const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)c1);
+                    if (L->node_bits == 8) {
+                        const __m128i p = _mm_packs_epi32(a, b);
+                        _mm_storel_epi64((__m128i *)(void *)((uint8_t *)bvh->nodes + node), _mm_packus_epi16(p, p));
+                    } else {
+                        const __m128i h = _mm_set1_epi32(32768);
+                        const __m128i p = _mm_packs_epi32(_mm_sub_epi32(a, h), _mm_sub_epi32(b, h));
+                        _mm_storeu_si128((__m128i *)(void *)((uint16_t *)bvh->nodes + node), _mm_xor_si128(p, _mm_set1_epi16((short)0x8000)));
+                    }
                 }
+#else
+                if (L->node_bits == 8) {
+                    uint8_t *out = (uint8_t *)bvh->nodes + node;
+                    for (s = 0; s < 4; ++s) {
+                        out[s] = (uint8_t)c0[s];
+                        out[4 + s] = (uint8_t)c1[s];
+                    }
+                } else {
+                    uint16_t *out = (uint16_t *)bvh->nodes + node;
+                    for (s = 0; s < 4; ++s) {
+                        out[s] = (uint16_t)c0[s];
+                        out[4 + s] = (uint16_t)c1[s];
+                    }
+                }
+#endif
             }
         }
     }
 }
+
 
 /* Refit nodes [nx0,nx1] x [ny0,ny1] of level lv >= 2 from level lv-1, the
    codes that start at code index `codes` (0: the heights; node_count * 8:
@@ -1266,8 +1235,8 @@ static void lrt__refit(lrt_bvh *bvh, const lrt_depth *depth, size_t stride, uint
             }
         }
         if (lv == 1) {
-            lrt__refit_texel_parents(bvh, depth, stride, nx0, nx1, ny0, ny1);
-            if (L->back_codes) lrt__refit_back_codes(bvh, depth, stride, nx0, nx1, ny0, ny1);
+            lrt__refit_texel_parents(bvh, depth, stride, nx0, nx1, ny0, ny1, 0);
+            if (L->back_codes) lrt__refit_texel_parents(bvh, depth, stride, nx0, nx1, ny0, ny1, 1);
         } else {
             lrt__refit_level(bvh, 0, lv, nx0, nx1, ny0, ny1);
             if (L->back_codes) lrt__refit_level(bvh, L->node_count * 8u, lv, nx0, nx1, ny0, ny1);

@@ -396,6 +396,19 @@ static void test_huge(void)
     ref_map_free(&m);
 }
 
+/* float texels the model clamps: in range, NaN, above 1, below 0, inf, -inf, -0 */
+static void float_cases(float f[8])
+{
+    f[0] = 0.25f;
+    f[1] = (float)strtod("nan", NULL);
+    f[2] = 2.0f;
+    f[3] = -1.0f;
+    f[4] = 0.1f;
+    f[5] = (float)HUGE_VAL;
+    f[6] = -(float)HUGE_VAL;
+    f[7] = -0.0f;
+}
+
 static void test_from_raw(void)
 {
     ref_map m;
@@ -432,14 +445,7 @@ static void test_from_raw(void)
         float f[8];
         unsigned char buf[1 + sizeof f];
         float one_minus = 1.0f - 0.1f; /* float32 arithmetic */
-        f[0] = 0.25f;
-        f[1] = (float)strtod("nan", NULL);
-        f[2] = 2.0f;
-        f[3] = -1.0f;
-        f[4] = 0.1f;
-        f[5] = (float)HUGE_VAL;
-        f[6] = -(float)HUGE_VAL;
-        f[7] = -0.0f;
+        float_cases(f);
         memcpy(buf + 1, f, sizeof f);
         CHECK(ref_map_from_raw(&m, buf + 1, 4, 2, 0, REF_FORMAT_FLOAT32, 0) == 0, "float");
         CHECK(m.d[0] == 0.25 && m.d[1] == 1 && m.d[2] == 1 && m.d[3] == 0 &&
@@ -835,14 +841,7 @@ static void test_thickness(void)
         float f[8];
         ref_map m = map_const(4, 2, 0.0), md;
         float one_minus = 1.0f - 0.1f; /* float32 arithmetic */
-        f[0] = 0.25f;
-        f[1] = (float)strtod("nan", NULL);
-        f[2] = 2.0f;
-        f[3] = -1.0f;
-        f[4] = 0.1f;
-        f[5] = (float)HUGE_VAL;
-        f[6] = -(float)HUGE_VAL;
-        f[7] = -0.0f;
+        float_cases(f);
         CHECK(ref_map_set_back_from_raw(&m, f, 0, REF_FORMAT_FLOAT32, 0) == 0, "float back");
         CHECK(m.b[0] == 0.25 && m.b[1] == 1 && m.b[2] == 1 && m.b[3] == 0 && m.b[4] == (double)0.1f &&
                   m.b[5] == 1 && m.b[6] == 0 && m.b[7] == 0 && !signbit(m.b[7]),
