@@ -903,6 +903,16 @@ uvec4 lrt_mask_set(uvec4 m, uint lv, uint bits)
     return m;
 }
 
+// the 8 codes from code slot0 on (a node's) in one go: 4 words of 16-bit
+// codes, or 2 of 8-bit
+uvec4 lrt_node_words(uint node_bits, uint slot0)
+{
+    if (node_bits == 16u)
+        return uvec4(LRT_NODE_WORD(slot0 >> 1), LRT_NODE_WORD((slot0 >> 1) + 1u), LRT_NODE_WORD((slot0 >> 1) + 2u),
+                     LRT_NODE_WORD((slot0 >> 1) + 3u));
+    return uvec4(LRT_NODE_WORD(slot0 >> 2), LRT_NODE_WORD((slot0 >> 2) + 1u), 0u, 0u);
+}
+
 // code slot of a node whose words are w (lrt_code's order)
 uint lrt_code_in(uvec4 w, uint node_bits, uint slot)
 {
@@ -959,26 +969,8 @@ uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint
     float sw = float(1u << lrt_span_w_log2(cl)), sh = float(1u << lrt_span_h_log2(cl));
     float x0 = float((nx << lrt_bw_log2(cl)) << lrt_span_w_log2(cl)), y0 = float((ny << lrt_bh_log2(cl)) << lrt_span_h_log2(cl));
     uint slot0 = lrt_node_code0(p, lv, off, nx, ny);
-    // the node's 8 codes in one go: 4 words of 16-bit codes, or 2 of 8-bit
-    uvec4 w = uvec4(0u);
-    if (p.node_bits == 16u) {
-        w = uvec4(LRT_NODE_WORD(slot0 >> 1), LRT_NODE_WORD((slot0 >> 1) + 1u), LRT_NODE_WORD((slot0 >> 1) + 2u),
-                  LRT_NODE_WORD((slot0 >> 1) + 3u));
-    } else {
-        w.x = LRT_NODE_WORD(slot0 >> 2);
-        w.y = LRT_NODE_WORD((slot0 >> 2) + 1u);
-    }
-    uvec4 b = uvec4(0u); // the back codes, the same way
-    if (back_scale != 0.0) {
-        uint b0 = back_base + slot0;
-        if (p.node_bits == 16u) {
-            b = uvec4(LRT_NODE_WORD(b0 >> 1), LRT_NODE_WORD((b0 >> 1) + 1u), LRT_NODE_WORD((b0 >> 1) + 2u),
-                      LRT_NODE_WORD((b0 >> 1) + 3u));
-        } else {
-            b.x = LRT_NODE_WORD(b0 >> 2);
-            b.y = LRT_NODE_WORD((b0 >> 2) + 1u);
-        }
-    }
+    uvec4 w = lrt_node_words(p.node_bits, slot0);
+    uvec4 b = back_scale != 0.0 ? lrt_node_words(p.node_bits, back_base + slot0) : uvec4(0u); // the back codes
     uint mask = 0u;
     if (tall) { // 2 columns, 4 rows: slot = row << 1 | column
         for (uint slot = 0u; slot < 8u; ++slot) {

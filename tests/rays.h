@@ -63,6 +63,19 @@ static float shape_depth(int shape, int i, int j, int w, int h, const float *sce
     }
 }
 
+/* depth d (0..1 for unorm formats) as a texel of the format: unorm rounded, float as it is */
+static void put_texel(unsigned char *p, lrt_format format, float d)
+{
+    if (format == LRT_FORMAT_UNORM8) {
+        p[0] = (unsigned char)(d * 255.0f + 0.5f);
+    } else if (format == LRT_FORMAT_UNORM16) {
+        uint16_t v = (uint16_t)(d * 65535.0f + 0.5f);
+        memcpy(p, &v, 2);
+    } else {
+        memcpy(p, &d, 4);
+    }
+}
+
 static void make_map(test_map *m, int w, int h, int shape, lrt_format format, int reversed, int padded)
 {
     uint32_t bpp = format == LRT_FORMAT_UNORM8 ? 1 : format == LRT_FORMAT_UNORM16 ? 2 : 4;
@@ -82,22 +95,14 @@ static void make_map(test_map *m, int w, int h, int shape, lrt_format format, in
             float d = shape_depth(shape, i, j, w, h, scene);
             unsigned char *p = bytes + 1 + stride * (size_t)j + (size_t)i * bpp; /* +1: unaligned data */
             if (reversed) d = 1.0f - d;
-            if (format == LRT_FORMAT_UNORM8) {
-                p[0] = (unsigned char)(d * 255.0f + 0.5f);
-            } else if (format == LRT_FORMAT_UNORM16) {
-                uint16_t v = (uint16_t)(d * 65535.0f + 0.5f);
-                memcpy(p, &v, 2);
-            } else {
-                float f = d;
-                if (shape == SHAPE_WILD) { /* values the model clamps */
-                    int r = rndi(10);
-                    if (r == 0) f = NAN;
-                    else if (r == 1) f = 1.5f;
-                    else if (r == 2) f = -0.25f;
-                    else if (r == 3) f = INFINITY;
-                }
-                memcpy(p, &f, 4);
+            if (format == LRT_FORMAT_FLOAT32 && shape == SHAPE_WILD) { /* values the model clamps */
+                int r = rndi(10);
+                if (r == 0) d = NAN;
+                else if (r == 1) d = 1.5f;
+                else if (r == 2) d = -0.25f;
+                else if (r == 3) d = INFINITY;
             }
+            put_texel(p, format, d);
         }
     }
     free(scene);
@@ -143,15 +148,8 @@ RAYS_MAYBE_UNUSED static void add_back(test_map *m)
             if (b < 0.0f) b = 0.0f;
             if (b > 1.0f) b = 1.0f;
             if (reversed) b = 1.0f - b;
-            if (format == LRT_FORMAT_UNORM8) {
-                p[0] = (unsigned char)(b * 255.0f + 0.5f);
-            } else if (format == LRT_FORMAT_UNORM16) {
-                uint16_t v = (uint16_t)(b * 65535.0f + 0.5f);
-                memcpy(p, &v, 2);
-            } else {
-                if (r == 15) b = rndi(2) ? NAN : 1.5f;
-                memcpy(p, &b, 4);
-            }
+            if (format == LRT_FORMAT_FLOAT32 && r == 15) b = rndi(2) ? NAN : 1.5f;
+            put_texel(p, format, b);
         }
     }
     m->back_storage = bytes;
