@@ -110,6 +110,7 @@ pictures: $(B)/demo $(B)/ssr
 	$(B)/demo --size 512 --no-gpu --out examples/pictures
 	$(B)/ssr --size 512 --out examples/pictures
 	$(B)/ssr --size 512 --thickness 0.3 --out examples/pictures
+	$(B)/ssr --size 512 --thickness 5% --out examples/pictures
 	$(B)/ssr --size 512 --thickness back --out examples/pictures
 
 # the examples as tests: their effects against the reference, their

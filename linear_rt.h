@@ -170,9 +170,8 @@
    WHAT IT DOES NOT DO
    - no GPU work of its own: it records into your command buffers and never
      submits, waits or owns a queue; no view-space rays (the caller clips them
-     to the near plane and projects them to screen space); thickness only
-     from a back map (LRT_THICKNESS_BACK_MAP): MODEL.md's constant and
-     relative thickness are back maps the caller makes (examples/example.h).
+     to the near plane and projects them to screen space); constant and
+     relative thickness only under a perspective projection (near, far).
 
    LICENCE: MIT, at the end of this file.
 */
@@ -223,6 +222,7 @@ typedef enum lrt_result {
                                        the device's storage buffer offset alignment */
     LRT_ERROR_INVALID_CAMERA = 19,  /* a projection matrix with a non-finite entry or no inverse */
     LRT_ERROR_THICKNESS_MISMATCH = 20, /* a back map without a back-map tree, or such a tree without one */
+    LRT_ERROR_INVALID_THICKNESS = 21, /* a thickness or (near, far) the constant or relative model cannot use */
     LRT_RESULT_MAX_ENUM = 0x7fffffff
 } lrt_result;
 
@@ -270,9 +270,12 @@ typedef struct lrt_layout {
     uint32_t level_count;         /* stored levels: levels[1..level_count]; root = levels[level_count] */
     lrt_level levels[LINEAR_RT_MAX_LEVELS + 1]; /* levels[0]: the texels (not stored) */
     size_t node_count;            /* all node slots */
-    uint32_t back_codes;          /* 1: LRT_THICKNESS_BACK_MAP: each slot also has a back code (the
-                                     deepest back depth under it), node_count * 8 codes after the heights */
+    uint32_t back_codes;          /* 1: a thickness model: each slot also has a back code (the deepest
+                                     back depth under it), node_count * 8 codes after the heights */
     size_t bytes;                 /* node_count * node_bytes, twice that with back codes */
+    uint32_t thickness;           /* lrt_thickness of the tree (set by the build options) */
+    float back_k[2];              /* LRT_THICKNESS_CONSTANT: f / (f - n), T / n; RELATIVE: k f / (f - n),
+                                     1 + k (in float: the kernels compute b(d) from the same two) */
 } lrt_layout;
 
 enum { LRT_NODE_BITS_AUTO = 0 };
@@ -293,24 +296,41 @@ typedef struct lrt_allocator {
 } lrt_allocator;
 
 /* What lies behind a texel's depth (MODEL.md, thickness): by default the
-   solid reaches the far plane; a back-map tree ends each texel's box at
-   its back depth (lrt_depth.back), so rays pass behind objects. Such a
-   tree holds a second code per child (the deepest back under it): twice
-   the bytes. Build, update and trace it with a pair of maps:
+   solid reaches the far plane; a tree with a thickness model ends each
+   texel's box at a back depth b, d <= b <= 1, so rays pass behind objects.
+   Such a tree holds a second code per child (the deepest back under it):
+   twice the bytes. Three models:
+   - CONSTANT: b is the depth of view distance z(d) + T, T = thickness_value
+     in view-space units, under the perspective projection whose planes are
+     near_z < far_z (view-space distances; far_z = INFINITY for an infinite
+     far plane; lrt_camera_planes reads them from an lrt_camera). Depth is
+     0 at near, 1 at far (reversed Z: the flag flips it first).
+   - RELATIVE: the same with T = thickness_value * z(d).
+   - BACK_MAP: b = max(d, back) from a second map (a back-face depth pass),
+     passed to build, update and trace as a pair:
        lrt_depth maps[2] = {{depth, w, h, 0, LRT_FORMAT_FLOAT32, LRT_DEPTH_BACK_FOLLOWS},
                             {back,  w, h, 0, LRT_FORMAT_FLOAT32, 0}};
        lrt_bvh_build(&bvh, maps, &options, NULL); ... lrt_trace(&bvh, maps, ...);
-   On the GPU the same with two lrt_vk_depth (both buffers or both images),
-   and options.thickness in lrt_vk_bvh_desc: the kernels answer as the CPU. */
+   The first two need nothing but the depth: b is a function of d, computed
+   in float by the same steps on the CPU and in the kernels. On the GPU the
+   same options in lrt_vk_bvh_desc (a back map: two lrt_vk_depth, both
+   buffers or both images): the kernels answer as the CPU. */
 typedef enum lrt_thickness {
     LRT_THICKNESS_INFINITE = 0,   /* [depth, 1]: today's solid, the default */
     LRT_THICKNESS_BACK_MAP = 1,   /* [depth, max(depth, back)] */
+    LRT_THICKNESS_CONSTANT = 2,   /* [depth, depth of z(depth) + thickness_value] */
+    LRT_THICKNESS_RELATIVE = 3,   /* [depth, depth of z(depth) * (1 + thickness_value)] */
     LRT_THICKNESS_MAX_ENUM = 0x7fffffff
 } lrt_thickness;
 
 typedef struct lrt_build_options {
-    uint32_t node_bits;   /* LRT_NODE_BITS_AUTO (0), 8 or 16 */
-    uint32_t thickness;   /* lrt_thickness */
+    uint32_t node_bits;     /* LRT_NODE_BITS_AUTO (0), 8 or 16 */
+    uint32_t thickness;     /* lrt_thickness */
+    /* CONSTANT and RELATIVE only (else ignored), LRT_ERROR_INVALID_THICKNESS
+       unless 0 < thickness_value, 0 < near_z < far_z, all finite but far_z
+       (INFINITY allowed), and the model's two constants finite in float */
+    float thickness_value;  /* T (view-space units) or k (a fraction of the view distance) */
+    float near_z, far_z;    /* the perspective projection's near and far plane distances */
 } lrt_build_options;
 
 typedef struct lrt_bvh {     /* fields are read-only to callers */
@@ -446,6 +466,11 @@ LINEAR_RT_API int lrt_camera_project(const lrt_camera *camera, const float view[
    (see examples/ssr.c: by half the texel's depth slope). */
 LINEAR_RT_API int lrt_camera_segment(const lrt_camera *camera, const float from[3], const float to[3],
                                      lrt_ray *ray);
+/* The near and far plane distances of a perspective camera (far: INFINITY
+   for an infinite far plane), for lrt_build_options' constant and relative
+   thickness. Returns 0 (and leaves them alone) for an orthographic or
+   otherwise non-perspective projection, or planes not 0 < near < far. */
+LINEAR_RT_API int lrt_camera_planes(const lrt_camera *camera, float *near_z, float *far_z);
 
 /* ---- helpers ----------------------------------------------------------------- */
 LINEAR_RT_API const char *lrt_result_string(lrt_result result);
@@ -780,6 +805,7 @@ LINEAR_RT_DEF const char *lrt_result_string(lrt_result result)
     case LRT_ERROR_MISALIGNED: return "an offset or stride is misaligned";
     case LRT_ERROR_INVALID_CAMERA: return "the projection matrix is not finite or not invertible";
     case LRT_ERROR_THICKNESS_MISMATCH: return "the depth's back map and the BVH's thickness model disagree";
+    case LRT_ERROR_INVALID_THICKNESS: return "the thickness, or the near and far planes it needs, are not usable";
     default: return "unknown result code";
     }
 }
@@ -834,12 +860,13 @@ static lrt_result lrt__check_depth(const lrt_depth *depth, size_t *out_stride)
 /* The back map (depth[1], LRT_DEPTH_BACK_FOLLOWS) against the tree's
    thickness model: there exactly when the tree has back codes, the same
    size, format and Z direction as the depth, a valid stride of its own. */
-static lrt_result lrt__check_back(const lrt_depth *depth, uint32_t back_codes, size_t *out_stride)
+static lrt_result lrt__check_back(const lrt_depth *depth, uint32_t thickness, size_t *out_stride)
 {
     const lrt_depth *back = depth + 1;
     *out_stride = 0;
-    if (((depth->flags & LRT_DEPTH_BACK_FOLLOWS) != 0) != (back_codes != 0)) return LRT_ERROR_THICKNESS_MISMATCH;
-    if (!back_codes) return LRT_SUCCESS;
+    if (((depth->flags & LRT_DEPTH_BACK_FOLLOWS) != 0) != (thickness == LRT_THICKNESS_BACK_MAP))
+        return LRT_ERROR_THICKNESS_MISMATCH;
+    if (thickness != LRT_THICKNESS_BACK_MAP) return LRT_SUCCESS;
     if (!back->data) return LRT_ERROR_NULL_POINTER;
     if (back->width != depth->width || back->height != depth->height) return LRT_ERROR_SIZE_MISMATCH;
     if (back->format != depth->format) return LRT_ERROR_INVALID_FORMAT;
@@ -887,6 +914,49 @@ LRT__INLINE uint32_t lrt__back_raw(const lrt_depth *depth, size_t stride, size_t
 {
     const uint32_t d = lrt__depth_raw(depth, stride, x, y), b = lrt__map_raw(depth, depth[1].data, back_stride, x, y);
     return b > d ? b : d;
+}
+
+/* b(d) of the CONSTANT and RELATIVE models (lrt__model_constants) in float,
+   the kernels' lrt_model_back step for step: sums and quotients only, so
+   no compiler can fuse them differently; within 6.5 float ulps and 3.2e-7
+   of MODEL.md's exact b (the relative model 4 ulps; tests/test_reference.c
+   measures it). Clamped to 1 and never in
+   front of d: d = 1 keeps b = 1 (u = 0, q = inf, the quotient 0). */
+LRT__INLINE float lrt__model_back(uint32_t thickness, const float k[2], float d)
+{
+    float b;
+    if (thickness == LRT_THICKNESS_CONSTANT) {
+        const float u = k[0] - d, q = k[0] / u;
+        b = d + k[1] / ((q + k[1]) / u);
+    } else {
+        b = (d + k[0]) / k[1];
+    }
+    if (!(b <= 1.0f)) b = 1.0f;
+    return b > d ? b : d;
+}
+
+/* A raw depth (lrt__map_raw) as the float the models start from. */
+LRT__INLINE float lrt__raw_to_float(lrt_format format, uint32_t raw)
+{
+    float d;
+    if (format == LRT_FORMAT_UNORM8) return (float)raw / 255.0f;
+    if (format == LRT_FORMAT_UNORM16) return (float)raw / 65535.0f;
+    memcpy(&d, &raw, 4);
+    return d;
+}
+
+/* Texel (x, y)'s back under a CONSTANT or RELATIVE model: b(d) as float
+   bits, or ~0 when b is not behind a unorm depth's exact v / max (b(d)
+   rounds to the float d, below v / max): the box is then the flat plate
+   [d, d], its back the depth's own exact plane. */
+LRT__INLINE uint32_t lrt__model_back_bits(const lrt_layout *L, lrt_format format, uint32_t raw)
+{
+    const float b = lrt__model_back(L->thickness, L->back_k, lrt__raw_to_float(format, raw));
+    uint32_t bits;
+    if (format != LRT_FORMAT_FLOAT32 && (double)b * (format == LRT_FORMAT_UNORM8 ? 255.0 : 65535.0) <= (double)raw)
+        return ~0u; /* exact in double: 24 by 16 bits */
+    memcpy(&bits, &b, 4);
+    return bits;
 }
 
 /* ============================================================================
@@ -1106,6 +1176,29 @@ static void lrt__row_back_codes(const lrt_depth *depth, const unsigned char *dro
     }
 }
 
+/* Back codes of texels [x0, x0+n) of row y under a CONSTANT or RELATIVE
+   model: ceil(b * qmax) of lrt__model_back's float b, as above. */
+static void lrt__row_model_back_codes(const lrt_layout *L, const lrt_depth *depth, size_t stride, uint32_t y, uint32_t x0,
+                                      uint32_t n, uint32_t qmax, uint32_t *codes)
+{
+    const uint32_t vmax = depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
+    uint32_t i;
+    for (i = 0; i < n; ++i) {
+        const uint32_t raw = lrt__depth_raw(depth, stride, x0 + i, y), bits = lrt__model_back_bits(L, depth->format, raw);
+        float b;
+        double x;
+        uint32_t c;
+        if (bits == ~0u) { /* the plate: ceil(v * qmax / vmax) */
+            codes[i] = (uint32_t)(((uint64_t)raw * qmax + vmax - 1u) / vmax);
+            continue;
+        }
+        memcpy(&b, &bits, 4);
+        x = (double)b * (double)qmax; /* exact in double */
+        c = (uint32_t)x;
+        codes[i] = c + ((double)c < x);
+    }
+}
+
 /* Refit level-1 nodes [nx0,nx1] x [ny0,ny1] from the texels, two texel rows
    at a time: their heights, or (back) their back codes, which a back-map
    tree keeps node_count * 8 codes after them. Texels outside the map get
@@ -1119,7 +1212,7 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
     uint32_t codes[2][64 + 4];
     size_t back_stride = 0;
     uint32_t nx, ny, r, s, chunk;
-    if (back) (void)lrt__check_back(depth, 1u, &back_stride); /* checked by the caller */
+    if (back) (void)lrt__check_back(depth, L->thickness, &back_stride); /* checked by the caller */
     for (ny = ny0; ny <= ny1; ++ny) {
         const size_t row = lrt_layout_node_index(L, 1, 0, ny);
         for (chunk = nx0; chunk <= nx1; chunk += 16) { /* 16 nodes = 64 texels a step */
@@ -1129,7 +1222,9 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
                 uint32_t ty = ny * 2u + r;
                 real = tx0 >= L->width ? 0u : (L->width - tx0 < n ? L->width - tx0 : n);
                 if (ty >= L->height) real = 0;
-                if (real && back)
+                if (real && back && L->thickness != LRT_THICKNESS_BACK_MAP)
+                    lrt__row_model_back_codes(L, depth, stride, ty, tx0, real, qmax, codes[r]);
+                else if (real && back)
                     lrt__row_back_codes(depth, (const unsigned char *)depth->data + stride * ty,
                                         (const unsigned char *)depth[1].data + back_stride * ty, tx0, real, qmax, codes[r]);
                 else if (real)
@@ -1246,6 +1341,33 @@ static void lrt__refit(lrt_bvh *bvh, const lrt_depth *depth, size_t stride, uint
 
 #define LRT__ALIGN 16u /* a 16-bit node */
 
+/* The two floats from which lrt__model_back computes b(d) (lrt_layout.back_k),
+   in double then rounded once. With s = (f - n) / f, n / z(d) = 1 - d s:
+   CONSTANT: n / (z + T) = 1 / (q + T / n) with q = z / n = 1 / (1 - d s), and
+   b = (1 - n / (z + T)) / s = d + u (T / n) / (q + T / n), u = 1 / s - d;
+   RELATIVE: n / (z (1 + k)) = (1 - d s) / (1 + k), so b = (d + k / s) / (1 + k). */
+static lrt_result lrt__model_constants(const lrt_build_options *o, float k[2])
+{
+    const double value = o->thickness_value, n = o->near_z, f = o->far_z;
+    double inv_s, k0, k1;
+    float f0, f1;
+    if (!(value > 0.0 && value - value == 0.0 && n > 0.0 && n - n == 0.0 && f > n)) return LRT_ERROR_INVALID_THICKNESS;
+    inv_s = f == (double)INFINITY ? 1.0 : f / (f - n); /* 1 / s: 1 with an infinite far plane */
+    if (o->thickness == LRT_THICKNESS_CONSTANT) {
+        k0 = inv_s;
+        k1 = value / n;
+    } else {
+        k0 = value * inv_s;
+        k1 = 1.0 + value;
+    }
+    f0 = (float)k0;
+    f1 = (float)k1;
+    if (!(f0 - f0 == 0.0f && f1 - f1 == 0.0f && f1 > 0.0f)) return LRT_ERROR_INVALID_THICKNESS;
+    k[0] = f0;
+    k[1] = f1;
+    return LRT_SUCCESS;
+}
+
 /* The options' node width and thickness model, then the layout they make. */
 static lrt_result lrt__options_layout(uint32_t width, uint32_t height, lrt_format format, const lrt_build_options *options,
                                       lrt_layout *layout)
@@ -1254,12 +1376,14 @@ static lrt_result lrt__options_layout(uint32_t width, uint32_t height, lrt_forma
     lrt_result r;
     if (b == LRT_NODE_BITS_AUTO) b = format == LRT_FORMAT_UNORM8 ? 8u : 16u;
     if (b != 8 && b != 16) return LRT_ERROR_INVALID_OPTION;
-    if (thickness != LRT_THICKNESS_INFINITE && thickness != LRT_THICKNESS_BACK_MAP) return LRT_ERROR_INVALID_OPTION;
+    if (thickness > LRT_THICKNESS_RELATIVE) return LRT_ERROR_INVALID_OPTION;
     if ((r = lrt_layout_compute(width, height, b, layout)) != LRT_SUCCESS) return r;
-    if (thickness == LRT_THICKNESS_BACK_MAP) {
+    if (thickness != LRT_THICKNESS_INFINITE) {
         layout->back_codes = 1;
         layout->bytes *= 2u; /* < 2^32 for 16384^2 16-bit nodes */
+        layout->thickness = thickness;
     }
+    if (thickness >= LRT_THICKNESS_CONSTANT) return lrt__model_constants(options, layout->back_k);
     return LRT_SUCCESS;
 }
 
@@ -1285,7 +1409,7 @@ static lrt_result lrt__prepare(const lrt_bvh *bvh, const lrt_depth *depth, const
     if (!bvh) return LRT_ERROR_NULL_POINTER;
     if ((r = lrt__check_depth(depth, stride)) != LRT_SUCCESS) return r;
     if ((r = lrt__options_layout(depth->width, depth->height, depth->format, options, layout)) != LRT_SUCCESS) return r;
-    return lrt__check_back(depth, layout->back_codes, &back_stride);
+    return lrt__check_back(depth, layout->thickness, &back_stride);
 }
 
 static void lrt__finish_build(lrt_bvh *bvh, const lrt_layout *layout, void *nodes, const lrt_allocator *allocator,
@@ -1356,7 +1480,7 @@ static lrt_result lrt__check_pair(const lrt_bvh *bvh, const lrt_depth *depth, si
     if (!bvh->built || !bvh->nodes) return LRT_ERROR_INVALID_BVH;
     if ((r = lrt__check_depth(depth, stride)) != LRT_SUCCESS) return r;
     if (depth->width != bvh->layout.width || depth->height != bvh->layout.height) return LRT_ERROR_SIZE_MISMATCH;
-    return lrt__check_back(depth, bvh->layout.back_codes, &back_stride);
+    return lrt__check_back(depth, bvh->layout.thickness, &back_stride);
 }
 
 LINEAR_RT_DEF lrt_result lrt_bvh_update(lrt_bvh *bvh, const lrt_depth *depth, const lrt_rect *dirty)
@@ -2066,7 +2190,7 @@ typedef struct lrt__walk {
     uint32_t row_prefetch_level; /* 3: entering a level-2 node prefetches the depth rows the exact test reads; ~0: never */
     float decode_scale; /* just below 1/qmax: decoded bounds never exceed the true ones */
     size_t back_codes;  /* 0, or the code index of the back codes (a back-map tree) */
-    size_t back_stride; /* of depth->back */
+    size_t back_stride; /* of the back map (LRT_THICKNESS_BACK_MAP) */
     float back_scale;   /* just above 1/qmax: a decoded back is never shallower than the true one */
     int exact_codes;    /* the level-1 codes are the input depth itself */
     int plain_float;    /* float depth, standard Z */
@@ -2141,7 +2265,7 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
     w->back_scale = (1.0f / (float)w->qmax) * (1.0f + 1.0f / 1048576.0f);
     if (L->back_codes) {
         w->back_codes = L->node_count * 8u;
-        (void)lrt__check_back(depth, 1u, &w->back_stride); /* checked by lrt_trace */
+        (void)lrt__check_back(depth, L->thickness, &w->back_stride); /* checked by lrt_trace */
     }
     w->plain_float = depth->format == LRT_FORMAT_FLOAT32 && !(depth->flags & LRT_DEPTH_REVERSED_Z);
     w->texels8_w = w->plain_float ? L->width / 4u : 0u;
@@ -2426,12 +2550,25 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
     /* NaN and above 1: 1, then not above 0: 0 (minps / maxps keep the 2nd operand on NaN) */
     d = _mm256_max_ps(_mm256_min_ps(d, _mm256_set1_ps(1.0f)), _mm256_setzero_ps());
     lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(d, s->vo[2]), s->viv[2]), neg_z, &en, &ex);
-    if (w->back_codes) { /* the back map's texels the same way, b = max(depth, back) (lrt__back_raw) */
-        const unsigned char *brow = (const unsigned char *)w->depth[1].data + w->back_stride * 2u * ny + 16u * (size_t)nx;
-        const __m128 b0 = _mm_loadu_ps((const float *)(const void *)brow);
-        const __m128 b1 = _mm_loadu_ps((const float *)(const void *)(brow + w->back_stride));
-        __m256 b = _mm256_permutevar8x32_ps(_mm256_insertf128_ps(_mm256_castps128_ps256(b0), b1, 1), s->sg->order[0]);
-        b = _mm256_max_ps(_mm256_max_ps(_mm256_min_ps(b, _mm256_set1_ps(1.0f)), _mm256_setzero_ps()), d);
+    if (w->back_codes) { /* the texels' backs the same way (lrt__back_plane) */
+        const float *k = w->L->back_k;
+        __m256 b;
+        if (w->L->thickness == LRT_THICKNESS_BACK_MAP) { /* b = max(depth, back) */
+            const unsigned char *brow = (const unsigned char *)w->depth[1].data + w->back_stride * 2u * ny + 16u * (size_t)nx;
+            const __m128 b0 = _mm_loadu_ps((const float *)(const void *)brow);
+            const __m128 b1 = _mm_loadu_ps((const float *)(const void *)(brow + w->back_stride));
+            b = _mm256_permutevar8x32_ps(_mm256_insertf128_ps(_mm256_castps128_ps256(b0), b1, 1), s->sg->order[0]);
+            b = _mm256_max_ps(_mm256_min_ps(b, _mm256_set1_ps(1.0f)), _mm256_setzero_ps());
+        } else if (w->L->thickness == LRT_THICKNESS_CONSTANT) { /* lrt__model_back, 8 at once */
+            const __m256 k0 = _mm256_set1_ps(k[0]), k1 = _mm256_set1_ps(k[1]), u = _mm256_sub_ps(k0, d);
+            b = _mm256_add_ps(_mm256_div_ps(k0, u), k1);
+            b = _mm256_add_ps(d, _mm256_div_ps(k1, _mm256_div_ps(b, u)));
+            b = _mm256_min_ps(b, _mm256_set1_ps(1.0f));
+        } else {
+            b = _mm256_div_ps(_mm256_add_ps(d, _mm256_set1_ps(k[0])), _mm256_set1_ps(k[1]));
+            b = _mm256_min_ps(b, _mm256_set1_ps(1.0f));
+        }
+        b = _mm256_max_ps(b, d);
         lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(b, s->vo[2]), s->viv[2]), neg_z ^ 1u, &en, &ex);
     }
     mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
@@ -2572,13 +2709,19 @@ LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray
 }
 #endif
 
-/* The t where the ray's z meets texel (tx, ty)'s back depth (a back-map
-   tree), the way lrt__depth_plane meets its depth. Not inlined: in the
+/* The t where the ray's z meets texel (tx, ty)'s back depth (a tree with
+   a thickness model), the way lrt__depth_plane meets its depth. Not inlined: in the
    texel test it made every trace loop larger, and primary rays of infinite
    trees ran at 0.65x (build/bench --only "linear_rt cpu 16" --size 512). */
 static LRT__NOINLINE float lrt__back_plane(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty)
 {
-    return lrt__depth_plane(s, w->depth->format, lrt__back_raw(w->depth, w->stride, w->back_stride, tx, ty));
+    const lrt_format format = w->depth->format;
+    uint32_t raw, bits;
+    if (w->L->thickness == LRT_THICKNESS_BACK_MAP)
+        return lrt__depth_plane(s, format, lrt__back_raw(w->depth, w->stride, w->back_stride, tx, ty));
+    raw = lrt__depth_raw(w->depth, w->stride, tx, ty);
+    bits = lrt__model_back_bits(w->L, format, raw);
+    return bits == ~0u ? lrt__depth_plane(s, format, raw) : lrt__depth_plane(s, LRT_FORMAT_FLOAT32, bits);
 }
 
 /* The exact test of one candidate texel against its true depth. */
@@ -3371,6 +3514,34 @@ LINEAR_RT_DEF int lrt_camera_segment(const lrt_camera *camera, const float from[
     return 1;
 }
 
+/* Clip z = A zv + B and w = -c zv (view space looks down -z): depth
+   (A zv + B) / (-c zv) is 0 at zv = -near and 1 at zv = -far, so
+   near = B / A and far = B / (A + c), infinite when A = -c; reversed Z
+   stores 1 - that depth, so A and B come back as -c - A and -B. */
+LINEAR_RT_DEF int lrt_camera_planes(const lrt_camera *camera, float *near_z, float *far_z)
+{
+    const float *m;
+    double c, a, b, n, f;
+    if (!camera || !near_z || !far_z) return 0;
+    m = camera->proj;
+    /* perspective: w = -c zv, nothing else in w or in z from x and y */
+    if (m[3] != 0.0f || m[7] != 0.0f || m[15] != 0.0f || !(m[11] < 0.0f) || m[2] != 0.0f || m[6] != 0.0f) return 0;
+    c = -(double)m[11];
+    a = m[10];
+    b = m[14];
+    if (camera->flags & LRT_DEPTH_REVERSED_Z) {
+        a = -c - a;
+        b = -b;
+    }
+    if (a == 0.0) return 0;
+    n = b / a;
+    f = a + c == 0.0 ? INFINITY : b / (a + c);
+    if (!(n > 0.0 && n <= 3.0e38 && f > n) || (float)n >= (float)f) return 0;
+    *near_z = (float)n;
+    *far_z = f > 3.0e38 ? INFINITY : (float)f;
+    return 1;
+}
+
 #ifdef __cplusplus
 }
 #endif
@@ -3508,6 +3679,7 @@ typedef struct lrt__vk_push {
     uint32_t width, height, format, flags, node_bits, level_count, depth_offset, row_stride;
     uint32_t rect_x0, rect_y0, rect_x1, rect_y1, build, ray_first, ray_count, trace_flags;
     uint32_t back_offset, back_row_stride; /* a back-map tree's back map (buffers) */
+    uint32_t thickness, back_k0, back_k1;  /* the tree's model and lrt_layout.back_k (float bits) */
 } lrt__vk_push;
 
 enum {
@@ -4007,8 +4179,9 @@ static lrt_result lrt__vk_check(const lrt_vk_context *c, VkCommandBuffer cmd, co
     src->back_buffer = src->buffer;
     src->back_view = src->view;
     /* a back map exactly with a back-map tree, described as the depth is (lrt__check_back) */
-    if (((depth->flags & LRT_DEPTH_BACK_FOLLOWS) != 0) != (bvh->layout.back_codes != 0)) return LRT_ERROR_THICKNESS_MISMATCH;
-    if (!bvh->layout.back_codes) return LRT_SUCCESS;
+    if (((depth->flags & LRT_DEPTH_BACK_FOLLOWS) != 0) != (bvh->layout.thickness == LRT_THICKNESS_BACK_MAP))
+        return LRT_ERROR_THICKNESS_MISMATCH;
+    if (bvh->layout.thickness != LRT_THICKNESS_BACK_MAP) return LRT_SUCCESS;
     if (back->width != depth->width || back->height != depth->height) return LRT_ERROR_SIZE_MISMATCH;
     if (back->format != depth->format) return LRT_ERROR_INVALID_FORMAT;
     if (back->flags != (depth->flags & LRT_DEPTH_REVERSED_Z)) return LRT_ERROR_INVALID_OPTION;
@@ -4050,6 +4223,9 @@ static void lrt__vk_push_common(const lrt_vk_bvh *bvh, const lrt_vk_depth *depth
     pc->row_stride = src->row_stride;
     pc->back_offset = src->back_offset;
     pc->back_row_stride = src->back_row_stride;
+    pc->thickness = bvh->layout.thickness;
+    memcpy(&pc->back_k0, &bvh->layout.back_k[0], 4);
+    memcpy(&pc->back_k1, &bvh->layout.back_k[1], 4);
 }
 
 /* Binds, pushes descriptors (depth, nodes, then two more: counters, or rays

@@ -533,7 +533,7 @@ static int pictures(const example_options *o)
     printf("  %-36s %10.1f %12.2f\n", "contact shadows", ms_sh, (double)n / ms_sh / 1e3);
     printf("  the march agrees with linear_rt on %.1f%% of the %lu reflection rays (same texel, or both miss)%s\n\n",
            traced ? 100.0 * (double)agree / (double)traced : 0.0, (unsigned long)traced,
-           f.back ? "; the march has no thickness: linear_rt's rays pass behind objects, the march's stop" : "");
+           f.bvh.layout.thickness != LRT_THICKNESS_INFINITE ? "; the march has no thickness: linear_rt's rays pass behind objects, the march's stop" : "");
     rc = bad ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
 done:
     free(rays);

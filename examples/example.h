@@ -52,9 +52,11 @@ typedef struct example_options {
     int reversed_z;
     const char *out_dir;          /* pictures go here */
     int threads;
-    /* --thickness T (metres, view space) or --thickness back (the embedded
-       scene's back-face depth); 0 / 0: infinite, the default */
+    /* --thickness T (metres, view space: LRT_THICKNESS_CONSTANT), K% (a
+       share of the view distance: LRT_THICKNESS_RELATIVE) or back (the
+       embedded scene's back-face depth: a back map); 0: infinite, the default */
     float thickness;
+    int thickness_relative;
     int thickness_back;
 } example_options;
 
@@ -67,8 +69,9 @@ typedef struct example_frame {
     float *pos;          /* w * h * 3: view-space position of each texel's centre */
     float *nrm;          /* w * h * 3: view-space normal facing the eye; 0 0 0 for the sky */
     float *lift;         /* w * h: screen-space z by which a ray from this texel is lifted */
-    float *back;         /* w * h back depths with a thickness, else NULL */
+    float *back;         /* w * h back depths with --thickness back, else NULL */
     lrt_depth lrt[2];    /* the depth, then (LRT_DEPTH_BACK_FOLLOWS) its back map */
+    lrt_build_options options; /* what bvh was built with: its thickness model */
     lrt_bvh bvh;
 } example_frame;
 
@@ -93,7 +96,7 @@ EXAMPLE_FN void example_default_options(example_options *o)
 EXAMPLE_FN const char *example_options_usage(void)
 {
     return "[--size N] [--depth FILE [--color FILE] [--width W --height H] [--fov DEG --near N --far F] "
-           "[--reversed-z]] [--thickness METRES|back] [--out DIR] [--threads T]";
+           "[--reversed-z]] [--thickness METRES|K%|back] [--out DIR] [--threads T]";
 }
 
 static int example__number(const char *s, double lo, double hi, double *v)
@@ -137,7 +140,19 @@ EXAMPLE_FN int example_parse_option(example_options *o, int argc, char **argv, i
     else if (!strcmp(k, "--far") && example__number(v, 1e-6, 1e12, &x)) o->far_z = (float)x;
     else if (!strcmp(k, "--threads") && example__number(v, 1, 64, &x)) o->threads = (int)x;
     else if (!strcmp(k, "--thickness") && !strcmp(v, "back")) o->thickness_back = 1;
-    else if (!strcmp(k, "--thickness") && example__number(v, 1e-6, 1e9, &x)) o->thickness = (float)x;
+    else if (!strcmp(k, "--thickness") && v[0] && v[strlen(v) - 1] == '%') {
+        char share[32];
+        size_t len = strlen(v) - 1;
+        if (len >= sizeof share) len = sizeof share - 1;
+        memcpy(share, v, len);
+        share[len] = 0;
+        if (!example__number(share, 1e-4, 1e6, &x)) {
+            fprintf(stderr, "%s: bad value '%s'\n", k, v);
+            return -1;
+        }
+        o->thickness = (float)(x / 100.0);
+        o->thickness_relative = 1;
+    } else if (!strcmp(k, "--thickness") && example__number(v, 1e-6, 1e9, &x)) o->thickness = (float)x;
     else {
         fprintf(stderr, "%s: bad value '%s'\n", k, v);
         return -1;
@@ -252,21 +267,6 @@ static void example__normals_row(void *ctx, uint32_t j)
     surface_normals_row(f->depth, f->pos, f->w, f->h, j, f->nrm, f->lift);
 }
 
-/* A constant view-space thickness T as a back map: each texel's back is the
-   depth its view-space point gets T further from the eye (MODEL.md's
-   constant thickness, rounded to float once here); the sky stays at 1. */
-static void example__constant_back(example_frame *f, float thickness)
-{
-    size_t k, n = (size_t)f->w * f->h;
-    for (k = 0; k < n; ++k) {
-        float p[3], s[3];
-        p[0] = f->pos[3 * k];
-        p[1] = f->pos[3 * k + 1];
-        p[2] = f->pos[3 * k + 2] - thickness; /* view space looks down -z */
-        f->back[k] = f->depth[k] >= 1.0f || !lrt_camera_project(&f->camera, p, s) ? 1.0f : s[2] > 1.0f ? 1.0f : s[2];
-    }
-}
-
 EXAMPLE_FN void example_frame_free(example_frame *f)
 {
     lrt_bvh_destroy(&f->bvh);
@@ -352,8 +352,16 @@ EXAMPLE_FN int example_frame_load(example_frame *f, const example_options *o)
     f->lrt[0].height = f->h;
     f->lrt[0].format = LRT_FORMAT_FLOAT32;
     memset(&build, 0, sizeof build);
-    if (o->thickness_back || o->thickness > 0.0f) {
-        if (o->thickness_back && o->depth_file) {
+    if (o->thickness > 0.0f) { /* the library's constant or relative model, from the camera's planes */
+        build.thickness = o->thickness_relative ? LRT_THICKNESS_RELATIVE : LRT_THICKNESS_CONSTANT;
+        build.thickness_value = o->thickness;
+        if (!lrt_camera_planes(&f->camera, &build.near_z, &build.far_z)) {
+            fprintf(stderr, "--thickness: the camera is not a perspective one\n");
+            example_frame_free(f);
+            return EXAMPLE_EXIT_BAD_INPUT;
+        }
+    } else if (o->thickness_back) {
+        if (o->depth_file) {
             fprintf(stderr, "--thickness back: a back-face depth is made for the embedded scene only\n");
             example_frame_free(f);
             return EXAMPLE_EXIT_BAD_INPUT;
@@ -363,11 +371,9 @@ EXAMPLE_FN int example_frame_load(example_frame *f, const example_options *o)
             example_frame_free(f);
             return EXAMPLE_EXIT_FAILED;
         }
-        if (o->thickness_back) {
+        {
             scene_camera cam = scene_default_camera();
             scene_render_back((int)f->w, (int)f->h, &cam, f->back);
-        } else {
-            example__constant_back(f, o->thickness);
         }
         f->lrt[0].flags = LRT_DEPTH_BACK_FOLLOWS;
         f->lrt[1] = f->lrt[0];
@@ -375,6 +381,7 @@ EXAMPLE_FN int example_frame_load(example_frame *f, const example_options *o)
         f->lrt[1].flags = 0;
         build.thickness = LRT_THICKNESS_BACK_MAP;
     }
+    f->options = build;
     if ((r = lrt_bvh_build(&f->bvh, f->lrt, &build, NULL)) != LRT_SUCCESS) {
         fprintf(stderr, "lrt_bvh_build: %s\n", lrt_result_string(r));
         example_frame_free(f);

@@ -9,6 +9,7 @@
 
    build/ssr [--size N] [--depth FILE ...]    writes out/ssr.png and out/ssr_faces.png
    build/ssr --thickness 0.3                  a 0.3 m thick depth layer: ssr_thick.png, ssr_thick_faces.png
+   build/ssr --thickness 5%                   a layer 5% of its distance thick: ssr_relative*.png
    build/ssr --thickness back                 the scene's back faces: ssr_back.png, ssr_back_faces.png
    (make examples builds it; example.h lists the options.) The faces picture
    shows which face of its texel each reflection hit: the top (a surface the
@@ -157,7 +158,7 @@ int main(int argc, char **argv)
            f.w, f.h, n, t1 - t0, t2 - t1, o.threads, 100.0 * (double)hit_count / (double)n,
            100.0 * (double)top_count / (double)n);
     {
-        const char *tag = o.thickness_back ? "_back" : o.thickness > 0.0f ? "_thick" : "";
+        const char *tag = o.thickness_back ? "_back" : o.thickness_relative ? "_relative" : o.thickness > 0.0f ? "_thick" : "";
         char name[32];
         snprintf(name, sizeof name, "ssr%s.png", tag);
         rc = example_write_png(o.out_dir, name, f.w, f.h, 3, out) ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;

@@ -8,10 +8,11 @@
 //   #define LRT_DEPTH_WORD(i)     word i of the depth buffer (LRT_DEPTH_IMAGE 0)
 //   #define LRT_DEPTH_TEXEL(x, y) texelFetch(depth, ivec2(x, y), 0).r (LRT_DEPTH_IMAGE 1)
 // and passes an LrtParams (the push constants of shaders/README.md). For a
-// back-map tree (thickness, LRT_DEPTH_BACK_FOLLOWS in LrtParams.flags) also
+// back-map tree (LrtParams.thickness LRT_THICKNESS_BACK_MAP) also
 //   #define LRT_BACK_WORD(i) / LRT_BACK_TEXEL(x, y)  the back map, as the depth
 // (without them such a tree cannot be traced here), and #define
-// LRT_BACK_TREES false where no such tree is traced: the back code folds away.
+// LRT_BACK_TREES false where no tree with a thickness model is traced: the
+// back code folds away.
 // Float and integer arithmetic only: no shaderFloat64, no reliance on fma.
 //
 // The numbers follow linear_rt.h step by step, so both paths give the same
@@ -38,7 +39,11 @@
 #define LRT_FACE_SIDE 2u
 #define LRT_FACE_BACK 3u
 #define LRT_FACE_INSIDE 4u
-#define LRT_DEPTH_BACK_FOLLOWS 2u // LrtParams.flags: a back-map tree (thickness)
+#define LRT_DEPTH_BACK_FOLLOWS 2u // LrtParams.flags: a back map follows (thickness)
+#define LRT_THICKNESS_INFINITE 0u // LrtParams.thickness: lrt_thickness of linear_rt.h
+#define LRT_THICKNESS_BACK_MAP 1u
+#define LRT_THICKNESS_CONSTANT 2u
+#define LRT_THICKNESS_RELATIVE 3u
 
 // false: no back-map trees here, and their code folds away (a branch the
 // compiler cannot remove costs lavapipe 0.55-0.67x on secondary rays)
@@ -56,6 +61,8 @@
 struct LrtParams {
     uint width, height, format, flags, node_bits, level_count, depth_offset, row_stride;
     uint back_offset, back_row_stride; // the back map's, in bytes (buffers; back-map trees only)
+    uint thickness;                    // the tree's model (lrt_layout.thickness)
+    float back_k0, back_k1;            // lrt_layout.back_k: the constant and relative models' b(d)
 };
 
 // lrt_hit of linear_rt.h, fields apart; lrt_hit_word3 packs kind and face
@@ -190,11 +197,71 @@ uint lrt_back_map_raw(LrtParams p, uint x, uint y)
 }
 #endif
 
-// texel (x, y)'s back depth, raw: max(depth, back) (a back in front of the
-// depth is the depth); raw values order as depths do
-uint lrt_back_raw(LrtParams p, uint x, uint y)
+// b(d) of the constant and relative models, linear_rt.h's lrt__model_back
+// step for step (sums and quotients only: nothing to fuse), clamped to 1
+// and never in front of d
+float lrt_model_back(LrtParams p, float d)
 {
-    return max(lrt_depth_raw(p, x, y), lrt_back_map_raw(p, x, y));
+    precise float b;
+    if (p.thickness == LRT_THICKNESS_CONSTANT) {
+        precise float u = p.back_k0 - d;
+        precise float q = p.back_k0 / u;
+        b = d + p.back_k1 / ((q + p.back_k1) / u);
+    } else {
+        b = (d + p.back_k0) / p.back_k1;
+    }
+    if (!(b <= 1.0)) b = 1.0;
+    return b > d ? b : d;
+}
+
+// ---- error-free transformations in float (Knuth's sum, Dekker's product) ----
+void lrt_two_sum(float a, float b, out float s, out float e)
+{
+    precise float ss = a + b;
+    precise float bb = ss - a;
+    precise float ee = (a - (ss - bb)) + (b - bb);
+    s = ss;
+    e = ee;
+}
+void lrt_two_prod(float a, float b, out float p, out float e)
+{
+    precise float pp = a * b;
+    precise float ca = 4097.0 * a, cb = 4097.0 * b; // 2^12 + 1 splits a float in halves
+    precise float ah = ca - (ca - a), al = a - ah;
+    precise float bh = cb - (cb - b), bl = b - bh;
+    precise float ee = ((ah * bh - pp) + ah * bl + al * bh) + al * bl;
+    p = pp;
+    e = ee;
+}
+
+// a texel's back under the constant or relative model: b(d) as float bits,
+// or ~0u when b is not behind a unorm depth's exact v / max (b rounds to
+// the float d, below v / max): the box is then the flat plate [d, d], its
+// back the depth's own exact plane (linear_rt.h's lrt__model_back_bits)
+uint lrt_model_back_bits(LrtParams p, uint raw)
+{
+    precise float df = p.format == 1u ? float(raw) / 255.0 : p.format == 2u ? float(raw) / 65535.0 : uintBitsToFloat(raw);
+    float b = lrt_model_back(p, df);
+    if (p.format != 3u) {
+        float pp, e; // b * vmax <= raw, exactly
+        lrt_two_prod(b, p.format == 1u ? 255.0 : 65535.0, pp, e);
+        if (pp < float(raw) || (pp == float(raw) && e <= 0.0)) return ~0u;
+    }
+    return floatBitsToUint(b);
+}
+
+// texel (x, y)'s back depth as a raw value and its format: max(depth,
+// back) for a back map (a back in front of the depth is the depth), else
+// lrt_model_back_bits (float), the depth itself for a plate
+uint lrt_texel_back(LrtParams p, uint x, uint y, out uint format)
+{
+    uint d = lrt_depth_raw(p, x, y);
+    format = p.format;
+    if (p.thickness == LRT_THICKNESS_BACK_MAP) return max(d, lrt_back_map_raw(p, x, y));
+    uint bits = lrt_model_back_bits(p, d);
+    if (bits == ~0u) return d;
+    format = 3u;
+    return bits;
 }
 
 // ============================================================================
@@ -244,9 +311,10 @@ uint lrt_texel_code(LrtParams p, uint x, uint y)
 uint lrt_texel_back_code(LrtParams p, uint x, uint y)
 {
     uint qmax = p.node_bits == 16u ? 65535u : 255u;
-    uint raw = lrt_back_raw(p, x, y);
-    if (p.format == 1u) return (raw * qmax + 254u) / 255u;
-    if (p.format == 2u) return (raw * qmax + 65534u) / 65535u; // < 2^32
+    uint format;
+    uint raw = lrt_texel_back(p, x, y, format);
+    if (format == 1u) return (raw * qmax + 254u) / 255u;
+    if (format == 2u) return (raw * qmax + 65534u) / 65535u; // < 2^32
     return lrt_floor_scaled(raw, qmax) + (lrt_scaled_is_whole(raw, qmax) ? 0u : 1u);
 }
 
@@ -275,26 +343,6 @@ void lrt_slab(float lo, float hi, float o, float iv, uint neg, bool zero, inout 
     }
     en = max(neg != 0u ? b : a, en);
     ex = min(neg != 0u ? a : b, ex);
-}
-
-// ---- error-free transformations in float (Knuth's sum, Dekker's product) ----
-void lrt_two_sum(float a, float b, out float s, out float e)
-{
-    precise float ss = a + b;
-    precise float bb = ss - a;
-    precise float ee = (a - (ss - bb)) + (b - bb);
-    s = ss;
-    e = ee;
-}
-void lrt_two_prod(float a, float b, out float p, out float e)
-{
-    precise float pp = a * b;
-    precise float ca = 4097.0 * a, cb = 4097.0 * b; // 2^12 + 1 splits a float in halves
-    precise float ah = ca - (ca - a), al = a - ah;
-    precise float bh = cb - (cb - b), bl = b - bh;
-    precise float ee = ((ah * bh - pp) + ah * bl + al * bh) + al * bl;
-    p = pp;
-    e = ee;
 }
 
 // ---- arithmetic at the edge of float range (lrt_crossing, lrt_setup_rare),
@@ -776,7 +824,7 @@ float lrt_back_plane(LrtSetup s, uint format, uint raw)
     return (s.neg.z != 0u) == inside ? -LRT_INF : LRT_INF;
 }
 
-bool lrt_has_back(LrtParams p) { return LRT_BACK_TREES && (p.flags & LRT_DEPTH_BACK_FOLLOWS) != 0u; }
+bool lrt_has_back(LrtParams p) { return LRT_BACK_TREES && p.thickness != LRT_THICKNESS_INFINITE; }
 
 bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float ex, out float t)
 {
@@ -786,7 +834,9 @@ bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float e
     if (s.neg.z != 0u) ex = min(tz, ex);
     else en = max(tz, en);
     if (lrt_has_back(p)) { // the back plane: entered going up (v.z < 0), left going down
-        float tb = lrt_back_plane(s, p.format, lrt_back_raw(p, tx, ty));
+        uint format;
+        uint raw = lrt_texel_back(p, tx, ty, format);
+        float tb = lrt_back_plane(s, format, raw);
         if (s.neg.z != 0u) en = max(tb, en);
         else ex = min(tb, ex);
     }
@@ -802,9 +852,9 @@ uint lrt_face(LrtParams p, LrtSetup s, uint tx, uint ty, float t)
     if (s.neg.z == 0u && !s.zero.z && lrt_depth_plane(s, p.format, lrt_depth_raw(p, tx, ty)) == t) return LRT_FACE_TOP;
     precise float xe = (float(tx + s.neg.x) - s.o.x) * s.iv.x, ye = (float(ty + s.neg.y) - s.o.y) * s.iv.y;
     if ((!s.zero.x && xe == t) || (!s.zero.y && ye == t)) return LRT_FACE_SIDE;
-    if (s.neg.z != 0u && !s.zero.z &&
-        (lrt_has_back(p) ? lrt_depth_plane(s, p.format, lrt_back_raw(p, tx, ty)) : lrt_depth_plane(s, 3u, floatBitsToUint(1.0))) == t)
-        return LRT_FACE_BACK;
+    uint format = 3u, raw = floatBitsToUint(1.0); // without a back: the far plane
+    if (lrt_has_back(p)) raw = lrt_texel_back(p, tx, ty, format);
+    if (s.neg.z != 0u && !s.zero.z && lrt_depth_plane(s, format, raw) == t) return LRT_FACE_BACK;
     return LRT_FACE_INSIDE;
 }
 

@@ -7,7 +7,8 @@ layout(local_size_x = 64) in;
 layout(push_constant) uniform LrtPush {
     uint width, height, format, flags, node_bits, level_count, depth_offset, row_stride;
     uint rect_x0, rect_y0, rect_x1, rect_y1, build, ray_first, ray_count, trace_flags;
-    uint back_offset, back_row_stride;
+    uint back_offset, back_row_stride, thickness;
+    float back_k0, back_k1;
 } pc;
 
 #if LRT_DEPTH_IMAGE
@@ -45,6 +46,9 @@ LrtParams lrt_params()
     p.row_stride = pc.row_stride;
     p.back_offset = pc.back_offset;
     p.back_row_stride = pc.back_row_stride;
+    p.thickness = pc.thickness;
+    p.back_k0 = pc.back_k0;
+    p.back_k1 = pc.back_k1;
     return p;
 }
 

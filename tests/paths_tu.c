@@ -8,16 +8,12 @@
 #include "../linear_rt.h"
 
 /* builds a BVH over depth and traces rays with this unit's copy; an lrt_result */
-int PATHS_FN(const lrt_depth *depth, uint32_t node_bits, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
-int PATHS_FN(const lrt_depth *depth, uint32_t node_bits, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags)
+int PATHS_FN(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
+int PATHS_FN(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags)
 {
     lrt_bvh bvh;
-    lrt_build_options opt;
     lrt_result r;
-    memset(&opt, 0, sizeof opt);
-    opt.node_bits = node_bits;
-    opt.thickness = (depth->flags & LRT_DEPTH_BACK_FOLLOWS) ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
-    if ((r = lrt_bvh_build(&bvh, depth, &opt, NULL)) != LRT_SUCCESS) return (int)r;
+    if ((r = lrt_bvh_build(&bvh, depth, opt, NULL)) != LRT_SUCCESS) return (int)r;
     r = lrt_trace(&bvh, depth, rays, hits, n, flags);
     lrt_bvh_destroy(&bvh);
     return (int)r;

@@ -42,6 +42,8 @@ typedef struct test_map {
        pair[1] the back map, for LRT_THICKNESS_BACK_MAP trees */
     lrt_depth pair[2];
     void *back_storage;
+    /* the tree's thickness model and its parameters (add_back, add_model) */
+    lrt_build_options model;
 } test_map;
 
 enum { SHAPE_NOISE, SHAPE_TERRACES, SHAPE_SCENE, SHAPE_POLES, SHAPE_FAR, SHAPE_WILD, SHAPE_COUNT };
@@ -158,10 +160,43 @@ RAYS_MAYBE_UNUSED static void add_back(test_map *m)
     m->pair[1] = m->depth;
     m->pair[1].data = bytes;
     m->pair[1].row_stride = m->depth.row_stride ? stride : 0;
+    m->model.thickness = LRT_THICKNESS_BACK_MAP;
     if (ref_map_set_back_from_raw(&m->ref, bytes, stride, (int)format, reversed) != 0) {
         printf("reference could not convert the back map\n");
         exit(2);
     }
+}
+
+/* A constant (thickness LRT_THICKNESS_CONSTANT) or relative thickness
+   model for m, under a perspective projection with planes near_z, far_z:
+   the tree is built with it (test_map_options) and the reference computes
+   its own back depths from MODEL.md's definition. */
+RAYS_MAYBE_UNUSED static void add_model(test_map *m, uint32_t thickness, float value, float near_z, float far_z)
+{
+    int r;
+    m->model.thickness = thickness;
+    m->model.thickness_value = value;
+    m->model.near_z = near_z;
+    m->model.far_z = far_z;
+    r = thickness == LRT_THICKNESS_CONSTANT ? ref_map_set_back_constant(&m->ref, value, near_z, far_z)
+                                            : ref_map_set_back_relative(&m->ref, value, near_z, far_z);
+    if (r != 0) {
+        printf("reference could not make the thickness model\n");
+        exit(2);
+    }
+}
+
+/* The model's name, for messages. */
+RAYS_MAYBE_UNUSED static const char *model_name(const test_map *m)
+{
+    static const char *names[4] = {"", " back map", " constant thickness", " relative thickness"};
+    return m->model.thickness < 4 ? names[m->model.thickness] : " ?";
+}
+
+/* The maps to build, update and trace m with: the pair with a back map. */
+RAYS_MAYBE_UNUSED static const lrt_depth *test_map_depth(const test_map *m)
+{
+    return m->back_storage ? m->pair : &m->depth;
 }
 
 /* ---- rays the fuzzer found wrong once (tests/fuzz/crashes-found/README.md) ---- */

@@ -10,10 +10,57 @@
    The model (MODEL.md): texel (i, j) with depth d and back depth b is the
    closed box [i, i+1] x [j, j+1] x [d, b]; a hit is the smallest t in
    [tmin, tmax] with o + t v inside any box. Without a back map b = 1 (the
-   infinite thickness: the box reaches the far plane); with one (a back-face
-   depth pass, ref_map_set_back_from_raw) b = max(d, back), so rays may pass
-   behind surfaces. Every decision the reference makes (does a box meet
-   the ray inside [tmin, tmax], which of two boxes is entered first, is the
+   infinite thickness: the box reaches the far plane); with one, rays may
+   pass behind surfaces. The back map m->b comes from one of the thickness
+   models of MODEL.md ("Thickness (optional) and the face of a hit"):
+   - a back-face depth pass, ref_map_set_back_from_raw: b = max(d, back);
+   - a constant view-space thickness T, ref_map_set_back_constant, and a
+     relative one T = k * z_view(d), ref_map_set_back_relative, under a
+     perspective projection with near n > 0 and far f > n (f = +INFINITY:
+     an infinite far plane), depth 0 at the near plane and 1 at the far one
+     (Vulkan's): d(z) = f (z - n) / (z (f - n)) for the view-space distance
+     z in [n, f] (f infinite: d = 1 - n / z), z_view = the inverse of d(z).
+     MODEL.md's b = d(z_view(d) + T), at most 1, b = max(d, that); d = 1
+     keeps b = 1. Reversed-Z maps need nothing more: ref_map_from_raw
+     already turned them into this forward depth.
+     The b these two store is NOT that real number but the float32 result
+     of the recipe below, which the library computes in exactly the same
+     float32 steps (each rounded once, nothing fused). Why: a ray that
+     grazes a back face (v.z tiny) moves its hit point along the ray by
+     delta_b / v.z for any difference delta_b between the tracer's b and
+     the reference's, even one under a float ulp, far past MODEL.md's
+     tolerance, and no perturbation of the ray explains it. The real b is
+     not a float, so the tracer has to use a float b, and the reference
+     judges it against the same float. The recipe, for one texel:
+     - d: its depth as a float32, as the tracer reads it: a float32 map's
+       clamped float (reversed: 1.0f - f in float, then the clamp); a
+       unorm map's forward integer v (reversed: max - v) as
+       (float)v / (float)max, max 255 or 65535, a float32 division (ref_map
+       holds v / max as a double, from which v = round(d * max) exactly);
+     - constants, each computed in double from the caller's values and
+       rounded to float32 once: s = far / (far - near), 1 for an infinite
+       far plane; constant model c0 = (float)s, c1 = (float)(T / near);
+       relative model c0 = (float)(k * s), c1 = (float)(1 + k);
+     - constant model, float32 steps: u = c0 - d; q = c0 / u;
+       e = c1 / ((q + c1) / u); b = d + e (b = d + u c1 / (q + c1) =
+       (1 - 1 / (q + c1)) c0 as q u = c0, written with divisions only so
+       that no product feeds a sum and nothing can be contracted; c0 = 1,
+       d = 1: u = 0, q = +inf, e = 0, b = 1). Relative model:
+       b = (d + c0) / c1;
+     - then: if !(b <= 1) b = 1; if (b < d) b = d (d = 1 gives b = 1);
+     - the stored b is that float as a double (and at least the stored
+       double d: a unorm v / max lies up to half an ulp above its float;
+       such a texel is the plate [d, d]).
+     The double definition stays as ref_back_constant_exact and
+     ref_back_relative_exact (one d), and test_reference.c bounds the
+     recipe against it, both models everywhere (small b, d near 0 with T
+     small next to near, and far close to near included): relative model
+     within 4 float ulps of b (measured 3.26), constant model within 6.5
+     ulps and 3.2e-7 absolute (measured 6.21 ulps, 2.99e-7 by a random
+     search of 1.26e9 samples). The tracer is exact with respect to the
+     stored b.
+   Every decision the reference makes (does a box meet the ray inside
+   [tmin, tmax], which of two boxes is entered first, is the
    point at tmax on the screen) is a comparison of two numbers of the form
    (p - o_c) / v_c or a scalar t, where p is a box plane (an integer, a depth
    value d, a back depth b, or 1). Such comparisons are made exactly: a cheap
@@ -36,8 +83,9 @@
    v = -1e30 is walked over the texels it really crosses.
 
    The depth values are the doubles of ref_map (converted once by
-   ref_map_from_raw, the back depths by ref_map_set_back_from_raw); the model
-   is exact with respect to those doubles.
+   ref_map_from_raw, the back depths by ref_map_set_back_from_raw,
+   ref_map_set_back_constant or ref_map_set_back_relative); the model is
+   exact with respect to those doubles.
 */
 #ifndef LINEAR_RT_TESTS_REFERENCE_H
 #define LINEAR_RT_TESTS_REFERENCE_H
@@ -380,6 +428,227 @@ REF_FUNC int ref_map_set_back_from_raw(ref_map *m, const void *data, size_t row_
     free(m->b);
     m->b = back;
     return 0;
+}
+
+/* ------------------------------------- perspective thickness models --- */
+
+/* The perspective depth of the thickness models (see the top of this
+   file), through s = f / (f - n) (1 for an infinite far plane):
+   d(z) = f (z - n) / (z (f - n)) = s (z - n) / z, and its inverse
+   z_view(d) = n / (1 - d / s). The same functions as the definition,
+   written with s so that a huge finite f cannot overflow (f (z - n) would
+   reach f * f) and f = +INFINITY needs no case of its own. */
+static double ref__persp_s(double n, double f)
+{
+    return f > DBL_MAX ? 1.0 : f / (f - n);
+}
+
+/* d(z): the depth of view-space distance z (n <= z < f) */
+static double ref__depth_of_z(double z, double n, double s)
+{
+    return s * ((z - n) / z);
+}
+
+/* z_view(d): the view-space distance depth d (0 <= d < 1) stands for */
+static double ref__z_of_depth(double d, double n, double s)
+{
+    return n / (1.0 - d / s);
+}
+
+/* The parameters both models accept (written so that a NaN fails each
+   test): amount (T or k) finite and > 0, near finite and > 0, far > near
+   (+INFINITY allowed). */
+static int ref__persp_ok(double amount, double n, double f)
+{
+    if (!(amount > 0) || !ref__finite(amount)) return 0;
+    if (!(n > 0) || !ref__finite(n)) return 0;
+    return f > n;
+}
+
+/* The DEFINITION, in double (not what the maps hold, see the top of this
+   file): b = d(z_view(d) + T), T = amount, or amount * z_view(d) when
+   relative; at most 1, at least d; d = 1 (or more) gives 1. Through z_view
+   and back, not a closed form in d; within a few double ulps. NaN on bad
+   parameters. */
+static double ref__back_exact(double d, double amount, int relative, double n, double f)
+{
+    double s, z, z2, b;
+    if (!ref__persp_ok(amount, n, f) || !(d == d)) return strtod("nan", NULL);
+    if (!(d < 1)) return 1.0; /* a far texel stays the face z = 1 (z_view(1) = f) */
+    s = ref__persp_s(n, f);
+    z = ref__z_of_depth(d, n, s);
+    z2 = z + (relative ? amount * z : amount);
+    /* at or past the far plane (z2 may overflow to +inf): clamped to 1 */
+    b = z2 >= f ? 1.0 : ref__depth_of_z(z2, n, s);
+    if (b > 1) b = 1;
+    /* z2 > z, so b >= d but for rounding (or T lost in z + T) */
+    if (!(b >= d)) b = d;
+    return b;
+}
+
+/* MODEL.md's constant-thickness back depth of one depth d, in double
+   (for tests of the recipe; parameters as ref_map_set_back_constant) */
+REF_FUNC double ref_back_constant_exact(double d, double thickness, double near_z, double far_z)
+{
+    return ref__back_exact(d, thickness, 0, near_z, far_z);
+}
+
+/* the same for the relative model (parameters as ref_map_set_back_relative) */
+REF_FUNC double ref_back_relative_exact(double d, double k, double near_z, double far_z)
+{
+    return ref__back_exact(d, k, 1, near_z, far_z);
+}
+
+/* x rounded once to float32 (to nearest, ties to even), stored through a
+   volatile so that no wider value survives. Magnitudes that round past
+   FLT_MAX give +-infinity, as an IEEE conversion does; they are written
+   out because C leaves the conversion of an out-of-range double undefined.
+   2^128 - 2^103 is the midpoint between FLT_MAX and 2^128; the tie goes to
+   the even 2^128, infinity. */
+static float ref__f32(double x)
+{
+    volatile float f;
+    const double big = (double)FLT_MAX + ldexp(1.0, 103);
+    if (x >= big) return (float)HUGE_VAL;
+    if (x <= -big) return -(float)HUGE_VAL;
+    f = (float)x;
+    return f;
+}
+
+/* The float32 depth d of the recipe for a texel whose converted depth (in
+   ref_map) is dd: the depth the tracer reads. A float32 map's d is a float
+   already (clamped, reversed: 1.0f - f in float, as ref__raw_texel reads
+   it); a unorm map's dd is the double v / max, max 255 or 65535, from which
+   v = round(dd * max) exactly, and the recipe's d is the float32 division
+   (float)v / (float)max. (That equals (float)dd for every unorm8 and
+   unorm16 value: no double rounding; the tests check it.) A hand-made map
+   whose depth is neither: the nearest float. */
+static float ref__depth_f32(double dd)
+{
+    static const double maxes[2] = { 255.0, 65535.0 };
+    float f = ref__f32(dd);
+    int i;
+    if ((double)f == dd) return f;
+    for (i = 0; i < 2; i++) {
+        double v = floor(dd * maxes[i] + 0.5);
+        if (v >= 0 && v <= maxes[i] && v / maxes[i] == dd) {
+            volatile float fv = (float)v, fm = (float)maxes[i], q;
+            q = fv / fm;
+            return q;
+        }
+    }
+    return f;
+}
+
+/* The recipe's two constants, each computed in double from the caller's
+   values and rounded to float32 once (see the top of this file). */
+typedef struct ref__recipe { int relative; float c0, c1; } ref__recipe;
+
+static int ref__recipe_init(ref__recipe *r, double amount, int relative, double n, double f)
+{
+    double s;
+    if (!ref__persp_ok(amount, n, f)) return -1;
+    s = ref__persp_s(n, f); /* far / (far - near), or 1 */
+    r->relative = relative;
+    if (relative) {
+        r->c0 = ref__f32(amount * s);
+        r->c1 = ref__f32(1.0 + amount);
+    } else {
+        r->c0 = ref__f32(s);
+        r->c1 = ref__f32(amount / n);
+    }
+    return 0;
+}
+
+/* The recipe's back depth of the float32 depth d: each step one float32
+   operation, rounded into a volatile float (no excess precision, nothing
+   fused or reordered), then clamped to [d, 1] (NaN: 1). */
+static float ref__recipe_back(const ref__recipe *r, float d)
+{
+    volatile float u, q, qc, g, e, num, b;
+    float out;
+    if (r->relative) {
+        num = d + r->c0;          /* d + k s        */
+        b = num / r->c1;          /* / (1 + k)      */
+    } else {
+        u = r->c0 - d;            /* s - d          */
+        q = r->c0 / u;            /* s / (s - d) = z_view / n (d = 1, f = inf: +inf) */
+        qc = q + r->c1;           /* (z_view + T) / n */
+        g = qc / u;               /* (z_view + T) / (n (s - d)) */
+        e = r->c1 / g;            /* (s - d) T / (z_view + T) = b - d (q = inf: 0) */
+        b = d + e;                /* s (1 - n / z') */
+    }
+    out = b;
+    if (!(out <= 1.0f)) out = 1.0f;
+    if (out < d) out = d;
+    return out;
+}
+
+/* The recipe's back depth of one converted depth dd (as ref_map holds it),
+   as double: what ref_map_set_back_constant stores for that texel (NaN on
+   bad parameters). For tests. */
+REF_FUNC double ref_back_constant_recipe(double dd, double thickness, double near_z, double far_z)
+{
+    ref__recipe r;
+    double b;
+    if (ref__recipe_init(&r, thickness, 0, near_z, far_z) != 0 || !(dd == dd)) return strtod("nan", NULL);
+    b = (double)ref__recipe_back(&r, ref__depth_f32(dd));
+    return b < dd ? dd : b;
+}
+
+/* the same for the relative model */
+REF_FUNC double ref_back_relative_recipe(double dd, double k, double near_z, double far_z)
+{
+    ref__recipe r;
+    double b;
+    if (ref__recipe_init(&r, k, 1, near_z, far_z) != 0 || !(dd == dd)) return strtod("nan", NULL);
+    b = (double)ref__recipe_back(&r, ref__depth_f32(dd));
+    return b < dd ? dd : b;
+}
+
+/* Both models: m->b[k] = the recipe's b of texel k's float32 depth, as a
+   double, and at least the stored double d (only a unorm d = v / max, whose
+   float is up to half an ulp below it, can need that: the box stays
+   [d, d], a plate). */
+static int ref__set_back_persp(ref_map *m, double amount, int relative, double n, double f)
+{
+    ref__recipe r;
+    double *back;
+    size_t k, cnt;
+    if (!m || !m->d || m->w < 1 || m->h < 1) return -1;
+    if (ref__recipe_init(&r, amount, relative, n, f) != 0) return -1;
+    if ((size_t)m->w > ((size_t)-1) / sizeof(double) / (size_t)m->h) return -1;
+    cnt = (size_t)m->w * (size_t)m->h;
+    back = (double *)malloc(cnt * sizeof(double));
+    if (!back) return -1;
+    for (k = 0; k < cnt; k++) {
+        double dd = m->d[k], b = (double)ref__recipe_back(&r, ref__depth_f32(dd));
+        back[k] = b < dd ? dd : b;
+    }
+    free(m->b);
+    m->b = back;
+    return 0;
+}
+
+/* Give m (built, m->w x m->h) the back depths of a constant view-space
+   thickness `thickness` under a perspective projection with near near_z > 0
+   and far far_z > near_z (+INFINITY: an infinite far plane), forward depth
+   (reversed maps are already forward in m->d): b = d(z_view(d) + thickness)
+   clamped to 1, so a thin object lets rays pass behind it, computed by the
+   float32 recipe at the top of this file. A previous m->b is replaced.
+   Returns 0 on success, -1 on bad arguments (thickness, near_z not finite
+   and > 0, far_z not > near_z, any NaN) or out of memory (m unchanged). */
+REF_FUNC int ref_map_set_back_constant(ref_map *m, double thickness, double near_z, double far_z)
+{
+    return ref__set_back_persp(m, thickness, 0, near_z, far_z);
+}
+
+/* The same with a thickness relative to the distance: T = k * z_view(d),
+   a thickness that grows with the distance. k finite and > 0; otherwise
+   as ref_map_set_back_constant. */
+REF_FUNC int ref_map_set_back_relative(ref_map *m, double k, double near_z, double far_z)
+{
+    return ref__set_back_persp(m, k, 1, near_z, far_z);
 }
 
 REF_FUNC void ref_map_free(ref_map *m)

@@ -27,7 +27,7 @@ static void trace_and_judge(const char *what, const lrt_bvh *bvh, const test_map
 {
     lrt_hit *hits = (lrt_hit *)malloc(sizeof(lrt_hit) * (n ? n : 1));
     size_t i, bad = 0;
-    lrt_result r = lrt_trace(bvh, m->back_storage ? m->pair : &m->depth, rays, hits, n, flags);
+    lrt_result r = lrt_trace(bvh, test_map_depth(m), rays, hits, n, flags);
     CHECK(r == LRT_SUCCESS, "%s: trace returned %s", what, lrt_result_string(r));
     for (i = 0; i < n && r == LRT_SUCCESS; ++i) {
         ref_ray q = to_ref(&rays[i]);
@@ -45,6 +45,10 @@ static void trace_and_judge(const char *what, const lrt_bvh *bvh, const test_map
 }
 
 /* ---- 1. randomised differential runs ---------------------------------------- */
+/* thick: a thickness model (lrt_thickness); the constant and relative ones
+   take a projection of their own per map (near and far planes that put
+   the maps' depths at close, middle and far distances, the far plane
+   finite or not) */
 static void differential(int w, int h, int shape, lrt_format format, int reversed, uint32_t node_bits, size_t nrays,
                          int padded, int thick)
 {
@@ -57,13 +61,14 @@ static void differential(int w, int h, int shape, lrt_format format, int reverse
     size_t i;
     lrt_result r;
     make_map(&m, w, h, shape, format, reversed, padded);
-    if (thick) add_back(&m);
-    memset(&opt, 0, sizeof opt);
+    if (thick == LRT_THICKNESS_BACK_MAP) add_back(&m);
+    if (thick == LRT_THICKNESS_CONSTANT) add_model(&m, (uint32_t)thick, (w & 1) ? 0.05f : 2.0f, (h & 1) ? 0.1f : 1.0f, (w & 2) ? 100.0f : INFINITY);
+    if (thick == LRT_THICKNESS_RELATIVE) add_model(&m, (uint32_t)thick, (w & 1) ? 0.02f : 0.5f, (h & 1) ? 0.1f : 1.0f, (w & 2) ? 100.0f : INFINITY);
+    opt = m.model;
     opt.node_bits = node_bits;
-    opt.thickness = thick ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
-    r = lrt_bvh_build(&bvh, thick ? m.pair : &m.depth, &opt, NULL);
+    r = lrt_bvh_build(&bvh, test_map_depth(&m), &opt, NULL);
     snprintf(what, sizeof what, "%dx%d %s fmt=%d%s nodes=%u%s%s", w, h, m.name, (int)format, reversed ? " reversed" : "",
-             bvh.layout.node_bits, padded ? " strided" : "", thick ? " back map" : "");
+             bvh.layout.node_bits, padded ? " strided" : "", model_name(&m));
     CHECK(r == LRT_SUCCESS, "%s: build returned %s", what, lrt_result_string(r));
     if (r == LRT_SUCCESS && rays && kinds) {
         for (i = 0; i < nrays; ++i) {
@@ -110,6 +115,20 @@ static void test_differential(void)
     differential(203, 131, SHAPE_TERRACES, LRT_FORMAT_FLOAT32, 0, 16, 8000, 0, 1);
     differential(203, 131, SHAPE_WILD, LRT_FORMAT_FLOAT32, 0, 8, 4000, 1, 1);
     differential(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, 20000, 0, 1);
+    /* constant and relative thickness: b computed from d (every format: a
+       unorm's d is v / max in float first), thin and thick layers */
+    for (f = 1; f <= 3; ++f) {
+        int model;
+        for (model = LRT_THICKNESS_CONSTANT; model <= LRT_THICKNESS_RELATIVE; ++model) {
+            differential(61, 47, SHAPE_SCENE, (lrt_format)f, 0, 8, 4000, 0, model);
+            differential(62, 47, SHAPE_POLES, (lrt_format)f, 1, 16, 4000, 1, model);
+            differential(37, 30, SHAPE_NOISE, (lrt_format)f, f == 2, 0, 3000, f == 3, model);
+            differential(39, 29, SHAPE_FAR, (lrt_format)f, f == 1, 0, 3000, 0, model);
+        }
+    }
+    differential(203, 131, SHAPE_WILD, LRT_FORMAT_FLOAT32, 0, 16, 4000, 1, LRT_THICKNESS_CONSTANT);
+    differential(512, 512, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, 20000, 0, LRT_THICKNESS_CONSTANT);
+    differential(514, 512, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, 20000, 0, LRT_THICKNESS_RELATIVE);
     /* the large sizes of the issue */
     differential(1282, 1110, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 0, 30000, 0, 0);
     differential(1282, 1110, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 3000, 1, 0);
@@ -447,7 +466,8 @@ static void test_update(void)
     lrt_bvh live, fresh;
     lrt_build_options opt;
     int frame, bits, thick;
-    for (thick = 0; thick <= 1; ++thick) {
+    static const char *models[4] = {"", " back map", " constant thickness", " relative thickness"};
+    for (thick = 0; thick <= LRT_THICKNESS_RELATIVE; ++thick) {
         for (bits = 8; bits <= 16; bits += 8) {
             int same_full = 1, same_rect = 1;
             memset(dm, 0, sizeof dm);
@@ -455,11 +475,14 @@ static void test_update(void)
             dm[0].width = dm[1].width = w;
             dm[0].height = dm[1].height = h;
             dm[0].format = dm[1].format = LRT_FORMAT_FLOAT32;
-            dm[0].flags = thick ? LRT_DEPTH_BACK_FOLLOWS : 0u;
+            dm[0].flags = thick == LRT_THICKNESS_BACK_MAP ? LRT_DEPTH_BACK_FOLLOWS : 0u;
             dm[1].data = back;
             memset(&opt, 0, sizeof opt);
             opt.node_bits = (uint32_t)bits;
-            opt.thickness = thick ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
+            opt.thickness = (uint32_t)thick;
+            opt.thickness_value = thick == LRT_THICKNESS_CONSTANT ? 0.3f : 0.05f;
+            opt.near_z = 0.1f;
+            opt.far_z = 50.0f;
             paint_frame(d, w, h, 0);
             paint_back(d, back, w, h, 0);
             CHECK(lrt_bvh_build(&live, dm, &opt, NULL) == LRT_SUCCESS, "update: build");
@@ -480,8 +503,8 @@ static void test_update(void)
                 }
                 lrt_bvh_destroy(&fresh);
             }
-            CHECK(same_full, "%d-bit%s: update of the whole map differs from a rebuild", bits, thick ? " back map" : "");
-            CHECK(same_rect, "%d-bit%s: update of the dirty rect differs from a rebuild", bits, thick ? " back map" : "");
+            CHECK(same_full, "%d-bit%s: update of the whole map differs from a rebuild", bits, models[thick]);
+            CHECK(same_rect, "%d-bit%s: update of the dirty rect differs from a rebuild", bits, models[thick]);
             lrt_bvh_destroy(&live);
         }
     }
@@ -582,7 +605,7 @@ static void test_bad_arguments(void)
         pair[0].flags = LRT_DEPTH_BACK_FOLLOWS;
         pair[1] = dm;
         pair[1].data = back;
-        opt.thickness = 3;
+        opt.thickness = 4;
         EXPECT_BUILD(pair, &opt, LRT_ERROR_INVALID_OPTION, "unknown thickness model");
         opt.thickness = LRT_THICKNESS_BACK_MAP;
         EXPECT_BUILD(&dm, &opt, LRT_ERROR_THICKNESS_MISMATCH, "a back-map tree without a back map");
@@ -628,6 +651,81 @@ static void test_bad_arguments(void)
         CHECK(lrt_bvh_build(&thick, &dm, &opt, NULL) == LRT_SUCCESS &&
                   lrt_trace(&thick, pair, &ray, &hit, 1, 0) == LRT_ERROR_THICKNESS_MISMATCH,
               "an infinite tree traced with a back map");
+        lrt_bvh_destroy(&thick);
+    }
+    { /* constant and relative thickness: their numbers, and no back map */
+        static const float zero[6] = {0, 0, 0, 0, 0, 0};
+        float back[6] = {1, 1, 1, 1, 1, 1};
+        lrt_depth flat, pair[2];
+        lrt_bvh thick;
+        int model;
+        memset(&flat, 0, sizeof flat);
+        flat.data = zero;
+        flat.width = 3;
+        flat.height = 2;
+        flat.format = LRT_FORMAT_FLOAT32;
+        pair[0] = flat;
+        pair[0].flags = LRT_DEPTH_BACK_FOLLOWS;
+        pair[1] = flat;
+        pair[1].data = back;
+        for (model = LRT_THICKNESS_CONSTANT; model <= LRT_THICKNESS_RELATIVE; ++model) {
+            const char *name = model == LRT_THICKNESS_CONSTANT ? "constant" : "relative";
+            static const float bad_values[4] = {0.0f, -1.0f, NAN, INFINITY};
+            int k;
+            memset(&opt, 0, sizeof opt);
+            opt.thickness = (uint32_t)model;
+            opt.thickness_value = 1.0f;
+            opt.near_z = 1.0f;
+            opt.far_z = INFINITY;
+            CHECK(lrt_bvh_build(&thick, &flat, &opt, NULL) == LRT_SUCCESS &&
+                      thick.layout.bytes == 2 * thick.layout.node_count * thick.layout.node_bytes,
+                  "%s thickness: build, two codes a slot", name);
+            lrt_bvh_destroy(&thick);
+            EXPECT_BUILD(pair, &opt, LRT_ERROR_THICKNESS_MISMATCH, "a back map for a constant or relative tree");
+            for (k = 0; k < 4; ++k) {
+                opt.thickness_value = bad_values[k];
+                CHECK(lrt_bvh_build(&thick, &flat, &opt, NULL) == LRT_ERROR_INVALID_THICKNESS &&
+                          lrt_bvh_memory_size(3, 2, LRT_FORMAT_FLOAT32, &opt, &bytes) == LRT_ERROR_INVALID_THICKNESS,
+                      "%s thickness %g: not an error", name, (double)bad_values[k]);
+                opt.thickness_value = 1.0f;
+                opt.near_z = bad_values[k];
+                CHECK(lrt_bvh_build(&thick, &flat, &opt, NULL) == LRT_ERROR_INVALID_THICKNESS,
+                      "%s thickness, near plane %g: not an error", name, (double)bad_values[k]);
+                opt.near_z = 1.0f;
+                opt.far_z = k == 3 ? 0.5f : bad_values[k]; /* 0, -1, NaN, in front of near */
+                CHECK(lrt_bvh_build(&thick, &flat, &opt, NULL) == LRT_ERROR_INVALID_THICKNESS,
+                      "%s thickness, far plane %g: not an error", name, (double)opt.far_z);
+                opt.far_z = INFINITY;
+            }
+            opt.far_z = 1.0f; /* far on near */
+            EXPECT_BUILD(&flat, &opt, LRT_ERROR_INVALID_THICKNESS, "far plane on the near plane");
+            opt.far_z = 1.0000001f; /* the constants overflow float */
+            opt.thickness_value = model == LRT_THICKNESS_CONSTANT ? 1e30f : 1e38f;
+            opt.near_z = model == LRT_THICKNESS_CONSTANT ? 1e-30f : 1.0f;
+            EXPECT_BUILD(&flat, &opt, LRT_ERROR_INVALID_THICKNESS, "constants beyond float");
+        }
+        /* T = 1 at near 1, far infinite: depth 0 is z 1, its back z 2, depth 0.5 */
+        memset(&opt, 0, sizeof opt);
+        opt.thickness = LRT_THICKNESS_CONSTANT;
+        opt.thickness_value = 1.0f;
+        opt.near_z = 1.0f;
+        opt.far_z = INFINITY;
+        CHECK(lrt_bvh_build(&thick, &flat, &opt, NULL) == LRT_SUCCESS, "constant thickness: build");
+        CHECK(lrt_trace(&thick, pair, &ray, &hit, 1, 0) == LRT_ERROR_THICKNESS_MISMATCH, "a constant tree traced with a back map");
+        CHECK(lrt_bvh_update(&thick, pair, NULL) == LRT_ERROR_THICKNESS_MISMATCH, "a constant tree updated with a back map");
+        ray.origin[0] = -1.0f; ray.origin[1] = 0.5f; ray.origin[2] = 0.75f; ray.tmin = 0.0f;
+        ray.dir[0] = 1.0f; ray.dir[1] = 0.0f; ray.dir[2] = 0.0f; ray.tmax = 10.0f;
+        CHECK(lrt_trace(&thick, &flat, &ray, &hit, 1, 0) == LRT_SUCCESS && hit.kind == LRT_MISS_OFF_SCREEN,
+              "under the slab [0, 0.5]: kind %u", hit.kind);
+        ray.origin[2] = 0.25f;
+        CHECK(lrt_trace(&thick, &flat, &ray, &hit, 1, 0) == LRT_SUCCESS && hit.kind == LRT_HIT && hit.t == 1.0f &&
+                  hit.face == LRT_FACE_SIDE,
+              "into the slab's side: kind %u t %g face %u", hit.kind, (double)hit.t, hit.face);
+        ray.origin[0] = 1.5f; ray.origin[2] = 0.9f;
+        ray.dir[0] = 0.0f; ray.dir[2] = -1.0f;
+        CHECK(lrt_trace(&thick, &flat, &ray, &hit, 1, 0) == LRT_SUCCESS && hit.kind == LRT_HIT &&
+                  fabsf(hit.t - 0.4f) < 1e-6f && hit.face == LRT_FACE_BACK,
+              "up into the slab's back: kind %u t %.9g face %u", hit.kind, (double)hit.t, hit.face);
         lrt_bvh_destroy(&thick);
     }
     CHECK(lrt_bvh_build(NULL, &dm, NULL, NULL) == LRT_ERROR_NULL_POINTER, "null bvh");
@@ -720,6 +818,47 @@ static void test_ranges(void)
     free_map(&m);
 }
 
+/* ---- 6. the planes of a camera, for constant and relative thickness ------------- */
+static void test_camera_planes(void)
+{
+    /* the float matrix holds far only to about 1.2e-7 * far / near (its z row is -1 - near / far) */
+    static const float planes[][2] = {{0.1f, 100.0f}, {1.0f, 3.0f}, {0.05f, 500.0f}, {2.0f, 2.5f}};
+    float proj[16], n = -1.0f, f = -1.0f;
+    lrt_camera cam;
+    size_t k;
+    uint32_t flags;
+    for (k = 0; k < sizeof planes / sizeof planes[0]; ++k) {
+        for (flags = 0; flags <= LRT_DEPTH_REVERSED_Z; flags += LRT_DEPTH_REVERSED_Z) {
+            lrt_perspective(proj, 1.0f, 1.5f, planes[k][0], planes[k][1], flags);
+            CHECK(lrt_camera_init(&cam, proj, 64, 48, flags) == LRT_SUCCESS && lrt_camera_planes(&cam, &n, &f) &&
+                      fabsf(n - planes[k][0]) <= 1e-5f * planes[k][0] && fabsf(f - planes[k][1]) <= (2e-7f * planes[k][1] / planes[k][0] + 1e-6f) * planes[k][1],
+                  "camera planes %g..%g%s: got %g..%g", (double)planes[k][0], (double)planes[k][1],
+                  flags ? " reversed" : "", (double)n, (double)f);
+        }
+    }
+    /* an infinite far plane, written by hand: depth (-zv - n) / -zv, reversed n / -zv */
+    for (flags = 0; flags <= LRT_DEPTH_REVERSED_Z; flags += LRT_DEPTH_REVERSED_Z) {
+        memset(proj, 0, sizeof proj);
+        proj[0] = 1.0f;
+        proj[5] = -1.0f;
+        proj[11] = -1.0f;
+        proj[10] = flags ? 0.0f : -1.0f;
+        proj[14] = flags ? 0.25f : -0.25f;
+        CHECK(lrt_camera_init(&cam, proj, 8, 8, flags) == LRT_SUCCESS && lrt_camera_planes(&cam, &n, &f) && n == 0.25f &&
+                  f == INFINITY,
+              "an infinite far plane%s: got %g..%g", flags ? " reversed" : "", (double)n, (double)f);
+    }
+    /* not perspective: an orthographic camera; and null pointers */
+    memset(proj, 0, sizeof proj);
+    proj[0] = proj[5] = proj[15] = 1.0f;
+    proj[10] = -0.01f;
+    n = f = 7.0f;
+    CHECK(lrt_camera_init(&cam, proj, 8, 8, 0) == LRT_SUCCESS && !lrt_camera_planes(&cam, &n, &f) && n == 7.0f && f == 7.0f,
+          "an orthographic camera has no planes for thickness");
+    CHECK(!lrt_camera_planes(NULL, &n, &f) && !lrt_camera_planes(&cam, NULL, &f) && !lrt_camera_planes(&cam, &n, NULL),
+          "camera planes: null pointers");
+}
+
 int main(void)
 {
     test_named_cases();
@@ -731,5 +870,6 @@ int main(void)
     test_differential();
     test_thickness_grazing();
     test_thickness_found();
+    test_camera_planes();
     return check_summary();
 }

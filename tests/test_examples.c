@@ -39,7 +39,11 @@ static size_t judge(const example_frame *f, const lrt_ray *rays, const lrt_hit *
     ref_map m;
     size_t k, bad = 0;
     if (ref_map_from_raw(&m, f->depth, (int)f->w, (int)f->h, 0, REF_FORMAT_FLOAT32, 0) != 0) return n;
-    if (f->back && ref_map_set_back_from_raw(&m, f->back, 0, REF_FORMAT_FLOAT32, 0) != 0) {
+    if ((f->back && ref_map_set_back_from_raw(&m, f->back, 0, REF_FORMAT_FLOAT32, 0) != 0) ||
+        (f->options.thickness == LRT_THICKNESS_CONSTANT &&
+         ref_map_set_back_constant(&m, f->options.thickness_value, f->options.near_z, f->options.far_z) != 0) ||
+        (f->options.thickness == LRT_THICKNESS_RELATIVE &&
+         ref_map_set_back_relative(&m, f->options.thickness_value, f->options.near_z, f->options.far_z) != 0)) {
         ref_map_free(&m);
         return n;
     }
@@ -249,14 +253,15 @@ static int png_size(const char *path, int *w, int *h)
     return ok;
 }
 
-/* Reflections in a thick depth layer (a constant thickness, then the
-   scene's back faces): every ray exact against the reference with the same
-   back map, and fewer hits than with infinite thickness, as rays now pass
-   behind objects. */
+/* Reflections in a thick depth layer (a constant thickness, the scene's
+   back faces, a relative thickness): every ray exact against the reference
+   with the same model, and fewer hits than with infinite thickness, as
+   rays now pass behind objects. */
 static void test_thickness(size_t infinite_hits)
 {
+    static const char *names[3] = {"0.3 m", "back faces", "5%"};
     int mode;
-    for (mode = 0; mode < 2; ++mode) {
+    for (mode = 0; mode < 3; ++mode) {
         example_options o;
         example_frame f;
         size_t n, k, hit = 0, top = 0;
@@ -264,8 +269,9 @@ static void test_thickness(size_t infinite_hits)
         lrt_hit *hits;
         example_default_options(&o);
         o.size = SIZE;
-        if (mode) o.thickness_back = 1;
-        else o.thickness = 0.3f;
+        if (mode == 1) o.thickness_back = 1;
+        else o.thickness = mode ? 0.05f : 0.3f;
+        o.thickness_relative = mode == 2;
         if (example_frame_load(&f, &o) != EXAMPLE_EXIT_OK) {
             CHECK(0, "thickness %d: frame", mode);
             continue;
@@ -274,20 +280,21 @@ static void test_thickness(size_t infinite_hits)
         rays = (lrt_ray *)malloc(n * sizeof *rays);
         hits = (lrt_hit *)malloc(n * sizeof *hits);
         if (rays && hits) {
+            static const uint32_t models[3] = {LRT_THICKNESS_CONSTANT, LRT_THICKNESS_BACK_MAP, LRT_THICKNESS_RELATIVE};
             size_t back = 0;
-            for (k = 0; k < n; ++k) back += f.back[k] < 1.0f && f.back[k] > f.depth[k];
-            CHECK(back > n / 20, "%s: a back map with depth in it (%lu texels)", mode ? "back faces" : "0.3 m",
-                  (unsigned long)back);
+            CHECK(f.bvh.layout.thickness == models[mode], "%s: built with model %u", names[mode], f.bvh.layout.thickness);
+            for (k = 0; mode == 1 && k < n; ++k) back += f.back[k] < 1.0f && f.back[k] > f.depth[k];
+            CHECK(mode != 1 || back > n / 20, "back faces: a back map with depth in it (%lu texels)", (unsigned long)back);
             ssr_make_rays(&f, rays, 2);
             example_trace(&f, rays, hits, f.w, 0, 2, NULL);
             for (k = 0; k < n; ++k) {
                 hit += hits[k].kind == LRT_HIT;
                 top += hits[k].kind == LRT_HIT && hits[k].face == LRT_FACE_TOP;
             }
-            CHECK(judge(&f, rays, hits, n, 0, mode ? "reflection, back faces" : "reflection, 0.3 m") == 0,
-                  "every reflection ray in a thick layer agrees with the reference");
+            CHECK(judge(&f, rays, hits, n, 0, names[mode]) == 0,
+                  "%s: every reflection ray in a thick layer agrees with the reference", names[mode]);
             CHECK(hit < infinite_hits && top > 0, "%s: %lu hits (%lu on a top face), fewer than infinite thickness's %lu",
-                  mode ? "back faces" : "0.3 m", (unsigned long)hit, (unsigned long)top, (unsigned long)infinite_hits);
+                  names[mode], (unsigned long)hit, (unsigned long)top, (unsigned long)infinite_hits);
         }
         free(rays);
         free(hits);
@@ -301,6 +308,8 @@ static void test_thickness(size_t infinite_hits)
         rc = run("build/ssr --size 40 --thickness -1 --out " DIR "/pics", out, sizeof out);
         CHECK(rc == EXAMPLE_EXIT_BAD_INPUT && strstr(out, "--thickness: bad value"), "a negative thickness: exit %d: %s",
               rc, out);
+        rc = run("build/ssr --size 40 --thickness x% --out " DIR "/pics", out, sizeof out);
+        CHECK(rc == EXAMPLE_EXIT_BAD_INPUT && strstr(out, "--thickness: bad value"), "a bad share: exit %d: %s", rc, out);
     }
 }
 

@@ -18,8 +18,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-int paths_trace_scalar(const lrt_depth *depth, uint32_t node_bits, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
-int paths_trace_avx2(const lrt_depth *depth, uint32_t node_bits, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
+int paths_trace_scalar(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
+int paths_trace_avx2(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
 
 static int g_have_avx2;
 static size_t g_rays;
@@ -29,13 +29,11 @@ static size_t g_rays;
 static void compare(const char *what, const test_map *m, uint32_t node_bits, const lrt_ray *rays, size_t n)
 {
     lrt_hit *own = (lrt_hit *)calloc(n ? n : 1, sizeof(lrt_hit)), *other = (lrt_hit *)calloc(n ? n : 1, sizeof(lrt_hit));
-    const lrt_depth *depth = m->back_storage ? m->pair : &m->depth;
+    const lrt_depth *depth = test_map_depth(m);
     lrt_bvh bvh;
-    lrt_build_options opt;
+    lrt_build_options opt = m->model;
     int p;
-    memset(&opt, 0, sizeof opt);
     opt.node_bits = node_bits;
-    opt.thickness = m->back_storage ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
     CHECK(own && other, "%s: out of memory", what);
     if (!own || !other || lrt_bvh_build(&bvh, depth, &opt, NULL) != LRT_SUCCESS) {
         CHECK(0, "%s: build failed", what);
@@ -51,7 +49,7 @@ static void compare(const char *what, const test_map *m, uint32_t node_bits, con
         int r;
         if (p == 1 && !g_have_avx2) continue;
         memset(other, 0xab, n * sizeof *other);
-        r = p ? paths_trace_avx2(depth, node_bits, rays, other, n, 0) : paths_trace_scalar(depth, node_bits, rays, other, n, 0);
+        r = p ? paths_trace_avx2(depth, &opt, rays, other, n, 0) : paths_trace_scalar(depth, &opt, rays, other, n, 0);
         CHECK(r == LRT_SUCCESS, "%s: %s trace returned %d", what, name, r);
         for (i = 0; i < n; ++i) {
             if (memcmp(&own[i], &other[i], sizeof own[i]) != 0) {
@@ -78,9 +76,10 @@ static void map_and_rays(int w, int h, int shape, lrt_format format, int reverse
     char what[160];
     size_t i;
     make_map(&m, w, h, shape, format, reversed, padded);
-    if (thick) add_back(&m);
+    if (thick == LRT_THICKNESS_BACK_MAP) add_back(&m);
+    if (thick >= LRT_THICKNESS_CONSTANT) add_model(&m, (uint32_t)thick, (w & 1) ? 0.05f : 1.5f, 0.1f, (h & 1) ? 80.0f : INFINITY);
     snprintf(what, sizeof what, "%dx%d %s fmt=%d%s nodes=%u%s%s", w, h, m.name, (int)format, reversed ? " reversed" : "",
-             node_bits, padded ? " strided" : "", thick ? " back map" : "");
+             node_bits, padded ? " strided" : "", model_name(&m));
     if (rays) {
         for (i = 0; i < n; ++i) rays[i] = make_ray(&m, (int)(i % RAY_KIND_COUNT));
         compare(what, &m, node_bits, rays, n);
@@ -114,6 +113,13 @@ int main(void)
     map_and_rays(1282, 1110, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 30000, 1, 0);
     map_and_rays(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, 50000, 0, 1);
     map_and_rays(513, 257, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 20000, 1, 1);
+    /* constant and relative thickness: plain float (the AVX2 texel test's own b(d)), then others */
+    map_and_rays(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, 50000, 0, LRT_THICKNESS_CONSTANT);
+    map_and_rays(1023, 512, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 8, 30000, 0, LRT_THICKNESS_RELATIVE);
+    map_and_rays(257, 129, SHAPE_NOISE, LRT_FORMAT_FLOAT32, 0, 16, 20000, 1, LRT_THICKNESS_CONSTANT);
+    map_and_rays(257, 130, SHAPE_POLES, LRT_FORMAT_FLOAT32, 1, 16, 20000, 0, LRT_THICKNESS_RELATIVE);
+    map_and_rays(100, 37, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 20000, 1, LRT_THICKNESS_CONSTANT);
+    map_and_rays(101, 37, SHAPE_TERRACES, LRT_FORMAT_UNORM8, 0, 16, 20000, 0, LRT_THICKNESS_RELATIVE);
     for (k = 0; found_case(k, &m, &r); ++k) { /* the fuzzer's rays, the rare set-up among them */
         char what[64];
         snprintf(what, sizeof what, "found case %d", k);

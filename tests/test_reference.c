@@ -987,6 +987,548 @@ static void test_thickness(void)
     }
 }
 
+/* The depth of view distance z under the perspective of the thickness
+   models, literally as MODEL.md defines it (n > 0, f > n or +INFINITY,
+   depth 0 near .. 1 far): independent of reference.h's factored form. */
+static double persp_depth(double z, double n, double f)
+{
+    if (z >= f) return 1.0;
+    return f > DBL_MAX ? 1.0 - n / z : f * (z - n) / (z * (f - n));
+}
+
+/* The spacing of float32 values at x's magnitude (x >= 0): 2^(e-24) for x
+   in (2^(e-1), 2^e], the finer spacing at a power of two (the ulp below
+   1 is 2^-24), 2^-149 among the subnormals. */
+static double ulp_f32(double x)
+{
+    int e;
+    double fr = frexp(fabs(x), &e);
+    if (x == 0) return ldexp(1.0, -149);
+    if (fr == 0.5) e--;
+    return e - 24 < -149 ? ldexp(1.0, -149) : ldexp(1.0, e - 24);
+}
+
+/* the recipe's b (a float32, reference.h) against a value worked out by
+   hand: a float, within 2 float ulps */
+static int near_f(double got, double want)
+{
+    return (double)(float)got == got && fabs(got - want) <= 2 * ulp_f32(want);
+}
+
+/* x rounded to float32 for certain: GCC 12.2 at -O2 was seen to vectorize
+   two (float) casts into a ray's o[] and then hand ref_trace_ray (inlined)
+   the unrounded doubles while brute() read the floats, so the two traced
+   different rays. A volatile float cannot be skipped. */
+static float to_f32(double x)
+{
+    volatile float f = (float)x;
+    return f;
+}
+
+/* m is 4 x 1 with the depths d[0..3] */
+static void set_row4(ref_map *m, double d0, double d1, double d2, double d3)
+{
+    set_d(m, 0, 0, d0); set_d(m, 1, 0, d1); set_d(m, 2, 0, d2); set_d(m, 3, 0, d3);
+}
+
+/* The perspective thickness models (MODEL.md, "Thickness (optional) and
+   the face of a hit"): ref_map_set_back_constant (view-space T) and
+   ref_map_set_back_relative (T = k * z_view(d)). */
+static void test_thickness_models(void)
+{
+    const double inf = HUGE_VAL;
+    ref_result r;
+    ref_ray ray;
+    ref_answer a;
+    char why[512];
+    int k;
+    {
+        /* (a) analytic values. The maps hold b by the float32 recipe at the
+           top of reference.h: within 2 float ulps of these exact values,
+           and bit-exact where worked out below (c0 = s = f / (f - n),
+           c1 = T / n; relative: c0 = k s, c1 = 1 + k) */
+        ref_map m = map_const(4, 1, 0.0);
+        /* constant, n = 1, f = inf (d = 1 - 1/z, z_view = 1/(1 - d)), T = 1:
+           d = 0 -> z = 1 -> z' = 2 -> b = 1/2; d = 0.5 -> z = 2 -> z' = 3
+           -> b = 2/3; d = 0.75 -> z = 4 -> z' = 5 -> b = 4/5; d = 1 -> 1 */
+        set_row4(&m, 0, 0.5, 0.75, 1);
+        CHECK(ref_map_set_back_constant(&m, 1, 1, inf) == 0, "constant n=1 f=inf T=1");
+        CHECK(m.b && m.b[0] == 0.5 && near_f(m.b[1], 2.0 / 3) && near_f(m.b[2], 0.8) && m.b[3] == 1,
+              "constant f=inf: %.17g %.17g %.17g %.17g", m.b[0], m.b[1], m.b[2], m.b[3]);
+        /* bit-exact, c0 = c1 = 1 (worked by hand, each step rounded to
+           float32; the same bits from a throwaway C program of the recipe's
+           volatile float steps): d = 0.5: u = 0.5, q = 2, q + c1 = 3,
+           3 / u = 6, e = 1/6 rounds to 11184811 * 2^-26 (1/6 = 11184810.67
+           units of 2^-26), d + e = 44739243 * 2^-26 = 11184810.75 units of
+           2^-24 (the spacing in [1/2, 1)): 11184811 * 2^-24 = (float)(2/3),
+           the float nearest the exact b. d = 0.75: u = 0.25, q = 4, 5 / u =
+           20, e = 1/20 = 13421773 * 2^-28 (13421772.8 units), d + e =
+           214748365 * 2^-28 = 13421772.81 units of 2^-24: 13421773 * 2^-24
+           = 0.8f. */
+        CHECK(m.b[1] == ldexp(11184811.0, -24) && m.b[1] == (double)(2.0f / 3) && m.b[2] == (double)0.8f,
+              "constant f=inf, bits: %a %a", m.b[1], m.b[2]);
+        CHECK(m.d[0] == 0 && m.d[1] == 0.5 && m.d[2] == 0.75 && m.d[3] == 1, "set_back_constant changed d");
+        /* constant, n = 1, f = 3: d(z) = 3 (z - 1) / (2 z), so
+           z_view(d) = 3 / (3 - 2 d); T = 1:
+           d = 0    -> z = 1   -> z' = 2   -> b = 3 * 1 / 4     = 0.75
+           d = 0.5  -> z = 1.5 -> z' = 2.5 -> b = 3 * 1.5 / 5   = 0.9
+           d = 0.6  -> z = 5/3 -> z' = 8/3 -> b = 3 * 5/3 / (16/3) = 15/16
+           d = 0.75 -> z = 2   -> z' = 3 = f: the far plane, b = 1 */
+        set_row4(&m, 0, 0.5, 0.6, 0.75);
+        CHECK(ref_map_set_back_constant(&m, 1, 1, 3) == 0, "constant n=1 f=3 T=1");
+        CHECK(near_f(m.b[0], 0.75) && near_f(m.b[1], 0.9) && near_f(m.b[2], 15.0 / 16) && near_f(m.b[3], 1),
+              "constant f=3: %.17g %.17g %.17g %.17g", m.b[0], m.b[1], m.b[2], m.b[3]);
+        /* bit-exact, c0 = 1.5, c1 = 1 (by hand, checked the same way):
+           d = 0: u = 1.5, q = 1, 2 / u = 4/3 rounds to 11184811 * 2^-23,
+           e = 1 / that = 0.75 (1 - 3.0e-8), 0.375 ulp below 0.75: e = 0.75,
+           b = 0.75. d = 0.5: u = 1, q = 1.5, 2.5 / u = 2.5, e = 0.4f =
+           13421773 * 2^-25, d + e = 30198989 * 2^-25, a tie between floats
+           (spacing 2^-24): the even 15099494 * 2^-24 = 0.9f, 0.4 ulp below
+           0.9. d = 0.75: u = 0.75, q = 2, 3 / u = 4, e = 0.25, b = 1
+           exactly, the exact b (z' = f). */
+        CHECK(m.b[0] == 0.75 && m.b[1] == ldexp(15099494.0, -24) && m.b[1] == (double)0.9f && m.b[3] == 1,
+              "constant f=3, bits: %a %a %a", m.b[0], m.b[1], m.b[3]);
+        /* relative, n = 1, f = inf, k = 1: d = 0 -> z = 1 -> z' = 2 -> b = 0.5;
+           d = 0.5 -> z = 2 -> z' = 4 -> b = 0.75; d = 0.75 -> z = 4 -> z' = 8
+           -> b = 0.875; d = 1 -> 1 */
+        set_row4(&m, 0, 0.5, 0.75, 1);
+        CHECK(ref_map_set_back_relative(&m, 1, 1, inf) == 0, "relative n=1 f=inf k=1");
+        CHECK(m.b[0] == 0.5 && m.b[1] == 0.75 && m.b[2] == 0.875 && m.b[3] == 1,
+              "relative f=inf: %.17g %.17g %.17g %.17g", m.b[0], m.b[1], m.b[2], m.b[3]);
+        /* relative, n = 1, f = 3, k = 0.5: d = 0 -> z = 1 -> z' = 1.5
+           -> b = 3 * 0.5 / 3 = 0.5; d = 0.5 -> z = 1.5 -> z' = 2.25
+           -> b = 3 * 1.25 / 4.5 = 5/6; d = 0.75 -> z = 2 -> z' = 3 = f -> 1 */
+        set_row4(&m, 0, 0.5, 0.75, 1);
+        CHECK(ref_map_set_back_relative(&m, 0.5, 1, 3) == 0, "relative n=1 f=3 k=0.5");
+        CHECK(near_f(m.b[0], 0.5) && near_f(m.b[1], 5.0 / 6) && near_f(m.b[2], 1) && m.b[3] == 1,
+              "relative f=3: %.17g %.17g %.17g %.17g", m.b[0], m.b[1], m.b[2], m.b[3]);
+        /* bit-exact: c0 = 0.5 * 1.5 = 0.75, c1 = 1.5: (0 + 0.75) / 1.5 = 0.5;
+           (0.75 + 0.75) / 1.5 = 1 */
+        CHECK(m.b[0] == 0.5 && m.b[2] == 1, "relative f=3, bits: %a %a", m.b[0], m.b[2]);
+        ref_map_free(&m);
+    }
+    {
+        /* (b) clamped to 1 when z_view(d) + T reaches past the far plane:
+           n = 1, f = 3, T = 1, d = 0.8 -> z = 3/1.4 = 2.14 -> z' = 3.14 > f;
+           relative k = 0.5, d = 0.9 -> z = 2.5 -> z' = 3.75 > f; f = inf
+           with a huge T rounds to 1; an overflowing z' (T = DBL_MAX,
+           k * z = inf) is 1 too. d = 1 keeps b = 1 in every model. */
+        ref_map m = map_const(4, 1, 0.0);
+        set_row4(&m, 0.8, 0.9, 0.99, 1);
+        CHECK(ref_map_set_back_constant(&m, 1, 1, 3) == 0 && m.b[0] == 1 && m.b[1] == 1 && m.b[2] == 1 &&
+                  m.b[3] == 1,
+              "constant past far: %.17g %.17g %.17g %.17g", m.b[0], m.b[1], m.b[2], m.b[3]);
+        CHECK(ref_map_set_back_relative(&m, 0.5, 1, 3) == 0 && near_f(m.b[0], persp_depth(1.5 * 3 / 1.4, 1, 3)) &&
+                  m.b[1] == 1 && m.b[2] == 1 && m.b[3] == 1,
+              "relative past far: %.17g %.17g %.17g %.17g", m.b[0], m.b[1], m.b[2], m.b[3]);
+        CHECK(ref_map_set_back_constant(&m, 1e300, 1, inf) == 0 && m.b[0] == 1 && m.b[3] == 1,
+              "huge T, infinite far: %.17g", m.b[0]);
+        CHECK(ref_map_set_back_constant(&m, DBL_MAX, 1e10, inf) == 0 && m.b[2] == 1 && m.b[3] == 1,
+              "overflowing z + T: %.17g", m.b[2]);
+        CHECK(ref_map_set_back_relative(&m, 1e308, 1, 1e300) == 0 && m.b[0] == 1 && m.b[3] == 1,
+              "overflowing k * z: %.17g", m.b[0]);
+        set_row4(&m, 1, 1, 1, 1); /* a far map: every model keeps b = 1 */
+        CHECK(ref_map_set_back_constant(&m, 1e-6, 1, 3) == 0 && m.b[0] == 1 && m.b[3] == 1, "d = 1, constant");
+        CHECK(ref_map_set_back_relative(&m, 1e-6, 1, inf) == 0 && m.b[0] == 1 && m.b[3] == 1, "d = 1, relative");
+        ref_map_free(&m);
+    }
+    {
+        /* (c) d <= b <= 1 for every d and many projections and thicknesses
+           (tiny ones lost in z + T give b = d), and the double definition
+           (ref_back_*_exact) against the literal one: d = depth(z),
+           b = depth(z + T). The recipe against the definition: (i). */
+        static const double nf[][2] = { { 1, HUGE_VAL }, { 1, 3 }, { 0.1, 1000 }, { 1e-300, HUGE_VAL },
+                                        { 1, 1.0000000000000002 }, { 1, DBL_MAX }, { 1e300, HUGE_VAL } };
+        static const double th[] = { 1e-300, 1e-12, 0.01, 0.5, 1, 7, 1e6, 1e300 };
+        ref_map m = map_const(67, 1, 0.0);
+        int p, q, bad = 0, bad_lit = 0;
+        for (k = 0; k <= 64; k++) m.d[k] = k / 64.0;
+        m.d[65] = nextafter(1.0, 0.0);
+        m.d[66] = 1e-300;
+        for (p = 0; p < (int)(sizeof nf / sizeof nf[0]); p++)
+            for (q = 0; q < (int)(sizeof th / sizeof th[0]); q++) {
+                int rel;
+                for (rel = 0; rel < 2; rel++) {
+                    int ok = rel ? ref_map_set_back_relative(&m, th[q], nf[p][0], nf[p][1])
+                                 : ref_map_set_back_constant(&m, th[q], nf[p][0], nf[p][1]);
+                    if (ok != 0) { bad++; continue; }
+                    for (k = 0; k < m.w; k++)
+                        if (!(m.b[k] >= m.d[k] && m.b[k] <= 1) && bad++ < 5)
+                            printf("b out of [d, 1]: n %g f %g %s %g d %.17g b %.17g\n", nf[p][0], nf[p][1],
+                                   rel ? "k" : "T", th[q], m.d[k], m.b[k]);
+                }
+            }
+        CHECK(bad == 0, "%d back depths out of [d, 1]", bad);
+        /* round trip: view distances z -> d = depth(z) -> b ~ depth(z + T).
+           These d are doubles, not floats (a hand-made map): the map's
+           recipe reads each as the nearest float and keeps b >= d; it must
+           equal the per-depth ref_back_*_recipe. */
+        for (p = 0; p < 3; p++) {
+            double n = nf[p][0], f = nf[p][1], T = p == 2 ? 0.5 : 2;
+            for (k = 0; k < m.w; k++) m.d[k] = persp_depth(n * pow(1.1, k), n, f);
+            for (q = 0; q < 2; q++) {
+                CHECK((q ? ref_map_set_back_relative(&m, 0.25, n, f) : ref_map_set_back_constant(&m, T, n, f)) == 0,
+                      "round trip set");
+                for (k = 0; k < m.w; k++) {
+                    double z = n * pow(1.1, k), want = m.d[k] >= 1 ? 1 : persp_depth(z + (q ? 0.25 * z : T), n, f);
+                    double ex = q ? ref_back_relative_exact(m.d[k], 0.25, n, f) : ref_back_constant_exact(m.d[k], T, n, f);
+                    double rc = q ? ref_back_relative_recipe(m.d[k], 0.25, n, f)
+                                  : ref_back_constant_recipe(m.d[k], T, n, f);
+                    if (!(fabs(ex - want) <= 1e-12) && bad_lit++ < 5)
+                        printf("round trip: n %g f %g %s z %.17g d %.17g b %.17g want %.17g\n", n, f,
+                               q ? "relative" : "constant", z, m.d[k], ex, want);
+                    if (!(m.b[k] == rc && m.b[k] >= m.d[k]) && bad_lit++ < 5)
+                        printf("map vs recipe: n %g f %g %s d %.17g map b %.17g recipe %.17g\n", n, f,
+                               q ? "relative" : "constant", m.d[k], m.b[k], rc);
+                }
+            }
+        }
+        CHECK(bad_lit == 0, "%d back depths differ from the definition or the recipe", bad_lit);
+        ref_map_free(&m);
+    }
+    {
+        /* (d) a reversed-Z map is forward depth once read: the same backs */
+        float fwd[4] = { 0.0f, 0.5f, 0.75f, 1.0f }, rev[4] = { 1.0f, 0.5f, 0.25f, 0.0f };
+        ref_map mf, mr;
+        CHECK(ref_map_from_raw(&mf, fwd, 4, 1, 0, REF_FORMAT_FLOAT32, 0) == 0 &&
+                  ref_map_from_raw(&mr, rev, 4, 1, 0, REF_FORMAT_FLOAT32, 1) == 0,
+              "from_raw fwd/rev");
+        CHECK(ref_map_set_back_constant(&mf, 1, 1, inf) == 0 && ref_map_set_back_constant(&mr, 1, 1, inf) == 0,
+              "set_back_constant fwd/rev");
+        for (k = 0; k < 4; k++) CHECK(mf.b[k] == mr.b[k], "reversed back %d: %.17g vs %.17g", k, mr.b[k], mf.b[k]);
+        CHECK(mr.b[0] == 0.5 && mr.b[3] == 1, "reversed: near texel %.17g, far texel %.17g", mr.b[0], mr.b[3]);
+        ref_map_free(&mf);
+        ref_map_free(&mr);
+    }
+    {
+        /* (e) bad parameters: -1, and the map (and an earlier back map) unchanged */
+        const double nan = strtod("nan", NULL);
+        static const double bad_amount[] = { 0, -0.0, -1, HUGE_VAL, -HUGE_VAL, 0 /* NaN below */ };
+        ref_map m = map_const(2, 2, 0.5);
+        double *d0 = m.d, *b0;
+        int rel, failed = 0;
+        for (rel = 0; rel < 2; rel++) {
+            int (*set)(ref_map *, double, double, double) = rel ? ref_map_set_back_relative
+                                                                : ref_map_set_back_constant;
+            for (k = 0; k < (int)(sizeof bad_amount / sizeof bad_amount[0]); k++) {
+                double t = k == 5 ? nan : bad_amount[k];
+                if (set(&m, t, 1, inf) != -1 && failed++ < 5) printf("amount %g accepted\n", t);
+            }
+            /* near: zero, negative, infinite, NaN */
+            if (set(&m, 1, 0, inf) != -1) failed++;
+            if (set(&m, 1, -0.0, inf) != -1) failed++;
+            if (set(&m, 1, -1, 3) != -1) failed++;
+            if (set(&m, 1, inf, inf) != -1) failed++;
+            if (set(&m, 1, nan, 3) != -1) failed++;
+            /* far: equal to near, before it, -inf, NaN */
+            if (set(&m, 1, 1, 1) != -1) failed++;
+            if (set(&m, 1, 2, 1) != -1) failed++;
+            if (set(&m, 1, 1, -inf) != -1) failed++;
+            if (set(&m, 1, 1, nan) != -1) failed++;
+            if (set(NULL, 1, 1, inf) != -1) failed++;
+        }
+        CHECK(failed == 0, "%d bad parameter sets accepted", failed);
+        CHECK(m.b == NULL && m.d == d0 && m.w == 2 && m.h == 2 && m.d[0] == 0.5, "bad parameters changed the map");
+        /* an earlier back map is replaced on success, kept on failure */
+        set_back_const(&m, 0.75f);
+        CHECK(ref_map_set_back_constant(&m, 0.5, 1, inf) == 0 && near_f(m.b[0], 0.6) && m.b[3] == m.b[0],
+              "constant replaces a raw back map: %.17g", m.b[0]);
+        b0 = m.b;
+        CHECK(ref_map_set_back_relative(&m, -1, 1, inf) == -1 && m.b == b0 && near_f(m.b[0], 0.6),
+              "a failed set_back_relative changed the back map");
+        CHECK(ref_map_set_back_relative(&m, 1, 1, inf) == 0 && m.b[0] == 0.75, "relative replaces constant");
+        ref_map_free(&m);
+        CHECK(ref_map_set_back_constant(&m, 1, 1, inf) == -1 && ref_map_set_back_relative(&m, 1, 1, inf) == -1,
+              "a freed map accepted");
+    }
+    {
+        /* (f) traced: a thin layer d = 0.5 (z_view = 2 at n = 1, f = inf)
+           with a thicker texel 3 (d = 0.65, z_view = 1/0.35 = 2.857).
+           T = 0.5: b = 1 - 1/2.5 = 0.6 for texels 0..2 and 1 - 1/3.357 = 0.702
+           for texel 3; relative k = 0.25: z' = 2.5, b = 0.6 again, and
+           1 - 1/3.571 = 0.72 for texel 3. A level ray at z = 0.7 passes under
+           the layer and hits texel 3's side at x = 3; with infinite
+           thickness it hits the first texel's side at x = 0. */
+        ref_map m = map_const(4, 1, 0.5);
+        ref_ray under = mkray(-1, 0.5, 0.7, 1, 0, 0, 0, 5);
+        ref_ray deep = mkray(-1, 0.5, 0.75, 1, 0, 0, 0, 5); /* under every texel's back */
+        set_d(&m, 3, 0, 0.65);
+        r = ref_trace_ray(&m, &under);
+        EXPECT_HIT(r, 1, 0, 0);
+        EXPECT_FACE(r, REF_FACE_SIDE);
+        for (k = 0; k < 2; k++) {
+            CHECK((k ? ref_map_set_back_relative(&m, 0.25, 1, inf) : ref_map_set_back_constant(&m, 0.5, 1, inf)) == 0,
+                  "layer set %d", k);
+            CHECK(near_f(m.b[0], 0.6) && m.b[3] > 0.7 && m.b[3] < 0.73, "layer backs %.17g %.17g", m.b[0], m.b[3]);
+            r = ref_trace_ray(&m, &under);
+            EXPECT_HIT(r, 4, 3, 0);
+            EXPECT_FACE(r, REF_FACE_SIDE);
+            a = ans(REF_HIT, 4, 3, 0);
+            a.face = REF_FACE_SIDE;
+            CHECK(ref_check(&m, &under, &a, 0, why, sizeof why), "past the layer refused (%d): %s", k, why);
+            a = ans(REF_HIT, 1, 0, 0); /* the infinite-thickness answer */
+            CHECK(!ref_check(&m, &under, &a, 0, why, sizeof why), "a hit on the layer's shadow accepted (%d)", k);
+            r = ref_trace_ray(&m, &deep);
+            EXPECT_KIND(r, REF_MISS_TMAX);
+            r = tr(&m, mkray(-1, 0.5, 0.55, 1, 0, 0, 0, 5)); /* within the layer: its side */
+            EXPECT_HIT(r, 1, 0, 0);
+        }
+        free(m.b);
+        m.b = NULL;
+        r = ref_trace_ray(&m, &deep);
+        EXPECT_HIT(r, 1, 0, 0);
+        set_d(&m, 3, 0, 0.5);
+        /* finite far: n = 1, f = 3, T = 1, d = 0.5 -> b = 0.9 (see (a));
+           z = 0.95 passes under, z = 0.85 meets the side; d = 0.8 is
+           clamped to 1 and stops z = 0.95 like infinite thickness */
+        CHECK(ref_map_set_back_constant(&m, 1, 1, 3) == 0, "layer f=3");
+        r = tr(&m, mkray(-1, 0.5, 0.95, 1, 0, 0, 0, 5));
+        EXPECT_KIND(r, REF_MISS_TMAX);
+        r = tr(&m, mkray(-1, 0.5, 0.85, 1, 0, 0, 0, 5));
+        EXPECT_HIT(r, 1, 0, 0);
+        set_d(&m, 2, 0, 0.8);
+        CHECK(ref_map_set_back_constant(&m, 1, 1, 3) == 0 && m.b[2] == 1, "clamped texel");
+        r = tr(&m, mkray(-1, 0.5, 0.95, 1, 0, 0, 0, 5));
+        EXPECT_HIT(r, 3, 2, 0);
+        EXPECT_FACE(r, REF_FACE_SIDE);
+        ref_map_free(&m);
+    }
+    {
+        /* (g) the back face from behind, constant model: d = 0.5, n = 1,
+           f = inf, T = 0.5 -> b = 0.6; a ray from z = 0.8 rising
+           (v.z = -1) meets z = b at t = 0.8 - b. Infinite thickness: the
+           origin is inside. */
+        ref_map m = map_const(4, 4, 0.5);
+        double t;
+        ray = mkray(1.5, 1.5, 0.8, 0.25, 0, -1, 0, 10);
+        r = ref_trace_ray(&m, &ray);
+        EXPECT_HIT(r, 0, 1, 1);
+        EXPECT_FACE(r, REF_FACE_INSIDE);
+        CHECK(ref_map_set_back_constant(&m, 0.5, 1, inf) == 0 && near_f(m.b[5], 0.6), "back 0.6: %.17g", m.b[5]);
+        t = (double)0.8f - m.b[5];
+        r = ref_trace_ray(&m, &ray);
+        EXPECT_HIT(r, t, 1, 1);
+        EXPECT_FACE(r, REF_FACE_BACK);
+        a = ans(REF_HIT, t, 1, 1);
+        a.face = REF_FACE_BACK;
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "back face (constant) refused: %s", why);
+        a.face = REF_FACE_TOP;
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "top claimed for a back hit (constant) accepted");
+        /* finite far, n = 1, f = 3, T = 1: b = 0.9; straight up from 0.95 */
+        CHECK(ref_map_set_back_constant(&m, 1, 1, 3) == 0, "back f=3");
+        r = tr(&m, mkray(2.5, 0.5, 0.95, 0, 0, -1, 0, 1));
+        EXPECT_HIT(r, (double)0.95f - m.b[2], 2, 0);
+        EXPECT_FACE(r, REF_FACE_BACK);
+        /* tmax short of the back: a miss */
+        r = tr(&m, mkray(2.5, 0.5, 0.95, 0, 0, -1, 0, 0.03125));
+        EXPECT_KIND(r, REF_MISS_TMAX);
+        ref_map_free(&m);
+    }
+    {
+        /* (h) walk vs all-texel scan on random maps with both models (the
+           generator's state restored: test_random keeps its rays) */
+        unsigned long long saved = g_rng;
+        int n, q, bad = 0, count = 0;
+        for (n = 0; n < 60; n++) {
+            int w = 1 + (int)(rnd() * 8), h = 1 + (int)(rnd() * 8);
+            ref_map m = map_const(w, h, 1);
+            double nz = 0.05 + rnd(), fz = n % 3 == 0 ? inf : nz * (2 + 100 * rnd());
+            for (k = 0; k < w * h; k++) m.d[k] = rnd() < 0.1 ? 1.0 : rnd();
+            if ((n % 2 ? ref_map_set_back_relative(&m, 0.02 + rnd(), nz, fz)
+                       : ref_map_set_back_constant(&m, nz * (0.02 + 2 * rnd()), nz, fz)) != 0)
+                bad++;
+            for (q = 0; q < 60; q++) {
+                ref_result rr, bb;
+                ref__ev be;
+                int c, ok;
+                ray.o[0] = to_f32(rnd_coord(-2, w + 2, 0));
+                ray.o[1] = to_f32(rnd_coord(-2, h + 2, 0));
+                ray.o[2] = to_f32(rnd_coord(-0.5, 1.5, 0));
+                for (c = 0; c < 3; c++) ray.v[c] = to_f32(rnd_coord(-3, 3, 0));
+                ray.tmin = 0;
+                ray.tmax = to_f32(rnd_coord(0, 6, 0));
+                count++;
+                rr = ref_trace_ray(&m, &ray);
+                bb = brute(&m, &ray, &be);
+                ok = rr.kind == bb.kind;
+                if (ok && rr.kind == REF_HIT) {
+                    /* the same exact t (a tie between texels may name another texel, by another face) */
+                    double o[3], v[3];
+                    ref__ev t0 = ref__ev_scalar(ray.tmin), t1 = ref__ev_scalar(ray.tmax), e;
+                    int face;
+                    for (c = 0; c < 3; c++) { o[c] = ray.o[c]; v[c] = ray.v[c]; }
+                    ok = ref__texel(&m, rr.x, rr.y, o, v, &t0, &t1, &e, &face) && ref__cmp(&e, &be) == 0 &&
+                         face == rr.face && (rr.x != bb.x || rr.y != bb.y || (rr.t == bb.t && rr.face == bb.face));
+                }
+                if (!ok && bad++ < 5)
+                    printf("models vs brute: kind %d/%d t %.17g/%.17g face %d/%d map %dx%d\n", rr.kind, bb.kind,
+                           rr.t, bb.t, rr.face, bb.face, w, h);
+                a.kind = rr.kind; a.t = (float)rr.t; a.x = rr.x; a.y = rr.y; a.face = rr.face;
+                if (!ref_check(&m, &ray, &a, 0, why, sizeof why) && bad++ < 5)
+                    printf("models: check refuses the reference: %s\n", why);
+            }
+            ref_map_free(&m);
+        }
+        g_rng = saved;
+        CHECK(bad == 0, "%d of %d rays on perspective-thickness maps disagree", bad, count);
+    }
+}
+
+/* The float32 recipe of the constant and relative models (the top of
+   reference.h: what ref_map_set_back_constant and ref_map_set_back_relative
+   store, and what the library computes) against their double definition
+   (ref_back_constant_exact, ref_back_relative_exact), over projections
+   (near 0.01 .. 10, far / near 1.01 .. 1e6 and infinite), thicknesses
+   (1e-7 .. 1e7; relative k likewise) and depths from float32, unorm8 and
+   unorm16 maps read by ref_map_from_raw (dense in [0, 1], with values
+   near 0 and within a few ulps of 1). The error, in float32 ulps at b's
+   magnitude and absolute, is a few ulps everywhere in both models:
+   - relative model: b = (d + k s) / (1 + k) adds positive terms;
+   - constant model: b = d + e, e = c1 / ((q + c1) / u), in reals
+     (s - d) T / (z_view + T) >= 0: a chain of divisions of positive values (and
+     one difference u = s - d of a constant and the depth), each rounded
+     once, and the depth d added last: small b (d near 0 with T small
+     next to n) and far close to near (s up to 101) included. (The
+     earlier recipe b = (1 - n / z') s lost up to 2.2e7 ulps, 1.68e-5
+     absolute, there.)
+   The tracer and the reference agree bit for bit either way; this bounds
+   how far both are from MODEL.md's b. */
+/* The recipe once more, transcribed from its text for a float32 depth d
+   (a second copy, to catch an edit of reference.h that lets a step skip
+   its rounding, e.g. a contraction under -march=native): every step a
+   volatile float. */
+static double recipe_again(float d, int rel, double amt, double n, double f)
+{
+    double s = f > DBL_MAX ? 1.0 : f / (f - n);
+    volatile float c0 = to_f32(rel ? amt * s : s), c1 = to_f32(rel ? 1.0 + amt : amt / n);
+    volatile float t1, t2, t3, t4, t5, b;
+    if (rel) {
+        t1 = d + c0;
+        b = t1 / c1;
+    } else {
+        t1 = c0 - d;  /* u */
+        t2 = c0 / t1; /* q */
+        t3 = t2 + c1;
+        t4 = t3 / t1;
+        t5 = c1 / t4; /* e */
+        b = d + t5;
+    }
+    if (!(b <= 1.0f)) b = 1.0f;
+    if (b < d) b = d;
+    return b;
+}
+
+static void test_thickness_recipe(void)
+{
+    static const double nears[] = { 0.01, 0.1, 1, 10 };
+    static const double ratios[] = { 0 /* infinite far */, 1.01, 1.5, 2, 10, 100, 1e3, 1e4, 1e5, 1e6 };
+    static const double amounts[] = { 1e-7, 1e-5, 1e-3, 0.01, 0.1, 0.5, 1, 3, 10, 100, 1e3, 1e5, 1e7 };
+    float *fd = (float *)malloc(4096 * sizeof(float));
+    unsigned char u8[256];
+    unsigned short *u16 = (unsigned short *)malloc(4096 * sizeof(unsigned short));
+    ref_map mf, m8, m16, m;
+    int nf = 0, n16 = 0, k, i, bad = 0, bad_unorm = 0, bad_again = 0;
+    double rel_ulps = 0, rel_abs = 0, con_ulps = 0, con_abs = 0;
+    /* float32 depths: a grid, 0 and 1, values near 0, and near 1 */
+    for (i = 0; i < 2048; i++) fd[nf++] = (float)((i + 0.5) / 2048);
+    fd[nf++] = 0.0f;
+    fd[nf++] = 1.0f;
+    for (i = 1; i <= 149; i += 2) fd[nf++] = (float)ldexp(1.0, -i);
+    for (i = 1; i <= 64; i++) fd[nf++] = (float)ldexp(i, -30);
+    for (i = 1; i <= 128; i++) fd[nf++] = (float)(1.0 - ldexp(i, -24));
+    for (i = 1; i <= 64; i++) fd[nf++] = (float)(1.0 - ldexp(i, -18));
+    /* unorm8: every value; unorm16: both ends and every 31st */
+    for (i = 0; i < 256; i++) u8[i] = (unsigned char)i;
+    for (i = 0; i < 65536; i++)
+        if (i < 128 || i >= 65408 || i % 31 == 0) u16[n16++] = (unsigned short)i;
+    CHECK(ref_map_from_raw(&mf, fd, nf, 1, 0, REF_FORMAT_FLOAT32, 0) == 0 &&
+              ref_map_from_raw(&m8, u8, 256, 1, 0, REF_FORMAT_UNORM8, 0) == 0 &&
+              ref_map_from_raw(&m16, u16, n16, 1, 0, REF_FORMAT_UNORM16, 0) == 0,
+          "recipe sweep maps");
+    m = map_const(nf + 256 + n16, 1, 0.0);
+    memcpy(m.d, mf.d, (size_t)nf * sizeof(double));
+    memcpy(m.d + nf, m8.d, 256 * sizeof(double));
+    memcpy(m.d + nf + 256, m16.d, (size_t)n16 * sizeof(double));
+    ref_map_free(&mf);
+    ref_map_free(&m8);
+    ref_map_free(&m16);
+    free(fd);
+    free(u16);
+
+    /* a unorm depth d = v / max (double) is read by the recipe as the
+       float32 division (float)v / (float)max, which is also (float)d */
+    for (i = 0; i < 65536; i++) {
+        int mx;
+        for (mx = 0; mx < 2; mx++) {
+            double max = mx ? 65535.0 : 255.0, dd = i / max;
+            volatile float fv = (float)i, fm = (float)max, q;
+            if (i > max) continue;
+            q = fv / fm;
+            if (!(ref__depth_f32(dd) == q && (float)dd == q) && bad_unorm++ < 5)
+                printf("unorm depth %d/%g: recipe d %.9g, float division %.9g\n", i, max,
+                       (double)ref__depth_f32(dd), (double)q);
+        }
+    }
+    CHECK(bad_unorm == 0, "%d unorm depths read unlike (float)v / (float)max", bad_unorm);
+
+    for (i = 0; i < 2 * 4 * 10 * 13; i++) {
+        int rel = i % 2, a = i / 2 % 13, r = i / 26 % 10, p = i / 260;
+        double n = to_f32(nears[p]), f = ratios[r] == 0 ? HUGE_VAL : to_f32(nears[p] * ratios[r]);
+        double amt = to_f32(amounts[a]);
+        if ((rel ? ref_map_set_back_relative(&m, amt, n, f) : ref_map_set_back_constant(&m, amt, n, f)) != 0) {
+            bad++;
+            continue;
+        }
+        for (k = 0; k < m.w; k++) {
+            double d = m.d[k], b = m.b[k];
+            double x = rel ? ref_back_relative_exact(d, amt, n, f) : ref_back_constant_exact(d, amt, n, f);
+            double err = fabs(b - x), ulps = err / ulp_f32(x), again;
+            /* constants past FLT_MAX do not occur here: to_f32 is a plain cast */
+            again = recipe_again((float)d, rel, amt, n, f);
+            if (again < d) again = d;
+            if (b != again && bad_again++ < 5)
+                printf("recipe: map b %a, transcribed %a: d %.17g n %g f %g %s %g\n", b, again, d, n, f,
+                       rel ? "k" : "T", amt);
+            /* a float in [d, 1] (or d itself: a unorm d is not a float); d = 1 keeps 1 */
+            if (!(b >= d && b <= 1 && ((double)(float)b == b || b == d) && (d < 1 || b == 1)) && bad++ < 5)
+                printf("recipe: b %.17g out of [d, 1] or not a float: d %.17g n %g f %g %s %g\n", b, d, n, f,
+                       rel ? "k" : "T", amt);
+            if (rel) {
+                if (ulps > rel_ulps) rel_ulps = ulps;
+                if (err > rel_abs) rel_abs = err;
+            } else {
+                if (ulps > con_ulps) con_ulps = ulps;
+                if (err > con_abs) con_abs = err;
+            }
+        }
+    }
+    ref_map_free(&m);
+    CHECK(bad == 0, "%d recipe back depths out of [d, 1], not floats, or refused", bad);
+    CHECK(bad_again == 0, "%d recipe back depths differ from the transcription", bad_again);
+    printf("recipe vs definition, everywhere: relative model %.2f ulps, %.3g abs; constant model %.2f ulps, "
+           "%.3g abs\n",
+           rel_ulps, rel_abs, con_ulps, con_abs);
+    /* This sweep measures 2.27 ulps, 1.35e-07 abs (relative) and 4.18
+       ulps, 2.05e-07 abs (constant). A random search of 1.26e9 samples of
+       the constant model (a throwaway program, 110 s of CPU; log-uniform
+       near 0.01 .. 10, far / near 1.01 .. 1e6 or infinite, T 1e-7 .. 1e7,
+       each rounded to float32; float depths uniform, over all bit
+       patterns, near 0 and near 1, unorm8 and unorm16 ones) found more:
+       6.21 ulps (d = 0x1.443cacp-10, n = 0x1.2f79d8p+2,
+       f = 0x1.2a38a8p+10, T = 0x1.45c682p-1: b = 0.1197) and 2.99e-07 abs
+       (d = 0x1.27058p-18, n = 0x1.f4115p+1, f = 0x1.09f482p+2,
+       T = 0x1.f697fcp-3: b = 0.987, s = 16.7), both confirmed in exact
+       rational arithmetic; an earlier search of 3e8 samples found 3.26
+       ulps for the relative model. The bounds are a margin over the
+       largest of these: 4 ulps for the relative model (about what its
+       four roundings of at most 2^-24 relative each, and the unorm d's,
+       can reach), 6.5 ulps and 3.2e-7 abs for the constant one (eight
+       roundings: c0, c1 and six steps). */
+    CHECK(rel_ulps <= 4, "relative model: recipe %.3g ulps from the definition", rel_ulps);
+    CHECK(con_ulps <= 6.5, "constant model: recipe %.3g ulps from the definition", con_ulps);
+    CHECK(con_abs <= 3.2e-7, "constant model: recipe %.3g abs from the definition", con_abs);
+}
+
 static void test_random(void)
 {
     static const double levels[6] = { 0, 0.25, 0.5, 0.75, 1, 0.3 };
@@ -1107,6 +1649,8 @@ int main(void)
     test_check();
     test_faces();
     test_thickness();
+    test_thickness_models();
+    test_thickness_recipe();
     test_random();
     printf("%d passed, %d failed\n", g_pass, g_fail);
     return g_fail > 0 ? 1 : 0;

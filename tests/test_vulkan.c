@@ -62,6 +62,7 @@ typedef struct gpu_depth {
     /* a back-map tree's maps: pair[0] the depth (LRT_DEPTH_BACK_FOLLOWS), pair[1] its back map */
     int thick;
     lrt_vk_depth pair[2];
+    lrt_build_options model; /* the tree's thickness model (test_map.model) */
 } gpu_depth;
 
 /* the lrt_vk_depth the calls take: the depth, or the pair */
@@ -146,8 +147,8 @@ static int gpu_build(const lrt_depth *d, uint32_t node_bits, gpu_depth *g, lrt_v
     bd.width = d->width;
     bd.height = d->height;
     bd.format = d->format;
+    bd.options = g->model;
     bd.options.node_bits = node_bits;
-    bd.options.thickness = g->thick ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
     bd.flags = LRT_VK_BVH_HOST_VISIBLE;
     r = lrt_vk_bvh_create(g_ctx, &bd, bvh);
     CHECK(r == LRT_SUCCESS && bvh->mapped, "%s: lrt_vk_bvh_create: %s", what, lrt_result_string(r));
@@ -273,7 +274,7 @@ static void trace_case(const test_map *m, const lrt_bvh *cpu, const lrt_vk_bvh *
         kinds[i] = (int)(i % RAY_KIND_COUNT);
         rays[i] = make_ray(m, kinds[i]);
     }
-    CHECK(lrt_trace(cpu, m->back_storage ? m->pair : &m->depth, rays, cpu_hits, n, 0) == LRT_SUCCESS, "%s: CPU trace", what);
+    CHECK(lrt_trace(cpu, test_map_depth(m), rays, cpu_hits, n, 0) == LRT_SUCCESS, "%s: CPU trace", what);
     if (gpu_trace(gpu, g, rays, gpu_hits, n, 0, 0, what) == 0) judge(what, m, rays, kinds, gpu_hits, cpu_hits, n, 0);
     else CHECK(0, "%s: GPU trace failed", what);
     if (n >= 300) { /* any hit, a slice at an offset: ray_first */
@@ -303,13 +304,14 @@ static void build_case(int w, int h, int shape, lrt_format format, int reversed,
     gpu_depth g, gb;
     char what[200];
     make_map(&m, w, h, shape, format, reversed, (w + h) & 1);
-    if (thick) add_back(&m);
-    memset(&opt, 0, sizeof opt);
+    if (thick == LRT_THICKNESS_BACK_MAP) add_back(&m);
+    if (thick >= LRT_THICKNESS_CONSTANT) /* thin or thick layers, far planes finite or not */
+        add_model(&m, (uint32_t)thick, (w & 1) ? 0.05f : 1.5f, (h & 1) ? 0.1f : 1.0f, (w & 2) ? 100.0f : INFINITY);
+    opt = m.model;
     opt.node_bits = node_bits;
-    opt.thickness = thick ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
-    CHECK(lrt_bvh_build(&cpu, thick ? m.pair : &m.depth, &opt, NULL) == LRT_SUCCESS, "CPU build");
+    CHECK(lrt_bvh_build(&cpu, test_map_depth(&m), &opt, NULL) == LRT_SUCCESS, "CPU build");
     snprintf(what, sizeof what, "%dx%d %s fmt=%d%s nodes=%u %s%s", w, h, m.name, (int)format, reversed ? " reversed" : "",
-             cpu.layout.node_bits, src_names[source], thick ? " back map" : "");
+             cpu.layout.node_bits, src_names[source], model_name(&m));
     memset(&gb, 0, sizeof gb);
     if (source == SRC_IMAGE) {
         size_t len = strlen(what);
@@ -322,9 +324,9 @@ static void build_case(int w, int h, int shape, lrt_format format, int reversed,
         }
     }
     memset(&gpu, 0, sizeof gpu);
-    if (gpu_depth_create(&m.depth, source, image_format, &g) == 0 &&
-        (!thick || gpu_depth_create(&m.pair[1], source, image_format, &gb) == 0) &&
-        (!thick || (g.thick = 1, g.pair[0] = g.depth, g.pair[0].flags |= LRT_DEPTH_BACK_FOLLOWS, g.pair[1] = gb.depth, 1)) &&
+    if (gpu_depth_create(&m.depth, source, image_format, &g) == 0 && (g.model = m.model, 1) &&
+        (!m.back_storage || gpu_depth_create(&m.pair[1], source, image_format, &gb) == 0) &&
+        (!m.back_storage || (g.thick = 1, g.pair[0] = g.depth, g.pair[0].flags |= LRT_DEPTH_BACK_FOLLOWS, g.pair[1] = gb.depth, 1)) &&
         gpu_build(&m.depth, node_bits, &g, &gpu, what) == 0) {
         CHECK(gpu.layout.node_bits == cpu.layout.node_bits && gpu.layout.level_count == cpu.layout.level_count,
               "%s: layouts differ", what);
@@ -408,11 +410,25 @@ static void test_build_and_trace(void)
     build_case(300, 200, SHAPE_WILD, LRT_FORMAT_FLOAT32, 0, 16, SRC_PACKED, VK_FORMAT_UNDEFINED, 2600, 1);
     build_case(1, 1, SHAPE_NOISE, LRT_FORMAT_FLOAT32, 0, 8, SRC_PACKED, VK_FORMAT_UNDEFINED, 300, 1);
     build_case(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, SRC_IMAGE, VK_FORMAT_D32_SFLOAT, 20000, 1);
+    /* constant and relative thickness: b(d) in the kernels, the CPU's floats */
+    for (f = 1; f <= 3; ++f) {
+        const lrt_format fmt = (lrt_format)f;
+        int model;
+        for (model = LRT_THICKNESS_CONSTANT; model <= LRT_THICKNESS_RELATIVE; ++model) {
+            build_case(100, 37, SHAPE_SCENE, fmt, f == 2, 0, SRC_OFFSET, VK_FORMAT_UNDEFINED, 2600, model);
+            build_case(34, 21, SHAPE_POLES, fmt, 1, fmt == LRT_FORMAT_UNORM8 ? 16u : 8u, SRC_IMAGE, default_image_format(fmt, 1), 1300, model);
+            build_case(39, 20, SHAPE_NOISE, fmt, 0, 16, SRC_PACKED, VK_FORMAT_UNDEFINED, 1300, model);
+        }
+    }
+    build_case(300, 201, SHAPE_WILD, LRT_FORMAT_FLOAT32, 0, 16, SRC_PACKED, VK_FORMAT_UNDEFINED, 2600, LRT_THICKNESS_CONSTANT);
+    build_case(512, 512, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, SRC_IMAGE, VK_FORMAT_D32_SFLOAT, 20000, LRT_THICKNESS_CONSTANT);
+    build_case(514, 513, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 1, 16, SRC_PACKED, VK_FORMAT_UNDEFINED, 20000, LRT_THICKNESS_RELATIVE);
 }
 
 /* ---- (b) update == the CPU's update ---------------------------------------------------- */
 
-static void update_case(lrt_format format, uint32_t bits, int source)
+/* thick: 0, or the constant or relative thickness model (b(d) refit in the kernels) */
+static void update_case(lrt_format format, uint32_t bits, int source, uint32_t thick)
 {
     const int w = 203, h = 131, frames = 12;
     float *d = (float *)malloc(sizeof(float) * w * h), *prev = (float *)malloc(sizeof(float) * w * h);
@@ -431,12 +447,18 @@ static void update_case(lrt_format format, uint32_t bits, int source)
     dm.format = format;
     memset(&opt, 0, sizeof opt);
     opt.node_bits = bits;
-    snprintf(what, sizeof what, "update %dx%d fmt=%d nodes=%u %s", w, h, (int)format, bits, src_names[source]);
+    opt.thickness = thick;
+    opt.thickness_value = thick == LRT_THICKNESS_CONSTANT ? 0.4f : 0.1f;
+    opt.near_z = 0.1f;
+    opt.far_z = 60.0f;
+    snprintf(what, sizeof what, "update %dx%d fmt=%d nodes=%u %s%s", w, h, (int)format, bits, src_names[source],
+             thick == LRT_THICKNESS_CONSTANT ? " constant thickness" : thick ? " relative thickness" : "");
     paint_frame(d, w, h, 0);
     vkt_encode_depth(d, bytes, (size_t)w * h, format);
     CHECK(lrt_bvh_build(&live, &dm, &opt, NULL) == LRT_SUCCESS, "%s: CPU build", what);
     memset(&gpu, 0, sizeof gpu);
-    if (gpu_depth_create(&dm, source, default_image_format(format, 1), &g) || gpu_build(&dm, bits, &g, &gpu, what)) {
+    if (gpu_depth_create(&dm, source, default_image_format(format, 1), &g) || (g.model = opt, 0) ||
+        gpu_build(&dm, bits, &g, &gpu, what)) {
         CHECK(0, "%s: GPU set-up failed", what);
     } else {
         CHECK(same_nodes(&gpu, &live, what), "%s: GPU build of frame 0 differs", what);
@@ -488,11 +510,14 @@ static void update_case(lrt_format format, uint32_t bits, int source)
 
 static void test_update(void)
 {
-    update_case(LRT_FORMAT_FLOAT32, 16, SRC_OFFSET);
-    update_case(LRT_FORMAT_FLOAT32, 8, SRC_PACKED);
-    update_case(LRT_FORMAT_FLOAT32, 16, SRC_IMAGE);
-    update_case(LRT_FORMAT_UNORM16, 0, SRC_IMAGE);
-    update_case(LRT_FORMAT_UNORM8, 0, SRC_OFFSET);
+    update_case(LRT_FORMAT_FLOAT32, 16, SRC_OFFSET, 0);
+    update_case(LRT_FORMAT_FLOAT32, 8, SRC_PACKED, 0);
+    update_case(LRT_FORMAT_FLOAT32, 16, SRC_IMAGE, 0);
+    update_case(LRT_FORMAT_UNORM16, 0, SRC_IMAGE, 0);
+    update_case(LRT_FORMAT_UNORM8, 0, SRC_OFFSET, 0);
+    update_case(LRT_FORMAT_FLOAT32, 16, SRC_OFFSET, LRT_THICKNESS_CONSTANT);
+    update_case(LRT_FORMAT_UNORM16, 8, SRC_IMAGE, LRT_THICKNESS_RELATIVE);
+    update_case(LRT_FORMAT_UNORM8, 0, SRC_PACKED, LRT_THICKNESS_CONSTANT);
 }
 
 /* ---- 2D dispatches: more than 65535 groups of 64 ------------------------------------- */
@@ -808,6 +833,24 @@ static void test_bad_arguments(void)
         memcpy(&pair[1].view, &g.depth.buffer, sizeof pair[1].view < sizeof g.depth.buffer ? sizeof pair[1].view : sizeof g.depth.buffer);
         pair[1].layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL; /* an image back map for a buffer depth: rejected before use */
         EXPECT(lrt_vk_cmd_build(g_ctx, cmd, &thick, pair), LRT_ERROR_INVALID_OPTION, "build: a buffer depth with an image back map");
+        lrt_vk_bvh_destroy(g_ctx, &thick);
+        /* constant thickness: no back map, and numbers it can use */
+        tbd.options.thickness = LRT_THICKNESS_CONSTANT;
+        tbd.options.thickness_value = 0.5f;
+        tbd.options.near_z = 0.1f;
+        tbd.options.far_z = 0.1f;
+        EXPECT(lrt_vk_bvh_create(g_ctx, &tbd, &thick), LRT_ERROR_INVALID_THICKNESS, "create: far plane on the near plane");
+        tbd.options.far_z = INFINITY;
+        tbd.options.thickness_value = NAN;
+        EXPECT(lrt_vk_bvh_create(g_ctx, &tbd, &thick), LRT_ERROR_INVALID_THICKNESS, "create: a NaN thickness");
+        tbd.options.thickness_value = 0.5f;
+        CHECK(lrt_vk_bvh_create(g_ctx, &tbd, &thick) == LRT_SUCCESS && thick.layout.bytes == 2 * bvh.layout.bytes,
+              "a constant-thickness tree on the GPU: twice the bytes");
+        pair[1] = g.depth;
+        EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &thick, pair, NULL), LRT_ERROR_THICKNESS_MISMATCH,
+               "update: a constant-thickness tree with a back map");
+        EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &thick, pair, rb.buffer, 0, hb.buffer, 0, 1, 0), LRT_ERROR_THICKNESS_MISMATCH,
+               "trace: a constant-thickness tree with a back map");
         lrt_vk_bvh_destroy(g_ctx, &thick);
     }
     rect.x = 2; rect.y = 0; rect.width = 2; rect.height = 1;

@@ -48,8 +48,11 @@ LrtParams params()
     p.level_count = pc.level_count;
     p.depth_offset = pc.depth_offset;
     p.row_stride = pc.row_stride;
-    p.back_offset = 0u; // no back map here (an infinite-thickness tree): flags has no bit 1
+    p.back_offset = 0u; // an infinite-thickness tree: no back map, no model
     p.back_row_stride = 0u;
+    p.thickness = LRT_THICKNESS_INFINITE;
+    p.back_k0 = 0.0;
+    p.back_k1 = 0.0;
     return p;
 }
 

@@ -3,25 +3,38 @@
    The input bytes are read as a depth map (size, format, flags, row stride,
    data offset, node bits, depth values), a batch of rays and a dirty rect,
    and (byte 16, the thickness selector) the tree's thickness model
-   (LRT_THICKNESS_INFINITE, LRT_THICKNESS_BACK_MAP or an invalid value), the
-   LRT_DEPTH_BACK_FOLLOWS flag and the back map that follows the depth
-   (its stride, its values from the depth's palette, or one fault: NULL,
-   another size, format or Z direction, a bad stride, bad flags). A 0 there
-   is the infinite model with the flags as before: an older input with a 0
-   inserted at byte 16 reads as it did (but for the one texel of a 1x1
-   8-bit map, which older versions left unfilled).
+   (LRT_THICKNESS_INFINITE, LRT_THICKNESS_BACK_MAP, LRT_THICKNESS_CONSTANT,
+   LRT_THICKNESS_RELATIVE or an invalid value), the LRT_DEPTH_BACK_FOLLOWS
+   flag and the back map that follows the depth (its stride, its values
+   from the depth's palette, or one fault: NULL, another size, format or Z
+   direction, a bad stride, bad flags). A 0 there is the infinite model
+   with the flags as before: an older input with a 0 inserted at byte 16
+   reads as it did (but for the one texel of a 1x1 8-bit map, which older
+   versions left unfilled). The constant and relative models take their
+   thickness_value, near_z and far_z from bytes read after the fixed fields
+   (read_model): sane ones (0.002..10, near 0.05..2, far finite or
+   INFINITY) or wild ones (0, negative, NaN, infinities, denormals, huge,
+   far at or below near, raw floats); only inputs that select these models
+   (byte 16 = 7 with bit 6 or 7 set: an invalid thickness before them)
+   read those bytes, so older inputs keep their meaning.
    It builds (lrt_bvh_build and lrt_bvh_build_in into exactly
    lrt_bvh_memory_size heap bytes), traces, judges every answer with the
    exact reference of tests/reference.h (ref_check: MODEL.md's "Right, and
-   how right"; with the back map as the reference's b), then changes the
-   depth (and the back map) inside the rect, updates and compares the nodes
-   with a fresh build byte for byte. It also traces and updates a back-map
-   tree without its back map, an infinite one with one, and a back-map tree
-   with a faulty back map. Every result code must be one the header
-   documents for the inputs given; any disagreement prints what differed
-   and aborts. The depth structs and both maps are heap blocks of exactly
-   their size (one lrt_depth without LRT_DEPTH_BACK_FOLLOWS), so ASan sees
-   any read past them. */
+   how right"; with the back map as the reference's b, or the reference's
+   own b of the constant or relative model, ref_map_set_back_constant /
+   ref_map_set_back_relative), then changes the depth (and the back map)
+   inside the rect, updates and compares the nodes with a fresh build byte
+   for byte. A model's parameters are judged by the header's rules alone
+   (model_errors: LRT_ERROR_INVALID_THICKNESS, and the tree's back_k are
+   the two constants computed in double and rounded to float); a tree the
+   library builds from parameters the reference refuses is a failure. It
+   also traces and updates a back-map tree without its back map, any other
+   tree with one (a faulty one too: never read), and a back-map tree with
+   a faulty back map. Every result code must be one the header documents
+   for the inputs given; any disagreement prints what differed and aborts.
+   The depth structs and both maps are heap blocks of exactly their size
+   (one lrt_depth without LRT_DEPTH_BACK_FOLLOWS), so ASan sees any read
+   past them. */
 #define LINEAR_RT_IMPLEMENTATION
 #include "../../linear_rt.h"
 #include "../reference.h"
@@ -91,13 +104,47 @@ static codes depth_errors(const lrt_depth *d, size_t *span)
     return e;
 }
 
-/* The options: node bits not 0/8/16, a thickness not one of lrt_thickness. */
+/* A double rounded once to float32 is finite: below the midpoint of
+   FLT_MAX and 2^128 (the midpoint itself rounds to the even 2^128, inf). */
+static int float_finite(double x) { return fabs(x) < (double)FLT_MAX + ldexp(1.0, 103); }
+
+/* ... and positive: above half the smallest denormal (2^-150, a tie that
+   rounds to the even 0). */
+static int float_positive(double x) { return x > ldexp(1.0, -150); }
+
+/* The CONSTANT and RELATIVE models' parameters, from the header's words
+   (lrt_build_options, lrt_layout.back_k): INVALID_THICKNESS unless
+   0 < thickness_value, 0 < near_z < far_z, all finite but far_z (which may
+   be +INFINITY), and the two constants, each computed in double and
+   rounded once to float, are finite (the second > 0):
+     inv_s = far infinite ? 1 : far / (far - near);
+     CONSTANT: k0 = inv_s, k1 = value / near;  RELATIVE: k0 = value * inv_s, k1 = 1 + value.
+   k: the two constants as floats, when valid. */
+static codes model_errors(const lrt_build_options *o, float k[2])
+{
+    const double value = o->thickness_value, n = o->near_z, f = o->far_z;
+    double inv_s, k0, k1;
+    if (!isfinite(value) || value <= 0.0 || !isfinite(n) || n <= 0.0 || isnan(f) || !(n < f))
+        return CODE(LRT_ERROR_INVALID_THICKNESS);
+    inv_s = isinf(f) ? 1.0 : f / (f - n);
+    k0 = o->thickness == LRT_THICKNESS_CONSTANT ? inv_s : value * inv_s;
+    k1 = o->thickness == LRT_THICKNESS_CONSTANT ? value / n : 1.0 + value;
+    if (!float_finite(k0) || !float_finite(k1) || !float_positive(k1)) return CODE(LRT_ERROR_INVALID_THICKNESS);
+    k[0] = (float)k0; /* in range: no undefined conversion */
+    k[1] = (float)k1;
+    return 0;
+}
+
+/* The options: node bits not 0/8/16, a thickness not one of lrt_thickness
+   (INVALID_OPTION), the parameters of the constant and relative models
+   (INVALID_THICKNESS, model_errors). */
 static codes bits_errors(const lrt_build_options *o)
 {
     codes e = 0;
+    float k[2];
     if (o && o->node_bits != 0 && o->node_bits != 8 && o->node_bits != 16) e |= CODE(LRT_ERROR_INVALID_OPTION);
-    if (o && o->thickness != LRT_THICKNESS_INFINITE && o->thickness != LRT_THICKNESS_BACK_MAP)
-        e |= CODE(LRT_ERROR_INVALID_OPTION);
+    if (o && o->thickness > LRT_THICKNESS_RELATIVE) e |= CODE(LRT_ERROR_INVALID_OPTION);
+    if (o && (o->thickness == LRT_THICKNESS_CONSTANT || o->thickness == LRT_THICKNESS_RELATIVE)) e |= model_errors(o, k);
     return e;
 }
 
@@ -137,7 +184,7 @@ static codes pair_errors(const lrt_bvh *bvh, const lrt_depth *dp)
     codes e = depth_errors(&dp[0], &span);
     if (!bvh->built) e |= CODE(LRT_ERROR_INVALID_BVH);
     else if (dp[0].width != bvh->layout.width || dp[0].height != bvh->layout.height) e |= CODE(LRT_ERROR_SIZE_MISMATCH);
-    return e | back_errors(dp, bvh->layout.back_codes ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE, &span);
+    return e | back_errors(dp, bvh->built ? bvh->layout.thickness : (uint32_t)LRT_THICKNESS_INFINITE, &span);
 }
 
 /* A heap copy of a depth and, with LRT_DEPTH_BACK_FOLLOWS, its back map:
@@ -316,6 +363,58 @@ static void judge(const ref_map *m, const lrt_ray *rays, const lrt_hit *hits, si
     }
 }
 
+/* ---- the constant and relative models' parameters ------------------------------
+   Read after the fixed fields (and node_bits_raw) when byte 16 selects one
+   of these models: a kind byte pk, then each of thickness_value, near_z,
+   far_z in turn, as its kind says. pk bits 0-1: the value, bits 2-3: near
+   (0, 1: one byte on a sane grid; 2: one byte, a wild value; 3: four raw
+   bytes); bits 4-6: far (0-2: one byte, near times 1 + 2^-4 .. 2^12; 3:
+   +INFINITY, no byte; 4: one byte, a wild value; 5: four raw bytes; 6: one
+   byte, at near: equal, one float above or below, a few ulps above; 7:
+   one byte, huge and finite); bit 7 unused. sane: only the sane kinds
+   (the value's and near's bit 1 cleared, far finite or INFINITY by bit 4). */
+static float wild_float(uint8_t b)
+{
+    static const float wild[16] = {0.0f, 1e-45f, 1e-40f, FLT_MIN, 1e-30f, 1e-7f, 0.5f, 1.0f,
+                                   3.0f, 1e7f, 1e30f, 1.7e38f, FLT_MAX, 0.0f, 0.0f, 0.0f};
+    float v = wild[b & 15];
+    if ((b & 15) == 13) v = INFINITY;
+    if ((b & 15) == 14 || (b & 15) == 15) v = NAN;
+    return (b & 16) ? -v : v;
+}
+
+static float grid(uint8_t b, double lo, double hi) /* lo .. hi, logarithmic */
+{
+    return (float)(lo * pow(hi / lo, (double)b / 255.0));
+}
+
+static void read_model(input *in, int relative, int sane, lrt_build_options *o)
+{
+    uint8_t pk = u8(in), b;
+    uint32_t vk = pk & 3, nk = pk >> 2 & 3, fk = pk >> 4 & 7;
+    if (sane) { vk &= 1; nk &= 1; fk = (fk & 1) ? 3 : 0; }
+    if (vk == 3) o->thickness_value = f32(in);
+    else if (vk == 2) o->thickness_value = wild_float(u8(in));
+    else o->thickness_value = relative ? grid(u8(in), 0.002, 2.0) : grid(u8(in), 0.01, 10.0); /* k, or T in metres */
+    if (nk == 3) o->near_z = f32(in);
+    else if (nk == 2) o->near_z = wild_float(u8(in));
+    else o->near_z = grid(u8(in), 0.05, 2.0);
+    switch (fk) {
+    case 3: o->far_z = INFINITY; break;
+    case 4: o->far_z = wild_float(u8(in)); break;
+    case 5: o->far_z = f32(in); break;
+    case 6:
+        b = u8(in);
+        o->far_z = (b & 3) == 0 ? o->near_z
+                   : (b & 3) == 1 ? nextafterf(o->near_z, INFINITY)
+                   : (b & 3) == 2 ? nextafterf(o->near_z, -INFINITY)
+                                  : o->near_z * (1.0f + (float)(1 + (b >> 2)) * FLT_EPSILON);
+        break;
+    case 7: b = u8(in); o->far_z = ldexpf(FLT_MAX, -(int)(b % 64)); break;
+    default: o->far_z = (float)((double)o->near_z * (1.0 + exp2((double)u8(in) / 16.0 - 4.0))); break;
+    }
+}
+
 /* ---- one input ------------------------------------------------------------------ */
 enum { MAX_RAYS = 96 };
 #define MAX_MAP_BYTES ((size_t)64 << 20) /* a valid map larger than this gets NULL data */
@@ -326,7 +425,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static const uint32_t odd_formats[8] = {0, 4, 5, 7, 255, 0x10001, 0x7fffffff, 0x80000000u};
     static const uint32_t odd_sizes[4] = {0, LINEAR_RT_MAX_DIM, LINEAR_RT_MAX_DIM + 1, 0xffffffffu};
-    static const uint32_t odd_thickness[4] = {2, 7, 0x80000000u, 0xffffffffu};
+    static const uint32_t odd_thickness[4] = {4, 7, 0x80000000u, 0xffffffffu}; /* 2 was one before CONSTANT */
     input in = {data, size, 0};
     uint8_t size_sel = u8(&in), wb = u8(&in), hb = u8(&in), fmt_sel = u8(&in), flag_sel = u8(&in);
     uint8_t stride_sel = u8(&in), bits_sel = u8(&in), depth_mode = u8(&in), ray_sel = u8(&in), trace_sel = u8(&in);
@@ -339,7 +438,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     size_t span = 0, bspan = 0, alloc_span, balloc, boff, mem_bytes = 0, nrays, k;
     codes derr, bfaults, berr;
     unsigned char *store, *store2 = NULL, *bstore = NULL, *bstore2 = NULL, *mem = NULL;
-    int have_map, have_back;
+    int have_map, have_back, model;
     lrt_bvh bvh, bvh_in, sentinel, fresh;
     lrt_ray *rays;
     lrt_hit *hits, *hits2;
@@ -353,6 +452,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     for (k = 0; k < 4; ++k) rect_b[k] = u8(&in);
     back_sel = u8(&in);
     if (bits_sel % 4 == 3) node_bits_raw = u32(&in);
+    tmode = back_sel & 7;
+    back_k = back_sel >> 3;
+    memset(&opt, 0, sizeof opt);
+    model = tmode == 7 && (back_sel & 0xc0) != 0; /* the constant or relative model: its parameters next */
+    if (model) read_model(&in, (back_sel & 8) != 0, (back_sel & 0xc0) == 0x40, &opt);
+    else if (rect_sel & 1) { /* the other models ignore these: wild ones change nothing */
+        opt.thickness_value = wild_float(rect_b[0]);
+        opt.near_z = wild_float(rect_b[1]);
+        opt.far_z = wild_float(rect_b[2]);
+    }
 
     /* size: small most of the time, sometimes a few hundred, rarely invalid
        or at the limit (then one or two rows) */
@@ -375,20 +484,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         d.row_stride = s < 4 ? 0 : s < 6 ? row + (stride_sel >> 3) : s == 6 ? (row > 1 ? 1 + (stride_sel >> 3) % (row - 1) : 0)
                                                                               : ((size_t)PTRDIFF_MAX - row) / (h > 1 ? h - 1 : 1) + (stride_sel >> 3) % 3;
     }
-    memset(&opt, 0, sizeof opt);
     opt.node_bits = bits_sel % 4 == 0 ? 0u : bits_sel % 4 == 1 ? 8u : bits_sel % 4 == 2 ? 16u : node_bits_raw;
     popt = (bits_sel & 0x80) && bits_sel % 4 == 0 ? NULL : &opt;
 
     /* thickness (byte 16): bits 0-2 (tmode) 0: the infinite model, the flags
        as flag_sel made them; 1-4: a back-map tree with its back map; 5: a
-       back-map tree without one; 6: an infinite tree with one; 7: an invalid
-       thickness, the back map there when bit 5 is set. Bits 3-7 (back_k):
-       below 24 a valid back map (packed, padded by 1-8 bytes, or a stride
-       of exactly one row), else the fault back_k - 24 (back_fault). */
-    tmode = back_sel & 7;
-    back_k = back_sel >> 3;
+       back-map tree without one; 6: an infinite tree with one; 7: bits 6-7
+       0: an invalid thickness (4, 7, 2^31 or 2^32-1 by bits 3-4), the back
+       map there when bit 5 is set; bits 6-7 1-3: the CONSTANT (bit 3 clear)
+       or RELATIVE (bit 3 set) model with parameters read next (read_model:
+       1 the sane ones only, 2-3 any), and a back map, a mismatch, when bit
+       5 is set. Bits 3-7 (back_k): below 24 a valid back map (packed,
+       padded by 1-8 bytes, or a stride of exactly one row), else the fault
+       back_k - 24 (back_fault). */
     opt.thickness = tmode == 0 || tmode == 6 ? (uint32_t)LRT_THICKNESS_INFINITE
                     : tmode <= 5             ? (uint32_t)LRT_THICKNESS_BACK_MAP
+                    : model                  ? (back_sel & 8 ? (uint32_t)LRT_THICKNESS_RELATIVE : (uint32_t)LRT_THICKNESS_CONSTANT)
                                              : odd_thickness[back_k & 3];
     if ((tmode >= 1 && tmode <= 4) || tmode == 6 || (tmode == 7 && (back_sel & 0x20))) d.flags |= LRT_DEPTH_BACK_FOLLOWS;
     else if (tmode != 0) d.flags &= ~(uint32_t)LRT_DEPTH_BACK_FOLLOWS;
@@ -466,21 +577,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
     }
 
-    /* lrt_bvh_memory_size knows size, format, node bits and thickness only;
-       a back-map tree's is twice the infinite one's (the nodes, not the slack) */
+    /* lrt_bvh_memory_size knows size, format, node bits and the thickness
+       model (with its parameters) only; a tree with any thickness model has
+       twice the infinite one's bytes (the nodes, not the slack) */
     {
         codes merr = bits_errors(popt);
         if (w == 0 || h == 0 || w > LINEAR_RT_MAX_DIM || h > LINEAR_RT_MAX_DIM) merr |= CODE(LRT_ERROR_INVALID_SIZE);
         if (!bpp) merr |= CODE(LRT_ERROR_INVALID_FORMAT);
         expect("lrt_bvh_memory_size", lrt_bvh_memory_size(w, h, d.format, popt, &mem_bytes), merr);
         if (merr) mem_bytes = 0;
-        if (!merr && thick == LRT_THICKNESS_BACK_MAP) {
+        if (!merr && thick != LRT_THICKNESS_INFINITE) {
             lrt_build_options o0 = opt;
             size_t m0 = 0;
             o0.thickness = LRT_THICKNESS_INFINITE;
             expect("lrt_bvh_memory_size (infinite)", lrt_bvh_memory_size(w, h, d.format, &o0, &m0), 0);
             if (m0 < ALIGN_SLACK || mem_bytes - ALIGN_SLACK != 2 * (m0 - ALIGN_SLACK))
-                FAIL("lrt_bvh_memory_size: %zu bytes for a back-map tree, %zu for an infinite one", mem_bytes, m0);
+                FAIL("lrt_bvh_memory_size: %zu bytes for a tree of thickness %u, %zu for an infinite one", mem_bytes, thick, m0);
         }
     }
 
@@ -491,14 +603,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     expect("lrt_bvh_build", r, berr);
     if (r != LRT_SUCCESS && memcmp(&bvh, &sentinel, sizeof bvh) != 0) FAIL("lrt_bvh_build wrote the lrt_bvh on an error");
     if (r != LRT_SUCCESS) memset(&bvh, 0, sizeof bvh);
-    if (r == LRT_SUCCESS) { /* the thickness model and its bytes */
+    if (r == LRT_SUCCESS) { /* the thickness model, its bytes and its constants */
         lrt_layout L;
-        int back = thick == LRT_THICKNESS_BACK_MAP;
+        int back = thick != LRT_THICKNESS_INFINITE;
         expect("lrt_layout_compute", lrt_layout_compute(w, h, bvh.layout.node_bits, &L), 0);
-        if ((bvh.layout.back_codes != 0) != back || bvh.layout.bytes != L.bytes * (back ? 2u : 1u) ||
-            bvh.layout.bytes + ALIGN_SLACK != mem_bytes)
-            FAIL("thickness %u: the tree has back_codes %u and %zu bytes (%zu without back codes, memory size %zu)", thick,
-                 bvh.layout.back_codes, bvh.layout.bytes, L.bytes, mem_bytes);
+        if ((bvh.layout.back_codes != 0) != back || bvh.layout.thickness != thick ||
+            bvh.layout.bytes != L.bytes * (back ? 2u : 1u) || bvh.layout.bytes + ALIGN_SLACK != mem_bytes)
+            FAIL("thickness %u: the tree has thickness %u, back_codes %u and %zu bytes (%zu without back codes, memory "
+                 "size %zu)",
+                 thick, bvh.layout.thickness, bvh.layout.back_codes, bvh.layout.bytes, L.bytes, mem_bytes);
+        if (thick == LRT_THICKNESS_CONSTANT || thick == LRT_THICKNESS_RELATIVE) {
+            float kk[2] = {0.0f, 0.0f};
+            (void)model_errors(&opt, kk);
+            if (memcmp(kk, bvh.layout.back_k, sizeof kk) != 0)
+                FAIL("thickness %u, value %a, near %a, far %a: back_k (%a, %a), expected (%a, %a)", thick,
+                     opt.thickness_value, opt.near_z, opt.far_z, bvh.layout.back_k[0], bvh.layout.back_k[1], kk[0], kk[1]);
+        }
     }
     {   /* exactly lrt_bvh_memory_size bytes, ending at the block's end, at any alignment;
            sometimes one byte short */
@@ -520,9 +640,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
          memcmp(bvh.nodes, bvh_in.nodes, bvh.layout.bytes) != 0))
         FAIL("lrt_bvh_build_in made another tree than lrt_bvh_build");
 
-    if (bvh.layout.back_codes)
+    if (thick == LRT_THICKNESS_BACK_MAP)
         snprintf(g_map, sizeof g_map, "%ux%u map, format %u, flags %u, row stride %zu, %u-bit nodes, back map row stride %zu",
                  w, h, (unsigned)d.format, d.flags, d.row_stride, bvh.layout.node_bits, bk.row_stride);
+    else if (thick == LRT_THICKNESS_CONSTANT || thick == LRT_THICKNESS_RELATIVE)
+        snprintf(g_map, sizeof g_map,
+                 "%ux%u map, format %u, flags %u, row stride %zu, %u-bit nodes, %s thickness %a (%.9g), near %a (%.9g), far "
+                 "%a (%.9g)",
+                 w, h, (unsigned)d.format, d.flags, d.row_stride, bvh.layout.node_bits,
+                 thick == LRT_THICKNESS_CONSTANT ? "constant" : "relative", opt.thickness_value, opt.thickness_value,
+                 opt.near_z, opt.near_z, opt.far_z, opt.far_z);
     else
         snprintf(g_map, sizeof g_map, "%ux%u map, format %u, flags %u, row stride %zu, %u-bit nodes", w, h,
                  (unsigned)d.format, d.flags, d.row_stride, bvh.layout.node_bits);
@@ -531,9 +658,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (r == LRT_SUCCESS &&
         ref_map_from_raw(&ref, d.data, (int)w, (int)h, d.row_stride, (int)d.format, (int)(d.flags & 1)) != 0)
         FAIL("the reference could not read a map the library accepted");
-    if (r == LRT_SUCCESS && bvh.layout.back_codes &&
+    if (r == LRT_SUCCESS && thick == LRT_THICKNESS_BACK_MAP &&
         ref_map_set_back_from_raw(&ref, bk.data, bk.row_stride, (int)d.format, (int)(d.flags & 1)) != 0)
         FAIL("the reference could not read a back map the library accepted");
+    if (r == LRT_SUCCESS && (thick == LRT_THICKNESS_CONSTANT || thick == LRT_THICKNESS_RELATIVE) &&
+        (thick == LRT_THICKNESS_CONSTANT
+             ? ref_map_set_back_constant(&ref, opt.thickness_value, opt.near_z, opt.far_z)
+             : ref_map_set_back_relative(&ref, opt.thickness_value, opt.near_z, opt.far_z)) != 0)
+        FAIL("the reference refused %s thickness %a, near %a, far %a, which the library accepted",
+             thick == LRT_THICKNESS_CONSTANT ? "constant" : "relative", opt.thickness_value, opt.near_z, opt.far_z);
     {
         ref_map unit = {1, 1, NULL, NULL};
         double one = 1.0;
@@ -583,6 +716,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             codes xe;
             flip.flags ^= LRT_DEPTH_BACK_FOLLOWS;
             as_back.flags = d.flags & LRT_DEPTH_REVERSED_Z;
+            if (thick != LRT_THICKNESS_BACK_MAP && (rect_sel & 2)) /* not read: a mismatch before anything */
+                back_fault(&as_back, &d, (uint32_t)(ray_sel ^ misc), (uint8_t)(rect_b[1] ^ trace_sel));
             dpx = depth_pair(&flip, &as_back);
             if (!dpx) goto done;
             xe = pair_errors(&bvh, dpx);
@@ -592,7 +727,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             expect("lrt_bvh_update (thickness mismatch)", lrt_bvh_update(&bvh, dpx, NULL), xe);
             free(dpx);
         }
-        if (bvh.layout.back_codes) {
+        if (thick == LRT_THICKNESS_BACK_MAP) {
             lrt_depth bad = bk, *dpf;
             codes be;
             back_fault(&bad, &d, (uint32_t)(ray_sel + back_sel + rect_sel), (uint8_t)(rect_b[0] ^ misc));
@@ -641,7 +776,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (whole || uerr == 0) {
             uint32_t x0 = whole ? 0 : rect.x, y0 = whole ? 0 : rect.y, xe = whole ? w : (uint32_t)x1, ye = whole ? h : (uint32_t)y1;
             tx_fill_rect(&tx, (unsigned char *)d2.data, stride, bpp, x0, xe, y0, ye);
-            if (bvh.layout.back_codes)
+            if (thick == LRT_THICKNESS_BACK_MAP)
                 tx_fill_rect(&tx, (unsigned char *)bk2.data, bk.row_stride ? bk.row_stride : (size_t)w * bpp, bpp, x0, xe, y0,
                              ye);
         }
@@ -654,9 +789,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (memcmp(fresh.nodes, bvh.nodes, bvh.layout.bytes) != 0) {
                 size_t at = 0;
                 while (((unsigned char *)fresh.nodes)[at] == ((unsigned char *)bvh.nodes)[at]) ++at;
-                FAIL("%ux%u fmt %u flags %u bits %u%s: update of rect (%u,%u %ux%u)%s differs from a rebuild at node "
-                     "byte %zu of %zu%s",
-                     w, h, (unsigned)d.format, d.flags, bvh.layout.node_bits, bvh.layout.back_codes ? " back map" : "",
+                FAIL("%ux%u fmt %u flags %u bits %u thickness %u: update of rect (%u,%u %ux%u)%s differs from a rebuild "
+                     "at node byte %zu of %zu%s",
+                     w, h, (unsigned)d.format, d.flags, bvh.layout.node_bits, thick,
                      rect.x, rect.y, rect.width, rect.height, whole ? " (whole map)" : "", at, bvh.layout.bytes,
                      bvh.layout.back_codes && at >= bvh.layout.bytes / 2 ? " (a back code)" : "");
             }

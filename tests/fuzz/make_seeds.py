@@ -22,35 +22,51 @@ def write(harness, name, data):
 
 # ---- fuzz_core: 16 header bytes, rays, then depth bytes ------------------------
 def core(size_sel, wb, hb, fmt_sel, flag_sel, stride_sel, bits_sel, depth_mode, nrays, trace_sel, rect_sel, misc,
-         rect, rays, depth, thickness=0):
-    """thickness: fuzz_core.c's byte 16 (0: the infinite model, as before it existed)"""
+         rect, rays, depth, thickness=0, model=None):
+    """thickness: fuzz_core.c's byte 16 (0: the infinite model, as before it existed).
+    model: the CONSTANT or RELATIVE model instead (byte 16 is then made here), either
+    (kind, value, near, far[, back]) with kind "constant" or "relative", the three floats
+    written raw (far = inf: the INFINITY kind) and back True for a back map (a mismatch),
+    or (byte16, [bytes]) for an encoding of one's own (read_model in fuzz_core.c)."""
     head = [size_sel, wb, hb, fmt_sel, flag_sel, stride_sel, bits_sel, depth_mode, nrays, trace_sel, rect_sel, misc]
-    return head + list(rect) + [thickness] + rays + depth
+    params = []
+    if model is not None:
+        assert bits_sel % 4 != 3, "node_bits_raw would come before the model's bytes"
+        if isinstance(model[0], int):
+            thickness, params = model[0], list(model[1])
+        else:
+            kind, value, near, far = model[:4]
+            back = len(model) > 4 and model[4]
+            thickness = 7 | (0x08 if kind == "relative" else 0) | (0x20 if back else 0) | 0x80  # any parameters
+            far_inf = far == float("inf")
+            pk = 3 | (3 << 2) | ((3 if far_inf else 5) << 4)  # value, near raw; far INFINITY or raw
+            params = [pk] + floats([value, near] + ([] if far_inf else [far]))
+    return head + list(rect) + [thickness] + params + rays + depth
 
 
-def structured_rays(n):
+def structured_rays(n, r=rng):
     out = []
     for _ in range(n):
-        out += [0] + [rng.randrange(256) for _ in range(8)]  # mask 0: eight one-byte components
+        out += [0] + [r.randrange(256) for _ in range(8)]  # mask 0: eight one-byte components
     return out
 
 
-def primary_rays(n, w, h):
+def primary_rays(n, w, h, r=rng):
     """(i+0.5, j+0.5, 0) + t (0, 0, 1), t in [0, 1]: the headline workload"""
     out = []
     for _ in range(n):
-        i, j = rng.randrange(w), rng.randrange(h)
+        i, j = r.randrange(w), r.randrange(h)
         x = (4 * i + 2 + 4) * 256 // (4 * (w + 2))  # the harness maps b to quarter texels
         y = (4 * j + 2 + 4) * 256 // (4 * (h + 2))
         out += [0, x, y, 0, 0, 0, 0, 32, 16]  # z 0, tmin 0, v (0, 0, 32/256 ... ) tmax tmin + 1
     return out
 
 
-def raw_rays(n):
+def raw_rays(n, r=rng):
     out = []
     for _ in range(n):
-        vals = [rng.uniform(-10, 70), rng.uniform(-10, 70), rng.uniform(-0.5, 1.2), 0.0,
-                rng.uniform(-40, 40), rng.uniform(-40, 40), rng.uniform(-1, 1), rng.choice([1.0, 3.0, 1e30])]
+        vals = [r.uniform(-10, 70), r.uniform(-10, 70), r.uniform(-0.5, 1.2), 0.0,
+                r.uniform(-40, 40), r.uniform(-40, 40), r.uniform(-1, 1), r.choice([1.0, 3.0, 1e30])]
         out += [0xff] + list(struct.pack("<8f", *vals))
     return out
 
@@ -79,6 +95,27 @@ write("fuzz_core", "invalid-format-and-flags",
            [12, 0, 0, 0] + structured_rays(4), [1, 2, 3]))
 write("fuzz_core", "size-limit-one-row",
       core(0xc0, 1, 0, 0, 0, 0, 0, 0x02, 8, 0, 0, 0, (0, 0, 0, 0), structured_rays(8), [0, 128, 255]))
+
+# the constant and relative thickness models (their own random stream: the seeds
+# above and below stay as they were)
+mrng = random.Random(5678)
+write("fuzz_core", "model-constant-float-24x16-palette",
+      core(0, 23, 15, 2, 0, 0, 0, 0x0e, 48, 0, 0x00, 0, (2, 3, 10, 6),
+           primary_rays(16, 24, 16, mrng) + structured_rays(24, mrng) + raw_rays(8, mrng),
+           floats([0.9, 0.95, 0.99, 0.999, 0.5, 0.97, 1.0, 0.98]), model=("constant", 0.3, 0.1, 100.0)))
+write("fuzz_core", "model-relative-unorm16-40x30-reversed-infinite-far-anyhit",
+      core(0, 39, 29, 1, 1, 4 | (5 << 3), 2, 0x01, 40, 1, 0x05, 1, (4, 3, 20, 9),
+           structured_rays(32, mrng) + raw_rays(8, mrng),
+           list(struct.pack("<1400H", *[mrng.randrange(6000) for _ in range(1400)])),
+           model=("relative", 0.1, 0.5, float("inf"))))
+write("fuzz_core", "model-constant-unorm8-33x20-tight-planes-whole-update",
+      core(0, 32, 19, 0, 0, 0, 1, 0x01, 40, 0, 0xc0, 2, (0, 0, 0, 0), primary_rays(8, 33, 20, mrng) + structured_rays(32, mrng),
+           [mrng.randrange(256) for _ in range(900)], model=("constant", 2e-5, 1.0, 1.0001)))
+# byte 16: relative (bit 3), a back map (bit 5), any parameters (bits 6-7 = 3); then the
+# kinds: value wild (1.7e38: k f / (f - n) overflows float), near on the grid, far one float above near
+write("fuzz_core", "model-relative-wild-value-with-back-map",
+      core(0, 11, 8, 2, 0, 0, 0, 0x06, 12, 0, 0x02, 0, (1, 1, 4, 4), structured_rays(12, mrng),
+           floats([0.4, 0.8, 0.85, 1.0]), model=(0xef, [2 | (1 << 2) | (6 << 4), 11, 128, 1])))
 
 # ---- fuzz_vk_args: device bytes, desc bytes, then calls ----------------------------
 # device a b c: a = 0 (Vulkan 1.2, nothing missing), b = 3 << 3 (alignment 8), c = 0x1f
