@@ -1,5 +1,5 @@
 /* tests/reference.h - the exact reference tracer of the tests, and the
-   comparator that judges a tracer's answers by MODEL.md (the project's shared/MODEL.md)
+   comparator that judges a tracer's answers by docs/MODEL.md
    ("Right, and how right").
 
    Header-only, every function `static`; C99 and C++11. It shares no code with
@@ -7,12 +7,12 @@
 
    How it is exact
    ---------------
-   The model (MODEL.md): texel (i, j) with depth d and back depth b is the
+   The model (docs/MODEL.md): texel (i, j) with depth d and back depth b is the
    closed box [i, i+1] x [j, j+1] x [d, b]; a hit is the smallest t in
    [tmin, tmax] with o + t v inside any box. Without a back map b = 1 (the
    infinite thickness: the box reaches the far plane); with one, rays may
    pass behind surfaces. The back map m->b comes from one of the thickness
-   models of MODEL.md ("Thickness (optional) and the face of a hit"):
+   models of docs/MODEL.md ("Thickness (optional) and the face of a hit"):
    - a back-face depth pass, ref_map_set_back_from_raw: b = max(d, back);
    - a constant view-space thickness T, ref_map_set_back_constant, and a
      relative one T = k * z_view(d), ref_map_set_back_relative, under a
@@ -20,7 +20,7 @@
      an infinite far plane), depth 0 at the near plane and 1 at the far one
      (Vulkan's): d(z) = f (z - n) / (z (f - n)) for the view-space distance
      z in [n, f] (f infinite: d = 1 - n / z), z_view = the inverse of d(z).
-     MODEL.md's b = d(z_view(d) + T), at most 1, b = max(d, that); d = 1
+     docs/MODEL.md's b = d(z_view(d) + T), at most 1, b = max(d, that); d = 1
      keeps b = 1. Reversed-Z maps need nothing more: ref_map_from_raw
      already turned them into this forward depth.
      The b these two store is NOT that real number but the float32 result
@@ -28,7 +28,7 @@
      float32 steps (each rounded once, nothing fused). Why: a ray that
      grazes a back face (v.z tiny) moves its hit point along the ray by
      delta_b / v.z for any difference delta_b between the tracer's b and
-     the reference's, even one under a float ulp, far past MODEL.md's
+     the reference's, even one under a float ulp, far past docs/MODEL.md's
      tolerance, and no perturbation of the ray explains it. The real b is
      not a float, so the tracer has to use a float b, and the reference
      judges it against the same float. The recipe, for one texel:
@@ -122,7 +122,7 @@ typedef struct ref_map { int w, h; double *d; double *b; } ref_map;
 
 enum { REF_HIT = 1, REF_MISS_TMAX = 2, REF_MISS_OFF_SCREEN = 3, REF_MISS_INVALID = 4 };
 
-/* The face of the box a hit enters by (MODEL.md): the top z = d, a side
+/* The face of the box a hit enters by (docs/MODEL.md): the top z = d, a side
    (x or y), the back z = b (from behind; the far plane without a back
    map), or inside (the origin at tmin already in the box, on none of its
    faces). REF_FACE_ANY in an answer: not reported, not checked
@@ -486,7 +486,7 @@ static double ref__back_exact(double d, double amount, int relative, double n, d
     return b;
 }
 
-/* MODEL.md's constant-thickness back depth of one depth d, in double
+/* docs/MODEL.md's constant-thickness back depth of one depth d, in double
    (for tests of the recipe; parameters as ref_map_set_back_constant) */
 REF_FUNC double ref_back_constant_exact(double d, double thickness, double near_z, double far_z)
 {
@@ -693,7 +693,7 @@ static void ref__consider(const ref_map *m, int i, int j, const double o[3],
     }
 }
 
-/* The exact answer for the ray o + t v, t in [tmin, tmax] (see MODEL.md). */
+/* The exact answer for the ray o + t v, t in [tmin, tmax] (see docs/MODEL.md). */
 REF_FUNC ref_result ref_trace(const ref_map *m, const double o[3], const double v[3],
                               double tmin, double tmax)
 {
@@ -966,7 +966,108 @@ static int ref__perturbed_match(const ref_map *m, const ref_ray *ray, const doub
     return 0;
 }
 
-/* Returns 1 if `got` is right for `ray` by MODEL.md's rule "Right, and how
+/* how far 8 float32 ulps move x, as a double: up (dir > 0), down (dir < 0)
+   or the larger of the two (dir == 0; below a power of two the spacing
+   halves) */
+static double ref__reach8(float x, int dir)
+{
+    double up = (double)ref__ulps(x, 8) - (double)x, down = (double)x - (double)ref__ulps(x, -8);
+    return dir > 0 ? up : dir < 0 ? down : up > down ? up : down;
+}
+
+/* A hit on a flat plate that a continuous perturbation of the ray explains.
+   Exact mode only; called after ref__match and ref__perturbed_match refuse.
+
+   docs/MODEL.md ("Right, and how right"): an answer is right when it is the exact
+   answer "for that ray with each component of o and v moved by at most 8
+   float32 ulps": a real-valued move, of which ref__perturbed_match tries
+   only the discrete ones ({-8,0,+8}, {-1,0,+1} ulps per component). That
+   suffices for every box with depth (a ray within 8 ulps of one is moved
+   into it by moving o.z by 8 ulps), but not for a plate, a box [d, d]
+   (b == d: a back map at or in front of the depth, a constant or relative
+   thickness lost to float rounding, or a far texel d = b = 1): only a ray
+   whose z there is d exactly touches it. Found by fuzz_core
+   (tests/fuzz/crashes-found/core-constant-plate-restart-rounds-onto-plate):
+   1x1 map d = b = 0.5, o = (0.25, -512, 0.5), v = (0, 1024, 2^-30),
+   [0, 8]: the exact ray enters the texel at t = 0.5 at z = 0.5 + 2^-31,
+   just behind the plate, and leaves the screen; the library restarts the
+   far-away ray at the screen's edge, its z rounded to 0.5, and reports a
+   hit at t = 0.5 on the plate. That is the exact answer for o.z moved by
+   -2^-31, less than an ulp of o.z (2^-25 below 0.5): right by docs/MODEL.md,
+   and no float ray within {-8..8} ulps gives it.
+
+   Accepted here only when all of these hold:
+   - got is a hit with a finite t in [tmin, tmax] (within docs/MODEL.md's
+     tolerance), on a texel (x, y) of the map whose box is a plate (b == d);
+   - p = o + t v (as ref__match computes hit points) lies in the texel's
+     footprint [x, x+1] x [y, y+1] within tol_c = 1e-5 (1 + |o_c| + |t v_c|);
+   - the ray's z comes within 8 ulps of d near p: |p.z - d| <=
+     R(o.z) + min(|t| + s, tmax) R(v.z) + s |v.z|, R(c) the reach of 8
+     float32 ulps of the given component c towards d (down when p.z > d, up
+     when p.z < d; 2^-25 and 2^-24 per ulp at 0.5), s = min over the c
+     with v_c != 0 of (tol_c + R(o_c) + |t| R(v_c)) / |v_c| (R the larger
+     side here; s = 0 for v = 0): the moved ray meets z = d at some t'
+     whose point is within tol_c of p in each component, so |t' - t| <= s
+     (the bound is this plus, in z, what 8 ulps add at t'); a ray that runs
+     level behind a plate (v.z = 0) must be within 8 ulps of it, whatever
+     the tolerance;
+   - the exact answer of the given ray hits nothing before: a miss, or a
+     hit at t_E >= t, or at a point within tol_c of p;
+   - the face is TOP or BACK (one plane for a plate, and p is on it by the
+     test above), SIDE only with p on the footprint's edge within tol_c
+     (ref__face_fits's rule), or not reported (REF_FACE_ANY). */
+static int ref__plate_match(const ref_map *m, const ref_ray *ray, const double o[3],
+                            const double v[3], const ref_result *E, const ref_answer *got)
+{
+    double t = got->t, p[3], tol[3], d, s = 0, tfar, gap;
+    int c, dir, have_s = 0;
+    if (got->kind != REF_HIT || !ref__finite(t)) return 0;
+    if (!(t >= (double)ray->tmin - 1e-5 * (1 + fabs((double)ray->tmin))) ||
+        !(t <= (double)ray->tmax + 1e-5 * (1 + fabs((double)ray->tmax))))
+        return 0;
+    if (got->x < 0 || got->x >= m->w || got->y < 0 || got->y >= m->h) return 0;
+    d = m->d[(size_t)got->y * (size_t)m->w + (size_t)got->x];
+    if (ref__back(m, got->x, got->y) != d) return 0; /* not a plate */
+    for (c = 0; c < 3; c++) {
+        p[c] = o[c] + t * v[c];
+        tol[c] = 1e-5 * (1 + fabs(o[c]) + fabs(t * v[c]));
+    }
+    if (!(p[0] >= got->x - tol[0] && p[0] <= got->x + 1.0 + tol[0] &&
+          p[1] >= got->y - tol[1] && p[1] <= got->y + 1.0 + tol[1]))
+        return 0;
+    for (c = 0; c < 3; c++) {
+        double sc;
+        if (v[c] == 0) continue;
+        sc = (tol[c] + ref__reach8(ray->o[c], 0) + fabs(t) * ref__reach8(ray->v[c], 0)) / fabs(v[c]);
+        if (!have_s || sc < s) s = sc;
+        have_s = 1;
+    }
+    /* |t'| <= |t| + s, and t' lies in [tmin, tmax] */
+    tfar = fabs(t) + s < (double)ray->tmax ? fabs(t) + s : (double)ray->tmax;
+    if (tfar < fabs(t)) tfar = fabs(t);
+    /* z has to move towards d: down when p is behind the plate (for t' >= 0
+       both o.z and v.z move down), up when in front */
+    dir = p[2] > d ? -1 : 1;
+    gap = ref__reach8(ray->o[2], dir) + tfar * ref__reach8(ray->v[2], dir) + s * fabs(v[2]);
+    if (!(fabs(p[2] - d) <= gap)) return 0;
+    if (E->kind == REF_HIT && E->t < t) {
+        for (c = 0; c < 3; c++)
+            if (!(fabs(o[c] + E->t * v[c] - p[c]) <= tol[c])) return 0;
+    }
+    switch (got->face) {
+    case REF_FACE_ANY:
+    case REF_FACE_TOP:
+    case REF_FACE_BACK:
+        return 1;
+    case REF_FACE_SIDE:
+        return fabs(p[0] - got->x) <= tol[0] || fabs(p[0] - (got->x + 1.0)) <= tol[0] ||
+               fabs(p[1] - got->y) <= tol[1] || fabs(p[1] - (got->y + 1.0)) <= tol[1];
+    default:
+        return 0;
+    }
+}
+
+/* Returns 1 if `got` is right for `ray` by docs/MODEL.md's rule "Right, and how
    right", else 0 and writes a one-line reason into why (may be NULL).
 
    Exact mode (any_hit == 0): right when it matches the exact answer of the
@@ -975,7 +1076,9 @@ static int ref__perturbed_match(const ref_map *m, const ref_ray *ray, const doub
    kind; for a hit, each component c of p = o + t v (double, from the float
    ray and the reported t) within tol_c = 1e-5 * (1 + |o_c| + |t v_c|) of the
    exact hit point, and the reported texel's box containing the exact hit
-   point within tol_c per component.
+   point within tol_c per component. Also right: a hit on a flat plate
+   (b == d) that a real-valued move of at most 8 ulps explains, which no
+   discrete one can (ref__plate_match).
 
    any_hit != 0: a hit need not be the closest. A reported hit must be a real
    hit point: t in [tmin, tmax] (within 1e-5 * (1 + |tmin|), 1e-5 * (1 + |tmax|))
@@ -1058,6 +1161,7 @@ REF_FUNC int ref_check(const ref_map *m, const ref_ray *ray, const ref_answer *g
 
     if (ref__match(m, o, v, ray->tmin, o, v, &E, got, msg, sizeof msg)) return 1;
     if (ref__perturbed_match(m, ray, o, v, got, 0)) return 1;
+    if (ref__plate_match(m, ray, o, v, &E, got)) return 1;
     {
         char full[768];
         snprintf(full, sizeof full, "%s (got %s t=%.9g (%d,%d); exact %s t=%.17g (%d,%d); "

@@ -13,19 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int g_pass, g_fail;
-
-#define CHECK(cond, ...)                                                        \
-    do {                                                                        \
-        if (cond) {                                                             \
-            g_pass++;                                                           \
-        } else {                                                                \
-            g_fail++;                                                           \
-            printf("FAIL %s:%d: ", __FILE__, __LINE__);                         \
-            printf(__VA_ARGS__);                                                \
-            printf("\n");                                                       \
-        }                                                                       \
-    } while (0)
+#include "check.h"
 
 /* ------------------------------------------------------------ helpers -- */
 
@@ -728,7 +716,7 @@ static void test_faces(void)
           "expected a hit by face %d, got kind %d face %d t=%.17g (%d,%d)", (f),        \
           (res).kind, (res).face, (res).t, (res).x, (res).y)
 
-/* Finite thickness: each box is [d, b], b from a back map (MODEL.md,
+/* Finite thickness: each box is [d, b], b from a back map (docs/MODEL.md,
    "Thickness (optional) and the face of a hit"). */
 static void test_thickness(void)
 {
@@ -988,7 +976,7 @@ static void test_thickness(void)
 }
 
 /* The depth of view distance z under the perspective of the thickness
-   models, literally as MODEL.md defines it (n > 0, f > n or +INFINITY,
+   models, literally as docs/MODEL.md defines it (n > 0, f > n or +INFINITY,
    depth 0 near .. 1 far): independent of reference.h's factored form. */
 static double persp_depth(double z, double n, double f)
 {
@@ -1031,9 +1019,148 @@ static void set_row4(ref_map *m, double d0, double d1, double d2, double d3)
     set_d(m, 0, 0, d0); set_d(m, 1, 0, d1); set_d(m, 2, 0, d2); set_d(m, 3, 0, d3);
 }
 
-/* The perspective thickness models (MODEL.md, "Thickness (optional) and
+/* The perspective thickness models (docs/MODEL.md, "Thickness (optional) and
    the face of a hit"): ref_map_set_back_constant (view-space T) and
    ref_map_set_back_relative (T = k * z_view(d)). */
+/* A hit on a flat plate (b == d) that only a real-valued move of the ray
+   explains (reference.h, ref__plate_match; found by fuzz_core,
+   tests/fuzz/crashes-found/core-constant-plate-restart-rounds-onto-plate):
+   docs/MODEL.md's "moved by at most 8 float32 ulps" is not only the discrete
+   moves {-8,0,+8}, {-1,0,+1} the checker tries. */
+static void test_plate_check(void)
+{
+    const double vz = ldexp(1, -30), ulp_up = ldexp(1, -24); /* float spacing above 0.5 */
+    ref_ray ray;
+    ref_answer a;
+    ref_result r;
+    double o[3], v[3];
+    char why[512];
+    int k;
+    {
+        /* (a) 1x1 plate d = b = 0.5; the ray enters the texel at t = 0.5 at
+           z = 0.5 + 2^-31, just behind it: off screen. A hit at t = 0.5 on
+           the plate is exact for o.z moved by -2^-31 (under an ulp) */
+        ref_map m = map_const(1, 1, 0.5);
+        set_back_const(&m, 0.5f);
+        CHECK(m.b != NULL && m.b[0] == 0.5, "plate back");
+        ray = mkray(0.25, -512, 0.5, 0, 1024, vz, 0, 8);
+        r = ref_trace_ray(&m, &ray);
+        EXPECT_KIND(r, REF_MISS_OFF_SCREEN);
+        for (k = 0; k < 3; k++) { o[k] = ray.o[k]; v[k] = ray.v[k]; }
+        a = ans(REF_HIT, 0.5, 0, 0);
+        a.face = REF_FACE_TOP;
+        CHECK(!ref__perturbed_match(&m, &ray, o, v, &a, 0), "a discrete perturbation hits the plate");
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "plate hit of a moved ray refused: %s", why);
+        a.face = REF_FACE_BACK;
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "plate hit by its back refused: %s", why);
+        a.face = REF_FACE_SIDE; /* y = 0: on the footprint's edge */
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "plate hit on its edge refused: %s", why);
+        a.face = REF_FACE_ANY;
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "plate hit without a face refused: %s", why);
+        a.face = REF_FACE_INSIDE;
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "plate hit told as inside accepted");
+        a = ans(REF_HIT, 0.5 + 0.5 / 1024, 0, 0); /* y = 0.5: not on an edge */
+        a.face = REF_FACE_SIDE;
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "plate hit off its edge told as side accepted");
+        a.face = REF_FACE_TOP; /* a later point of the plate: still within 8 ulps */
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "plate hit inside the footprint refused: %s", why);
+        a = ans(REF_HIT, 0.5 + 2.0 / 1024, 0, 0); /* y = 2: off the footprint */
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "plate hit off its footprint accepted");
+        a = ans(REF_HIT, 0.5, 0, 0);
+        ray.tmax = 0.25; /* t past tmax */
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "plate hit past tmax accepted");
+        /* 7 ulps (2^-24 each) behind the plate: no discrete move, a real one */
+        ray = mkray(0.25, -512, 0.5 + 7 * ulp_up, 0, 1024, vz, 0, 8);
+        for (k = 0; k < 3; k++) { o[k] = ray.o[k]; v[k] = ray.v[k]; }
+        CHECK(!ref__perturbed_match(&m, &ray, o, v, &a, 0), "a discrete perturbation hits the plate (7 ulps)");
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "plate 7 ulps away refused: %s", why);
+        /* (c) 9 ulps behind: farther than 8 ulps of o.z reach (t v.z adds
+           2^-31, 8 ulps of v.z at t = 0.5 far less) */
+        ray = mkray(0.25, -512, 0.5 + 9 * ulp_up, 0, 1024, vz, 0, 8);
+        EXPECT_KIND(ref_trace_ray(&m, &ray), REF_MISS_OFF_SCREEN);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "plate 9 ulps away accepted");
+        /* in front of the plate, 5 ulps of 2^-25 below it: moved up, it hits */
+        ray = mkray(0.25, -512, 0.5 - 5 * ulp_up / 2, 0, 1024, vz, 0, 8);
+        EXPECT_KIND(ref_trace_ray(&m, &ray), REF_MISS_OFF_SCREEN);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "plate 5 ulps in front refused: %s", why);
+        /* 9 ulps (2^-25) in front: the up reach of 0.5 - 9 * 2^-25 is 8 of them */
+        ray = mkray(0.25, -512, 0.5 - 9 * ulp_up / 2, 0, 1024, vz, 0, 8);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "plate 9 ulps in front accepted");
+        /* (c) a level ray (v.z = 0) 2^-18 behind the plate: within the hit
+           point's tolerance (1e-5), but 64 ulps from the plate all along */
+        ray = mkray(0.25, -512, 0.5 + ldexp(1, -18), 0, 1024, 0, 0, 8);
+        EXPECT_KIND(ref_trace_ray(&m, &ray), REF_MISS_OFF_SCREEN);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "level ray 64 ulps behind a plate accepted");
+        /* on the plate's plane exactly: the exact answer, by the old path */
+        ray = mkray(0.25, -512, 0.5, 0, 1024, 0, 0, 8);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "level ray on the plate refused: %s", why);
+        ref_map_free(&m);
+    }
+    {
+        /* (a) the same on a far texel, d = b = 1 (no back map) */
+        ref_map m = map_const(1, 1, 1.0);
+        ray = mkray(0.25, -512, 1.0, 0, 1024, vz, 0, 8);
+        EXPECT_KIND(ref_trace_ray(&m, &ray), REF_MISS_OFF_SCREEN);
+        a = ans(REF_HIT, 0.5, 0, 0);
+        a.face = REF_FACE_TOP;
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "far-plane plate hit refused: %s", why);
+        ref_map_free(&m);
+    }
+    {
+        /* (b) the same hit on a texel that is not a plate: the box [0.25, 0.5]
+           (back 0.5), the ray 2^-20 (16 ulps) behind its back: refused. At
+           2^-31 behind, a discrete move (o.z by -1 ulp) explains it */
+        ref_map m = map_const(1, 1, 0.25);
+        set_back_const(&m, 0.5f);
+        CHECK(m.b != NULL && m.b[0] == 0.5 && m.d[0] == 0.25, "slab [0.25, 0.5]");
+        ray = mkray(0.25, -512, 0.5 + ldexp(1, -20), 0, 1024, vz, 0, 8);
+        EXPECT_KIND(ref_trace_ray(&m, &ray), REF_MISS_OFF_SCREEN);
+        a = ans(REF_HIT, 0.5, 0, 0);
+        a.face = REF_FACE_BACK;
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "slab hit 16 ulps behind accepted");
+        a.face = REF_FACE_SIDE;
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "slab hit 16 ulps behind accepted (side)");
+        ray = mkray(0.25, -512, 0.5, 0, 1024, vz, 0, 8);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "slab hit 2^-31 behind refused: %s", why);
+        /* and a texel with depth behind which the ray passes within 8 ulps is
+           not taken for a plate: its top is not where the ray is */
+        ray = mkray(0.25, -512, 0.5 + 7 * ulp_up, 0, 1024, vz, 0, 8);
+        a.face = REF_FACE_TOP;
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "slab hit by its top at z = b accepted");
+        ref_map_free(&m);
+    }
+    {
+        /* (d) the exact ray hits something first: row 0 is solid [0.25, 1],
+           row 1 the plate [0.5, 0.5]; the ray hits row 0's side at t = 0.5,
+           and a hit on the plate at y = 1 is not the closest */
+        ref_map m = map_const(1, 2, 0.25);
+        m.b = (double *)malloc(2 * sizeof(double));
+        m.b[0] = 1.0;
+        set_d(&m, 0, 1, 0.5);
+        m.b[1] = 0.5;
+        ray = mkray(0.25, -512, 0.5, 0, 1024, vz, 0, 8);
+        r = ref_trace_ray(&m, &ray);
+        EXPECT_HIT(r, 0.5, 0, 0);
+        a = ans(REF_HIT, 0.5 + 1.0 / 1024, 0, 1);
+        a.face = REF_FACE_TOP;
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "plate hit behind an earlier hit accepted");
+        /* with row 0 far (d = b = 1) nothing is earlier: the plate hit stands */
+        set_d(&m, 0, 0, 1.0);
+        EXPECT_KIND(ref_trace_ray(&m, &ray), REF_MISS_OFF_SCREEN);
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "plate hit with nothing earlier refused: %s", why);
+        /* the exact ray hits later (row 1 solid to 1, row 0 the plate) */
+        set_d(&m, 0, 0, 0.5);
+        m.b[0] = 0.5;
+        m.b[1] = 1.0;
+        r = ref_trace_ray(&m, &ray);
+        EXPECT_HIT(r, 0.5 + 1.0 / 1024, 0, 1);
+        a = ans(REF_HIT, 0.5, 0, 0);
+        a.face = REF_FACE_TOP;
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "plate hit before a later exact hit refused: %s", why);
+        ref_map_free(&m);
+    }
+}
+
 static void test_thickness_models(void)
 {
     const double inf = HUGE_VAL;
@@ -1392,7 +1519,7 @@ static void test_thickness_models(void)
      earlier recipe b = (1 - n / z') s lost up to 2.2e7 ulps, 1.68e-5
      absolute, there.)
    The tracer and the reference agree bit for bit either way; this bounds
-   how far both are from MODEL.md's b. */
+   how far both are from docs/MODEL.md's b. */
 /* The recipe once more, transcribed from its text for a float32 depth d
    (a second copy, to catch an edit of reference.h that lets a step skip
    its rounding, e.g. a contraction under -march=native): every step a
@@ -1634,24 +1761,25 @@ static void test_random(void)
           count);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
-    test_one_texel();
-    test_floor_primary();
-    test_inside_and_surface();
-    test_miss_kinds();
-    test_zero_direction();
-    test_invalid();
-    test_edges_and_corners();
-    test_far_plane();
-    test_huge();
-    test_from_raw();
-    test_check();
-    test_faces();
-    test_thickness();
-    test_thickness_models();
-    test_thickness_recipe();
-    test_random();
-    printf("%d passed, %d failed\n", g_pass, g_fail);
-    return g_fail > 0 ? 1 : 0;
+    check_select(argc, argv);
+    RUN_TEST(test_one_texel);
+    RUN_TEST(test_floor_primary);
+    RUN_TEST(test_inside_and_surface);
+    RUN_TEST(test_miss_kinds);
+    RUN_TEST(test_zero_direction);
+    RUN_TEST(test_invalid);
+    RUN_TEST(test_edges_and_corners);
+    RUN_TEST(test_far_plane);
+    RUN_TEST(test_huge);
+    RUN_TEST(test_from_raw);
+    RUN_TEST(test_check);
+    RUN_TEST(test_faces);
+    RUN_TEST(test_thickness);
+    RUN_TEST(test_plate_check);
+    RUN_TEST(test_thickness_models);
+    RUN_TEST(test_thickness_recipe);
+    RUN_TEST(test_random);
+    return check_summary();
 }
