@@ -60,7 +60,7 @@ include tests/threads.mk
 include tests/fuzz/fuzz.mk
 include examples/vulkan_inline/vulkan_inline.mk
 
-.PHONY: FORCE all demo examples pictures test test-all deps clean spv spv-check bench bench-deps $(TESTS) test-sanitize
+.PHONY: FORCE all demo examples pictures check test test-all deps clean spv spv-check bench bench-deps bench-publish $(TESTS) test-sanitize
 
 all: $(B)/demo $(B)/test_reference $(B)/test_core
 
@@ -122,13 +122,13 @@ test-examples: $(B)/test_examples $(addprefix $(B)/,$(EXAMPLES))
 	$(B)/test_examples
 
 # ---- tests --------------------------------------------------------------------
-$(B)/test_reference: tests/test_reference.c $(REF) | deps $(B)
+$(B)/test_reference: tests/test_reference.c $(REF) tests/check.h | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) $< -o $@ $(LDLIBS)
 
 $(B)/test_core: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) $< -o $@ $(LDLIBS)
 
-$(B)/test_reference_san: tests/test_reference.c $(REF) | deps $(B)
+$(B)/test_reference_san: tests/test_reference.c $(REF) tests/check.h | deps $(B)
 	$(CC) $(STD) $(WARN) $(SAN) $< -o $@ $(LDLIBS)
 
 $(B)/test_core_san: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
@@ -274,12 +274,26 @@ test-vulkan:
 	[ "$$CI" != "true" ]
 endif
 
+# make check: the quick loop while working, well under a minute on a 2-core
+# machine: the reference's and the core CPU tests, the traversal paths bit
+# for bit, and (where there is a Vulkan device) one Vulkan smoke test with
+# validation on. Any test program runs one test by name, e.g.
+# build/test_core test_update.
+CHECK_VK := $(if $(filter 1,$(HAVE_VULKAN)),$(B)/test_vulkan)
+check: $(B)/test_reference $(B)/test_core $(B)/test_paths $(CHECK_VK)
+	$(B)/test_reference
+	$(B)/test_core
+	$(B)/test_paths
+	$(if $(CHECK_VK),$(B)/test_vulkan test_smoke,@echo "check: no Vulkan headers here: the Vulkan smoke test is skipped")
+
 test-demo: $(B)/demo
 	$(B)/demo --size 128 --out $(B)/demo_out
 	@echo "test-demo: ok, every checked ray agrees with the reference"
 
 # ---- benchmark ------------------------------------------------------------------
-# make bench: every method on the same rays (bench/main.c), results in bench/.
+# make bench: every method on the same rays (bench/main.c), results in
+# build/bench-results/; make bench-publish copies them over the committed
+# run in bench/ (the README's table and chart), on purpose only.
 # Optional parts are built when their package is there (tools/install-deps.sh
 # --bench installs them): Embree 3, and for the Vulkan
 # peers glslang (their kernels are compiled here into build/, never committed).
@@ -323,6 +337,12 @@ bench-deps:
 bench: bench-deps
 	@$(MAKE) --no-print-directory $(B)/bench
 	$(B)/bench $(BENCH_ARGS)
+
+BENCH_PUBLISHED := results.csv results.md speed_vs_accuracy.png
+bench-publish:
+	@for f in $(BENCH_PUBLISHED); do test -f $(B)/bench-results/$$f || { echo "bench-publish: no $(B)/bench-results/$$f: run make bench first"; exit 1; }; done
+	cp $(addprefix $(B)/bench-results/,$(BENCH_PUBLISHED)) bench/
+	@echo "bench-publish: bench/ now holds this run; say which commit it measured where you cite it"
 
 # the benchmark at a small size, so that it keeps building and its exact
 # methods keep agreeing with the reference (it exits non-zero otherwise)

@@ -4,11 +4,27 @@
    shadows) for C and C++ engines. The depth buffer is read as a heightmap
    (h = 1 - z); an 8-wide BVH is laid over it once; each frame only its heights
    are refitted; rays walk it with a traversal made for this one tree shape.
-   What a hit means is fixed by MODEL.md of the project: every texel is the
+   What a hit means is fixed by docs/MODEL.md of the project: every texel is the
    closed box [i,i+1] x [j,j+1] x [depth,1] (with a back map: [depth, back])
    and a ray hits the first box it touches.
 
-   DO THIS
+   SECTIONS (each has its anchor: search for ">>walk" and the like)
+     >>usage       DO THIS, USE (CPU), USE (VULKAN), BARRIERS, the tree's layout
+     >>api         declarations: limits, result codes, depth in, layout, the BVH
+                   and its thickness models, traversal, camera helpers
+     >>vulkan-api  declarations of the Vulkan path (LINEAR_RT_VULKAN)
+     >>impl        the implementation: config macros and the ISA prelude (every
+                   SIMD decision: LRT__SSE, LRT__AVX), then by the data's path:
+     >>depth         1. depth in: validation, one texel's raw value, the backs
+     >>heights       2. heights: depth to rounded-up codes, back codes
+     >>layout        3. level geometry and the modified Morton mapping
+     >>nodes         4. nodes: build and update (the refit)
+     >>walk          5. traversal: ray set-up, node and texel tests, the walk
+     >>camera        6. rays from a camera
+     >>vulkan        7. Vulkan: the kernels' host side (SPIR-V in shaders_spv.h)
+     >>licence     MIT
+
+   DO THIS                                                              >>usage
        #define LINEAR_RT_IMPLEMENTATION
        #include "linear_rt.h"
    in ONE C or C++ file. Every other file includes "linear_rt.h" alone.
@@ -66,7 +82,7 @@
    the recording functions only read the context and the BVH, so several
    threads may record with one context at once. The GPU tree is the CPU's
    node array byte for byte (lrt_vk_bvh.layout is an lrt_layout), and the
-   kernels answer what the CPU answers (MODEL.md: same kind and texel, t
+   kernels answer what the CPU answers (docs/MODEL.md: same kind and texel, t
    within float rounding): the CPU walks down from the top, the kernels
    walk up and down from each ray's origin with no stack, and both find the
    first texel hit in the same visiting order.
@@ -193,7 +209,7 @@
 extern "C" {
 #endif
 
-/* ---- limits ---------------------------------------------------------------- */
+/* ---- limits --------------------------------------------------------- >>api */
 #define LINEAR_RT_MAX_DIM 16384u            /* largest width or height         */
 #define LINEAR_RT_MAX_LEVELS 16u            /* stored levels never exceed this */
 #define LINEAR_RT_MAX_RAYS_PER_CALL (1u << 30) /* rays in one trace call       */
@@ -241,7 +257,7 @@ enum {
        lrt_depth is the first of two, the second describes each texel's back
        depth (a back-face depth pass): same width, height, format and
        reversed flag, a row stride of its own. A back in front of the depth
-       counts as the depth (MODEL.md). */
+       counts as the depth (docs/MODEL.md). */
     LRT_DEPTH_BACK_FOLLOWS = 2u
 };
 
@@ -295,7 +311,7 @@ typedef struct lrt_allocator {
     void *user;
 } lrt_allocator;
 
-/* What lies behind a texel's depth (MODEL.md, thickness): by default the
+/* What lies behind a texel's depth (docs/MODEL.md, thickness): by default the
    solid reaches the far plane; a tree with a thickness model ends each
    texel's box at a back depth b, d <= b <= 1, so rays pass behind objects.
    Such a tree holds a second code per child (the deepest back under it):
@@ -381,7 +397,7 @@ typedef enum lrt_hit_kind {
 } lrt_hit_kind;
 
 /* Where a hit lies on its texel's box [x, x+1] x [y, y+1] x [depth, back]
-   (back = 1 without a back map; MODEL.md, "the face of a hit"): on the
+   (back = 1 without a back map; docs/MODEL.md, "the face of a hit"): on the
    top, a surface the camera sees; on a side or the back (z = back, met by
    a ray coming from behind it), which the camera does not see, where an
    engine may fall back; or inside: the origin at tmin already in the
@@ -421,7 +437,7 @@ LINEAR_RT_API lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *de
 
 /* ---- rays from a camera (optional helpers) ---------------------------------
    An engine has view-space rays (a reflection, an AO or a shadow ray from a
-   surface point); the tracer takes screen-space segments (MODEL.md). These
+   surface point); the tracer takes screen-space segments (docs/MODEL.md). These
    helpers are the set-up every engine would write the same way: a view-space
    point from a texel's depth, and a view-space segment clipped to the near
    and far planes and projected.
@@ -461,7 +477,7 @@ LINEAR_RT_API int lrt_camera_project(const lrt_camera *camera, const float view[
    view-space position). Returns 1, or 0 when no part of the segment lies
    between the planes or a value is not finite; *ray is then an invalid ray
    (NaN origin), which lrt_trace answers with LRT_MISS_INVALID_RAY.
-   Self-intersection is the caller's policy (MODEL.md): a ray from a surface
+   Self-intersection is the caller's policy (docs/MODEL.md): a ray from a surface
    point starts on its own texel's top, so lift the origin towards the eye
    (see examples/ssr.c: by half the texel's depth slope). */
 LINEAR_RT_API int lrt_camera_segment(const lrt_camera *camera, const float from[3], const float to[3],
@@ -481,9 +497,9 @@ LINEAR_RT_API const char *lrt_result_string(lrt_result result);
 #endif /* LINEAR_RT_H */
 
 /* ============================================================================
-   The Vulkan API (define LINEAR_RT_VULKAN before including). It has its own
-   include guard, so a file may include linear_rt.h first without it and
-   again with it.
+   The Vulkan API (define LINEAR_RT_VULKAN before including).  >>vulkan-api
+   It has its own include guard, so a file may include linear_rt.h first
+   without it and again with it.
    ========================================================================== */
 #if defined(LINEAR_RT_VULKAN) && !defined(LINEAR_RT_VULKAN_H)
 #define LINEAR_RT_VULKAN_H
@@ -711,7 +727,10 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
 #endif
 #endif /* LINEAR_RT_VULKAN_DEVICE_HELPER_H */
 
-/* ============================================================================ */
+/* ======================================================================= >>impl
+   The implementation. First its configuration and the ISA prelude: the one
+   place that decides which SIMD paths are compiled.
+   ========================================================================== */
 #ifdef LINEAR_RT_IMPLEMENTATION
 #ifndef LINEAR_RT_IMPLEMENTATION_DONE
 #define LINEAR_RT_IMPLEMENTATION_DONE
@@ -810,7 +829,7 @@ LINEAR_RT_DEF const char *lrt_result_string(lrt_result result)
     }
 }
 
-/* ============================================================================
+/* ================================================================= >>depth
    1. Depth in: validation and decoding of one texel.
    ========================================================================== */
 
@@ -907,7 +926,7 @@ LRT__INLINE uint32_t lrt__depth_raw(const lrt_depth *depth, size_t stride, uint3
     return lrt__map_raw(depth, depth->data, stride, x, y);
 }
 
-/* Texel (x, y)'s back depth, raw: max(depth, back) (MODEL.md: a back in
+/* Texel (x, y)'s back depth, raw: max(depth, back) (docs/MODEL.md: a back in
    front of the depth is the depth). Raw values order as depths do: a
    unorm's integer, or the bits of a float clamped to [0, 1]. */
 LRT__INLINE uint32_t lrt__back_raw(const lrt_depth *depth, size_t stride, size_t back_stride, uint32_t x, uint32_t y)
@@ -919,7 +938,7 @@ LRT__INLINE uint32_t lrt__back_raw(const lrt_depth *depth, size_t stride, size_t
 /* b(d) of the CONSTANT and RELATIVE models (lrt__model_constants) in float,
    the kernels' lrt_model_back step for step: sums and quotients only, so
    no compiler can fuse them differently; within 6.5 float ulps and 3.2e-7
-   of MODEL.md's exact b (the relative model 4 ulps; tests/test_reference.c
+   of docs/MODEL.md's exact b (the relative model 4 ulps; tests/test_reference.c
    measures it). Clamped to 1 and never in
    front of d: d = 1 keeps b = 1 (u = 0, q = inf, the quotient 0). */
 LRT__INLINE float lrt__model_back(uint32_t thickness, const float k[2], float d)
@@ -959,7 +978,7 @@ LRT__INLINE uint32_t lrt__model_back_bits(const lrt_layout *L, lrt_format format
     return bits;
 }
 
-/* ============================================================================
+/* =============================================================== >>heights
    2. Heights: h = 1 - depth, compressed to node_bits and rounded UP, so that
       the box a node promises is never smaller than the true one.
    ========================================================================== */
@@ -1018,7 +1037,7 @@ static void lrt__row_heights(const lrt_depth *depth, const unsigned char *row, u
 }
 
 
-/* ============================================================================
+/* ================================================================ >>layout
    3. Level geometry and the modified Morton mapping.
    ========================================================================== */
 
@@ -1089,7 +1108,7 @@ LINEAR_RT_DEF size_t lrt_layout_node_index(const lrt_layout *layout, uint32_t le
     return block * 8u + lrt__child_slot(lv, x, y);
 }
 
-/* ============================================================================
+/* ================================================================= >>nodes
    4. Nodes: BuildBVH and UpdateBVH. The tree's shape is implicit in the
       layout, so building is laying out plus a refit of every node; an
       update refits only the nodes above the dirty texels. A node's slot s
@@ -1500,7 +1519,7 @@ LINEAR_RT_DEF lrt_result lrt_bvh_update(lrt_bvh *bvh, const lrt_depth *depth, co
     return LRT_SUCCESS;
 }
 
-/* ============================================================================
+/* ================================================================== >>walk
    5. Traversal (RayQuery.Proceed of the design), specialised for this tree:
       no triangles, no instances, no stored boxes. A node's children form a
       4x2 or 2x4 grid, so their x/y slabs come from 5+3 shared planes; the
@@ -1579,7 +1598,7 @@ typedef struct lrt__signs {
    a ray through a texel corner (exactly: a one-point interval) can find the
    interval empty by an ulp at one corner and not at the next, tie-breaking
    one straight line both ways. Exits are widened by 2^-21 of their size (a
-   few ulps, well inside MODEL.md's 8-ulp tolerance) before that comparison,
+   few ulps, well inside docs/MODEL.md's 8-ulp tolerance) before that comparison,
    so a corner the ray touches always counts; the front-to-back walk then
    keeps the first. The product is exact (a power of two), so fused or not,
    every path computes the same float. An exit that would widen past
@@ -1934,7 +1953,7 @@ static int lrt__entered_later(const float n[3], const float v[3], const float hi
      1/v.z is finite: exact for texels, and the nodes' unscaled bounds stay
      below every texel's scaled depth, so their culling stays conservative.
    The kind of a miss is decided exactly: is the caller's ray on the screen
-   at tmax (MODEL.md). Returns as lrt__setup_ray. */
+   at tmax (docs/MODEL.md). Returns as lrt__setup_ray. */
 static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *ray, uint32_t width, uint32_t height, lrt__ray_setup *s,
                                          float *t_scale, uint32_t *kind)
 {
@@ -2135,7 +2154,7 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
        ray where it enters the screen box. The entering axis lands on its
        plane exactly, the others at the exact crossing rounded once, so the
        new origin is off the exact entry point by a rounding of a coordinate
-       inside the screen, far below one float ulp of the old one (MODEL.md). */
+       inside the screen, far below one float ulp of the old one (docs/MODEL.md). */
     if (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
         fabsf(s->o[2]) > 4.0f) {
         const float hi[3] = {(float)width, (float)height, 1.0f};
@@ -3338,7 +3357,7 @@ LINEAR_RT_DEF lrt_result lrt_trace(const lrt_bvh *bvh, const lrt_depth *depth, c
     return lrt_trace_range(bvh, depth, rays, hits, 0, count, flags);
 }
 
-/* ============================================================================
+/* ================================================================ >>camera
    6. Rays from a camera: view space -> clip space -> screen space. Optional
       helpers for the ray set-up (the tracer never calls them). Double
       precision throughout: the matrices of a far plane at 1e4 are badly
@@ -3547,7 +3566,7 @@ LINEAR_RT_DEF int lrt_camera_planes(const lrt_camera *camera, float *near_z, flo
 #endif
 #endif /* LINEAR_RT_IMPLEMENTATION_DONE */
 
-/* ============================================================================
+/* ================================================================ >>vulkan
    7. Vulkan: the kernels of shaders/ (BuildBVH and UpdateBVH in one refit
       kernel, the traversal in another), recorded into the caller's command
       buffers inside the caller's device. Host and kernels agree on
@@ -4754,7 +4773,7 @@ LINEAR_RT_DEF void lrt_vk_device_destroy(lrt_vk_device *device)
 #endif /* LINEAR_RT_IMPLEMENTATION */
 
 /*
-------------------------------------------------------------------------------
+--------------------------------------------------------------------- >>licence
 MIT License
 
 Copyright (c) 2026 the linear_rt authors

@@ -3,7 +3,7 @@
    A method (linear_rt on the CPU or on Vulkan, Embree, a ray-query BVH, a
    screen-space march) is a bench_method: it is given a scene (a depth map),
    builds whatever it needs, refits it per frame, and traces batches of
-   screen-space rays (MODEL.md's rays: lrt_ray, answers as lrt_hit), timing
+   screen-space rays (docs/MODEL.md's rays: lrt_ray, answers as lrt_hit), timing
    each step itself (CPU: CLOCK_MONOTONIC; Vulkan: GPU timestamps). The
    harness (bench/main.c) owns the scenes, the ray sets, the reference, the
    scoring, the tables and the chart; methods own nothing but themselves.
@@ -23,7 +23,7 @@ typedef struct bench_scene {
     uint32_t width, height;
     const float *depth;      /* width*height floats, row 0 first: 0 near, 1 far (already standard Z) */
     lrt_depth lrt;           /* the same map as linear_rt takes it (LRT_FORMAT_FLOAT32, packed) */
-    /* thickness (MODEL.md): NULL, or each texel's back depth (a back-face
+    /* thickness (docs/MODEL.md): NULL, or each texel's back depth (a back-face
        pass; texel (i,j)'s box is [depth, max(depth, back)]); a method runs
        such a scene under that model, or says in build() why it cannot */
     const float *back;
@@ -43,7 +43,7 @@ typedef struct bench_method bench_method;
 struct bench_method {
     const char *name;        /* short, unique, for tables and the chart: "linear_rt cpu 16", "embree", "march64 cpu" */
     const char *device;      /* "cpu" or "vulkan" */
-    int exact;               /* 1: must agree with the reference on every ray (MODEL.md); 0: scored */
+    int exact;               /* 1: must agree with the reference on every ray (docs/MODEL.md); 0: scored */
     void *impl;              /* the method's own state */
 
     /* Makes the method ready (pipelines, devices), once; width and height

@@ -1,12 +1,12 @@
 /* bench/m_embree.c - Embree 3 on the CPU as a benchmark peer: the generic
-   BVH a user would pick instead of linear_rt, over the very solid of MODEL.md
+   BVH a user would pick instead of linear_rt, over the very solid of docs/MODEL.md
    as triangles, on the same threads. Method "embree" (exact = 1).
 
    Built with Embree when the Makefile defines BENCH_HAVE_EMBREE (Debian:
    libembree-dev, <embree3/rtcore.h>, -lembree3); without it the method is
    still listed and its open() says why it cannot run.
 
-   The solid as triangles (MODEL.md: texel (i, j) with depth d is the closed
+   The solid as triangles (docs/MODEL.md: texel (i, j) with depth d is the closed
    box [i, i+1] x [j, j+1] x [d, 1]); its boundary, as a ray from outside
    meets it:
    - each texel's top, z = d, two triangles (kept at d = 1 too: a far-plane
@@ -35,7 +35,7 @@
      exactly: the point is computed with one rounding per component and
      compared with texel edges and depths, which are floats);
    - a miss is told apart by the point at tmax: on the closed rectangle
-     [0,W] x [0,H], LRT_MISS_TMAX, else LRT_MISS_OFF_SCREEN (MODEL.md);
+     [0,W] x [0,H], LRT_MISS_TMAX, else LRT_MISS_OFF_SCREEN (docs/MODEL.md);
    - tfar is tmax moved up by one float ulp, so that a hit exactly at tmax
      (a primary ray on a far-plane texel: t = d = 1 = tmax) is found whatever
      Embree's comparison at tfar; such a hit is reported at tmax;
@@ -556,7 +556,7 @@ static void emb_filter(const struct RTCFilterFunctionNArguments *a)
     }
 }
 
-/* MODEL.md: is the point o + tmin v inside the solid? (closed boxes: on an
+/* docs/MODEL.md: is the point o + tmin v inside the solid? (closed boxes: on an
    edge or a corner every texel around it is tried) */
 static int emb_inside(const emb_job *jb, const lrt_ray *r, uint32_t *ti, uint32_t *tj)
 {

@@ -10,10 +10,10 @@
                                         with an iteration cap (AMD FidelityFX
                                         SSSR)
 
-   Common rules (MODEL.md): invalid rays (NaN/inf component, tmin < 0,
+   Common rules (docs/MODEL.md): invalid rays (NaN/inf component, tmin < 0,
    tmin > tmax) are flagged and not traced; every march first clips
    [tmin, tmax] to the screen box [0,W] x [0,H] x [0,1]; a miss is told
-   apart by MODEL.md's rule (the point at tmax on the closed screen
+   apart by docs/MODEL.md's rule (the point at tmax on the closed screen
    rectangle: LRT_MISS_TMAX, else LRT_MISS_OFF_SCREEN). The texel "under" a
    point is (floor x, floor y), clamped to the map. Our rays are straight in
    screen space, so depth is linear along them (no 1/w interpolation needed).
@@ -83,7 +83,7 @@ static void report_hit(const lrt_ray *r, double t, uint32_t i, uint32_t j, lrt_h
    The clipped segment [t0, t1] is cut into N equal steps; the samples at
    t0 + k (t1 - t0) / N, k = 0..N, read the depth of the texel under the
    point. The first sample at or behind that depth (z >= depth: the infinite-
-   thickness model of MODEL.md, where everything behind the visible surface is
+   thickness model of docs/MODEL.md, where everything behind the visible surface is
    solid) ends the march: sample 0 is a hit at t0 (the ray starts inside);
    otherwise 8 bisection steps between the previous sample (in front) and
    this one (behind) keep the sample that is behind, and its texel and t are
@@ -166,7 +166,7 @@ static void linear_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
    At most max(W, H) steps (the original's iteration cap; a stride-1 walk
    across the whole screen takes at most that many); a ray whose walk ends
    (the segment's end, or the cap) without a hit misses, its kind by
-   MODEL.md's rule. */
+   docs/MODEL.md's rule. */
 typedef struct dda_line {
     double x0, y0, z0, dx, dy, dz; /* the clipped segment, s in [0, 1] */
     int axis;                      /* the major axis: 0 x, 1 y */

@@ -173,6 +173,7 @@ typedef struct vkp {
 #undef VKP_MEMBER
     /* the scene's size and what hangs on it */
     uint32_t w, h;
+    int has_back; /* the scene has a thickness: back depths follow the depth (vkp_common.glsl) */
     vkp_buf depth, rays, hits, table, aux, verts, scratch, instances;
     size_t ray_cap;
     vkp_as blas, tlas;
@@ -859,12 +860,15 @@ static void vkp_push_init(const vkp *p, vkp_push *push)
     push->width = p->w;
     push->height = p->h;
     push->level_count = p->levels;
+    push->flags = p->has_back ? 2u : 0u; /* vkp_common.glsl's VKP_FLAG_BACK */
     memcpy(push->offsets, p->offsets, sizeof push->offsets);
 }
 
 /* ---- scene ------------------------------------------------------------------------- */
-/* Writes the scene's depth into the depth buffer, clamped as MODEL.md says
-   (the harness's maps are already clamped; this keeps NaN out of an AABB). */
+/* Writes the scene's depth into the depth buffer, clamped as docs/MODEL.md says
+   (the harness's maps are already clamped; this keeps NaN out of an AABB),
+   then with a thickness each texel's back b = max(depth, back), read and
+   clamped the same way. */
 static void vkp_upload_depth(vkp *p, const bench_scene *sc)
 {
     float *d = (float *)p->depth.map;
@@ -872,6 +876,12 @@ static void vkp_upload_depth(vkp *p, const bench_scene *sc)
     for (i = 0; i < count; ++i) {
         float v = sc->depth[i];
         d[i] = !(v <= 1.0f) ? 1.0f : v < 0.0f ? 0.0f : v;
+    }
+    p->has_back = sc->back != NULL;
+    for (i = 0; p->has_back && i < count; ++i) {
+        float b = sc->back[i];
+        b = !(b <= 1.0f) ? 1.0f : b < 0.0f ? 0.0f : b;
+        d[count + i] = b > d[i] ? b : d[i];
     }
 }
 
@@ -910,7 +920,7 @@ static int vkp_size_common(vkp *p, const bench_scene *sc, char *why, size_t n)
     p->h = sc->height;
     p->built = 0;
     vkp_buf_destroy(p, &p->depth);
-    if (vkp_buf_create(p, texels * sizeof(float), st, 1, &p->depth, why, n)) return 1;
+    if (vkp_buf_create(p, 2 * texels * sizeof(float), st, 1, &p->depth, why, n)) return 1; /* depth, back */
     if (!p->rays.buf) {
         p->ray_cap = 65536;
         if (vkp_buf_create(p, p->ray_cap * sizeof(lrt_ray), st, 1, &p->rays, why, n) ||
@@ -1339,8 +1349,8 @@ static int vkp_build(bench_method *m, const bench_scene *sc, double *ms, char *w
 {
     vkp *p = (vkp *)m->impl;
     *ms = 0;
-    if (sc->back) { /* these kernels trace the infinite layer: they would answer another model */
-        snprintf(why, n, "no thickness model in this Vulkan method");
+    if (sc->back && p->kind == VKP_RQ_TRI) { /* its walls model the infinite layer: it would answer another model */
+        snprintf(why, n, "triangle walls model the infinite layer only");
         return 1;
     }
     if (!p->dev) {
@@ -1399,7 +1409,7 @@ static int vkp_trace(bench_method *m, const bench_scene *sc, const bench_rays *r
     memcpy(p->rays.map, rs->rays, rs->count * sizeof(lrt_ray));
     if (vkp_begin(p, why, n)) return 1;
     vkp_push_init(p, &push);
-    push.flags = (rs->flags & BENCH_ANY_HIT) ? 1u : 0u;
+    push.flags |= (rs->flags & BENCH_ANY_HIT) ? 1u : 0u;
     p->vkCmdBindPipeline(p->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->trace_pipe);
     p->vkCmdBindDescriptorSets(p->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0, NULL);
     vkp_dispatch(p, &push, rs->count);

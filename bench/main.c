@@ -7,7 +7,7 @@
    method builds, updates and traces, timed by itself (medians after a
    warm-up; GPU timestamps on Vulkan), and is scored against the exact
    reference of the tests (tests/reference.h) on a fixed sample of the rays:
-   exact methods by MODEL.md's rule, approximate ones by the share of rays
+   exact methods by docs/MODEL.md's rule, approximate ones by the share of rays
    with the right hit/miss and texel, false hits, false misses and the mean
    distance from the right hit. Then the stability suite: small named cases
    built to break someone. Writes bench/results.csv, bench/results.md and
@@ -397,7 +397,7 @@ static void make_set(ray_set *rs, const scene *sc, int kind, size_t sample)
             r->dir[1] = -0.8f * k;
             r->dir[2] = -0.25f;
         }
-        /* leave the own texel before testing (MODEL.md: the set-up's policy; this
+        /* leave the own texel before testing (docs/MODEL.md: the set-up's policy; this
            screen-space one starts 0.75 texel out, the camera sets lift instead) */
         {
             float m = fabsf(r->dir[0]) > fabsf(r->dir[1]) ? fabsf(r->dir[0]) : fabsf(r->dir[1]);
@@ -442,7 +442,7 @@ static void score_set(const scene *sc, const ray_set *rs, const lrt_hit *hits, i
         const int any = (rs->r.flags & BENCH_ANY_HIT) != 0;
         int ok;
         ++s->n;
-        if (exact) { /* MODEL.md's rule, perturbations and all */
+        if (exact) { /* docs/MODEL.md's rule, perturbations and all */
             ref_ray rr = to_ref(r);
             ref_answer an;
             an.kind = (int)a->kind;
@@ -733,13 +733,28 @@ static const result *find(const char *method, const char *scene_name, const char
 
 static double mrays(const result *r) { return r && r->trace_ms > 0 ? (double)r->rays / r->trace_ms / 1e3 : 0.0; }
 
+/* mkdir -p: each folder of dir in turn (those that exist are left alone) */
+static void make_dirs(const char *dir)
+{
+    char path[512];
+    size_t k, n = strlen(dir);
+    if (n >= sizeof path) return;
+    memcpy(path, dir, n + 1);
+    for (k = 1; k <= n; ++k) {
+        if (path[k] != '/' && path[k] != 0) continue;
+        path[k] = 0;
+        (void)mkdir(path, 0777);
+        path[k] = dir[k];
+    }
+}
+
 static void write_outputs(const options *o, bench_method *m, int nm, const char *const *why_skipped,
                           const char *machine, int nstab, const scene *first)
 {
     char path[512];
     FILE *csv, *md, *dat;
-    int i, k;
-    (void)mkdir(o->out_dir, 0777); /* may exist */
+    int i, k, t;
+    make_dirs(o->out_dir);
     snprintf(path, sizeof path, "%s/results.csv", o->out_dir);
     csv = fopen(path, "w");
     snprintf(path, sizeof path, "%s/results.md", o->out_dir);
@@ -791,24 +806,28 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
                     pct(r->sc.false_misses, r->sc.n), r->sc.both_hit ? r->sc.dist_sum / (double)r->sc.both_hit : 0.0);
         }
     }
-    /* one point per method: secondary rays (reflection + segments) of every scene */
+    /* one point per method: secondary rays (reflection + segments) of every
+       scene of the infinite layer (a method without thickness has no yard
+       back), then of the yard back alone, on the thickness panels (device
+       "cpu_thick", "vulkan_thick") */
     fprintf(dat, "# method device mrays_per_s right_pct exact\n");
-    for (k = 0; k < nm; ++k) {
-        double ms = 0, right = 0, n = 0, rays = 0;
-        for (i = 0; i < g_nres; ++i) {
-            const result *r = &g_res[i];
-            /* the infinite layer's scenes: a method without thickness has no yard back */
-            if (!r->ok || strcmp(r->method, m[k].name) != 0 || (strcmp(r->set, "reflection") && strcmp(r->set, "segments")) ||
-                strcmp(r->scene, "yard back") == 0)
-                continue;
-            ms += r->trace_ms;
-            rays += (double)r->rays;
-            right += (double)r->sc.right;
-            n += (double)r->sc.n;
+    for (t = 0; t < 2; ++t) {
+        for (k = 0; k < nm; ++k) {
+            double ms = 0, right = 0, n = 0, rays = 0;
+            for (i = 0; i < g_nres; ++i) {
+                const result *r = &g_res[i];
+                if (!r->ok || strcmp(r->method, m[k].name) != 0 || (strcmp(r->set, "reflection") && strcmp(r->set, "segments")) ||
+                    (strcmp(r->scene, "yard back") == 0) != t)
+                    continue;
+                ms += r->trace_ms;
+                rays += (double)r->rays;
+                right += (double)r->sc.right;
+                n += (double)r->sc.n;
+            }
+            if (ms > 0)
+                fprintf(dat, "\"%s\" %s%s %.4f %.4f %d\n", m[k].name, m[k].device, t ? "_thick" : "", rays / ms / 1e3,
+                        100.0 * right / n, m[k].exact);
         }
-        if (ms > 0)
-            fprintf(dat, "\"%s\" %s %.4f %.4f %d\n", m[k].name, m[k].device, rays / ms / 1e3, 100.0 * right / n,
-                    m[k].exact);
     }
     fprintf(md, "\n## Stability: every method against every case (%% of rays right; exact methods must be 100)\n\n");
     fprintf(md, "| case |");
@@ -901,7 +920,8 @@ static int chart_by_speed_desc(const void *a, const void *b)
     return p->right < q->right ? 1 : p->right > q->right ? -1 : 0;
 }
 
-/* One panel per device. No labels on the points (near 100% they crowd into
+/* One panel per device, for the infinite layer's scenes (top row) and for
+   the yard with thickness (bottom row). No labels on the points (near 100% they crowd into
    each other): a key names every point, with its numbers. Colour says the
    family, the point type the member; filled small and open large points
    alternate within a family, so two methods on one spot (linear_rt's 16-
@@ -929,11 +949,11 @@ static int chart(const options *o, const char *machine)
     snprintf(cmd, sizeof cmd, "gnuplot > %s/gnuplot.log 2>&1", o->out_dir);
     gp = popen(cmd, "w");
     if (!gp) return 1;
-    fprintf(gp, "set terminal pngcairo size 1800,850 font 'sans,11'\n"
+    fprintf(gp, "set terminal pngcairo size 1800,1600 font 'sans,11'\n"
                 "set output '%s/speed_vs_accuracy.png'\n"
                 "set termoption noenhanced\n"
-                "set multiplot layout 1,2 title \"Screen-space rays: speed against accuracy, reflection rays and "
-                "random segments of every scene\\n",
+                "set multiplot layout 2,2 title \"Screen-space rays: speed against accuracy, reflection rays and "
+                "random segments\\n",
             o->out_dir);
     chart_text(gp, machine);
     fprintf(gp, "\"\n");
@@ -943,8 +963,12 @@ static int chart(const options *o, const char *machine)
                 "set offsets graph 0.1, graph 0.1, 0, 0\n"
                 "set key outside right top vertical Left reverse samplen 1 spacing 1.3 width 1 box font 'sans,10'\n",
             lowest > 5.0 ? lowest - 5.0 : 0.0);
-    for (d = 0; d < 2; ++d) {
-        const char *dev = d ? "vulkan" : "cpu";
+    for (d = 0; d < 4; ++d) {
+        static const char *const devs[4] = {"cpu", "vulkan", "cpu_thick", "vulkan_thick"};
+        static const char *const titles[4] = {
+            "every scene of the infinite layer, on the CPU", "every scene of the infinite layer, on Vulkan (lavapipe here: the same CPU cores)",
+            "thickness (scene yard back: back faces), on the CPU", "thickness (scene yard back), on Vulkan"};
+        const char *dev = devs[d];
         int n = 0, nf = 0, e;
         double best = -1.0;
         /* this device's points, the exact methods first */
@@ -963,7 +987,7 @@ static int chart(const options *o, const char *machine)
         for (i = 0; i < n; ++i) fprintf(gp, "%.6g %.6g\n", panel[i].mrays, panel[i].right);
         fprintf(gp, "EOD\n$F%d << EOD\n", d);
         for (i = nf - 1; i >= 0; --i) fprintf(gp, "%.6g %.6g\n", front[i].mrays, front[i].right);
-        fprintf(gp, "EOD\nset title '%s'\n", d ? "on Vulkan (lavapipe here: the same CPU cores)" : "on the CPU");
+        fprintf(gp, "EOD\nset title '%s'\n", titles[d]);
         if (!n) { /* nothing ran on this device: an empty panel that says so */
             fprintf(gp, "set xrange [0.1:10]\nplot 1/0 lc rgb '#ffffff' title 'no method ran here'\nset autoscale x\n");
             continue;
@@ -1031,7 +1055,7 @@ int main(int argc, char **argv)
     o.threads = cores > 0 ? (int)cores : 1;
     o.runs = 5;
     o.sample = 20000;
-    o.out_dir = "bench";
+    o.out_dir = "build/bench-results"; /* committed results change only by make bench-publish */
     o.fov_deg = 60.0f; /* examples/example.h's example_default_options */
     o.near_z = 0.1f;
     o.far_z = 60.0f;

@@ -1,5 +1,5 @@
 /* bench/march_common.h - what the CPU peers of the benchmark share
-   (bench/m_embree.c, bench/m_march_cpu.c): MODEL.md's ray validation, the
+   (bench/m_embree.c, bench/m_march_cpu.c): docs/MODEL.md's ray validation, the
    clip of a ray to the screen box, the rule that tells the two kinds of miss
    apart, and a parallel-for over a batch of rays on pthreads.
 
@@ -20,12 +20,12 @@
 
 static inline int bmc_finite(float x) { return x - x == 0.0f; } /* false for NaN and +-inf */
 
-/* MODEL.md's one repair of input depth: NaN and values above 1 become 1,
+/* docs/MODEL.md's one repair of input depth: NaN and values above 1 become 1,
    values below 0 become 0 (the harness hands clamped maps; this is cheap
    insurance for a user's map). */
 static inline float bmc_depth(float d) { return !(d <= 1.0f) ? 1.0f : d < 0.0f ? 0.0f : d; }
 
-/* MODEL.md: a NaN or infinite component, tmin < 0 or tmin > tmax: invalid. */
+/* docs/MODEL.md: a NaN or infinite component, tmin < 0 or tmin > tmax: invalid. */
 static inline int bmc_ray_valid(const lrt_ray *r)
 {
     int k;
@@ -41,7 +41,7 @@ static inline int bmc_ray_valid(const lrt_ray *r)
    gives the exact answer (rounding is monotonic). */
 static inline double bmc_at(float o, float v, float t) { return (double)o + (double)t * (double)v; }
 
-/* The kind of a miss by MODEL.md's rule (the reference's): the point at tmax
+/* The kind of a miss by docs/MODEL.md's rule (the reference's): the point at tmax
    on the closed screen rectangle [0,W] x [0,H] (x and y only): reached tmax;
    otherwise the ray left (or never met) the screen. Exact, see bmc_at. */
 static inline uint32_t bmc_miss_kind(const lrt_ray *r, uint32_t w, uint32_t h)

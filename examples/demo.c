@@ -192,7 +192,7 @@ static bvh_stats measure_bvh(const lrt_depth *depth, uint32_t node_bits, lrt_bvh
 }
 
 /* ---- agreement with the exact reference ------------------------------------ */
-/* Is this answer right for this ray, by MODEL.md's rule? */
+/* Is this answer right for this ray, by docs/MODEL.md's rule? */
 static int judge(const ref_map *m, const lrt_ray *r, const lrt_hit *h, char *why, size_t why_size)
 {
     ref_ray q;

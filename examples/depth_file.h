@@ -6,7 +6,7 @@
    RGB(A) or grey, of the depth's size. Every problem is a nonzero return and
    a one-line reason; nothing is read outside the bytes given.
 
-   The depth comes out as MODEL.md wants it: floats, row 0 at the top, 0 near,
+   The depth comes out as docs/MODEL.md wants it: floats, row 0 at the top, 0 near,
    NaN and values above 1 as 1, below 0 as 0 (after the reversed-Z flip).
 
    Header-only; include it in ONE file of a program: it compiles stb_image

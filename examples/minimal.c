@@ -20,7 +20,7 @@ int main(void)
         printf("build failed: %s\n", lrt_result_string(r));
         return 1;
     }
-    /* origin (x, y, depth), tmin, direction, tmax: screen space, MODEL.md */
+    /* origin (x, y, depth), tmin, direction, tmax: screen space, docs/MODEL.md */
     lrt_ray rays[3] = {
         {{10.5f, 20.5f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, 1.0f},    /* straight into the screen */
         {{10.5f, 20.5f, 0.5f}, 0.0f, {50.0f, 0.0f, 0.0f}, 1.0f},   /* across, into the wall */

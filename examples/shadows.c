@@ -5,7 +5,7 @@
    long, any hit: the texel is in shadow. Shaded with a Lambert term and a
    sky ambient, so the picture shows the shadows where a person expects
    them. Screen-space shadows see only what the depth buffer shows: what
-   hides behind a visible surface is solid to them (MODEL.md), so a thin
+   hides behind a visible surface is solid to them (docs/MODEL.md), so a thin
    pole casts the shadow of a wall that runs from it away from the eye.
 
    build/shadows [--size N] [--depth FILE ...] [--length L]   writes out/shadows.png */

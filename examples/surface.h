@@ -44,7 +44,7 @@ static inline void surface_positions_row(const lrt_camera *cam, const float *dep
    difference of positions; of the two neighbours on each axis, the one with
    the smaller depth step is used, so that a silhouette does not bend the
    normal of the surface in front of it.
-   The lift: texels are flat-topped boxes (MODEL.md), so on a sloped surface
+   The lift: texels are flat-topped boxes (docs/MODEL.md), so on a sloped surface
    the next texel's top stands up to half a texel's slope above the true
    surface between them; a ray leaving the surface is lifted towards the eye
    by that much (half the depth steps to the chosen neighbours, plus 1%) and

@@ -917,7 +917,7 @@ uint lrt_node_code0(LrtParams p, uint lv, uint off, uint nx, uint ny)
 
 // the first texel along one axis that the ray touches at t_lo: the one
 // holding o + t_lo v, or one behind it whose edge lies within the widening
-// of t_lo (MODEL.md: a touch is a hit), found with the planes' own t
+// of t_lo (docs/MODEL.md: a touch is a hit), found with the planes' own t
 int lrt_first_texel(float o, float v, float iv, uint neg, bool zero, float t_lo, int size)
 {
     precise float p = o + t_lo * v;

@@ -56,7 +56,7 @@ HAVE_M32 = $(call need,$@,printf '\043include <stdio.h>\nint main(void) { return
 HAVE_TOOL = $(call need,$@,command -v $(1),$(1) is not installed: tools/install-deps.sh installs it)
 
 # ---- clang ASan + UBSan ----------------------------------------------------------
-$(B)/test_reference_csan: tests/test_reference.c $(REF) | deps $(B)
+$(B)/test_reference_csan: tests/test_reference.c $(REF) tests/check.h | deps $(B)
 	$(CLANG) $(STD) $(WARN) $(CLANG_SAN) $< -o $@ $(LDLIBS)
 
 $(B)/test_core_csan: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)

@@ -1,6 +1,6 @@
 /* tests/rays.h - what the tests trace: depth maps of many shapes in every
    format, each with its exact reference twin (tests/reference.h), and rays
-   of every kind MODEL.md names, from one deterministic random sequence.
+   of every kind docs/MODEL.md names, from one deterministic random sequence.
    Shared by tests/test_core.c (the CPU path) and tests/test_vulkan.c (the
    kernels). Include after linear_rt.h, reference.h and examples/scene.h;
    everything is static, for one test file. */
@@ -170,7 +170,7 @@ RAYS_MAYBE_UNUSED static void add_back(test_map *m)
 /* A constant (thickness LRT_THICKNESS_CONSTANT) or relative thickness
    model for m, under a perspective projection with planes near_z, far_z:
    the tree is built with it (test_map_options) and the reference computes
-   its own back depths from MODEL.md's definition. */
+   its own back depths from docs/MODEL.md's definition. */
 RAYS_MAYBE_UNUSED static void add_model(test_map *m, uint32_t thickness, float value, float near_z, float far_z)
 {
     int r;

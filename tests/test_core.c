@@ -1,8 +1,8 @@
-/* tests/test_core.c - the CPU path of linear_rt.h against MODEL.md.
+/* tests/test_core.c - the CPU path of linear_rt.h against docs/MODEL.md.
 
    Every traced ray is judged by the separate exact reference of
-   tests/reference.h (ref_check: MODEL.md's "Right, and how right"). Also:
-   the named cases of MODEL.md, Morton mapping and level geometry, update
+   tests/reference.h (ref_check: docs/MODEL.md's "Right, and how right"). Also:
+   the named cases of docs/MODEL.md, Morton mapping and level geometry, update
    versus rebuild byte for byte, every bad argument's result code, the
    allocator hooks and caller-owned memory.
 
@@ -250,7 +250,7 @@ static void test_thickness_found(void)
     }
 }
 
-/* ---- 2. the named cases of MODEL.md ------------------------------------------ */
+/* ---- 2. the named cases of docs/MODEL.md ------------------------------------------ */
 static lrt_hit trace1(const lrt_bvh *bvh, const test_map *m, float ox, float oy, float oz, float vx, float vy, float vz,
                       float tmin, float tmax)
 {
@@ -859,17 +859,18 @@ static void test_camera_planes(void)
           "camera planes: null pointers");
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
-    test_named_cases();
-    test_found_cases();
-    test_layout();
-    test_update();
-    test_bad_arguments();
-    test_ranges();
-    test_differential();
-    test_thickness_grazing();
-    test_thickness_found();
-    test_camera_planes();
+    check_select(argc, argv);
+    RUN_TEST(test_named_cases);
+    RUN_TEST(test_found_cases);
+    RUN_TEST(test_layout);
+    RUN_TEST(test_update);
+    RUN_TEST(test_bad_arguments);
+    RUN_TEST(test_ranges);
+    RUN_TEST(test_differential);
+    RUN_TEST(test_thickness_grazing);
+    RUN_TEST(test_thickness_found);
+    RUN_TEST(test_camera_planes);
     return check_summary();
 }

@@ -378,21 +378,28 @@ static void test_programs(void)
     }
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     example_options o;
     example_frame f;
-    size_t refl_hits;
+    size_t refl_hits = 0;
+    check_select(argc, argv);
     mkdir("build", 0777);
     mkdir(DIR, 0777);
-    test_camera();
-    example_default_options(&o);
-    o.size = SIZE;
-    CHECK(example_frame_load(&f, &o) == EXAMPLE_EXIT_OK, "embedded scene frame");
-    test_frame(&f);
-    refl_hits = test_effects(&f);
-    example_frame_free(&f);
-    test_programs();
-    test_thickness(refl_hits);
+    RUN_TEST(test_camera);
+    { /* test_frame and test_effects need the embedded frame, test_thickness its reflections' hits */
+        const int frame = check_wanted("test_frame"), effects = check_wanted("test_effects");
+        const int thick = check_wanted("test_thickness");
+        if (frame || effects || thick) {
+            example_default_options(&o);
+            o.size = SIZE;
+            CHECK(example_frame_load(&f, &o) == EXAMPLE_EXIT_OK, "embedded scene frame");
+            if (frame) test_frame(&f);
+            refl_hits = test_effects(&f);
+            example_frame_free(&f);
+        }
+        RUN_TEST(test_programs);
+        if (thick) test_thickness(refl_hits);
+    }
     return check_summary();
 }

@@ -15,7 +15,7 @@
        rows and columns, rays of every kind of tests/rays.h) judged by the
        exact reference of tests/reference.h; real 1x16384 and 16384x1 maps
        judged the same way; a real 16384x16384 8-bit map (primary rays of
-       its edges judged by MODEL.md's rule: own texel, t = d);
+       its edges judged by docs/MODEL.md's rule: own texel, t = d);
    (d) ray counts: more than LINEAR_RT_MAX_RAYS_PER_CALL, SIZE_MAX and
        first > end give LRT_ERROR_TOO_MANY_RAYS before any ray is read or
        hit written (a 4-ray array with guards, a count of 2^30 + 1).
@@ -441,7 +441,7 @@ static void test_thin_updates(void)
 
 /* 16384^2 8-bit, 256 MiB of depth and 293 MiB of nodes:
    primary rays of the edge rows and columns and of the middle, each must hit
-   its own texel at t = d (MODEL.md), and random segments must hit or miss
+   its own texel at t = d (docs/MODEL.md), and random segments must hit or miss
    without reading outside the map (no reference twin: it would be 2 GiB). */
 static void test_16384(void)
 {
@@ -573,23 +573,24 @@ static void test_ray_counts(void)
     lrt_bvh_destroy(&bvh);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     const char *mode = getenv("LRT_TEST_LIMITS");
     const int quick = mode && strcmp(mode, "quick") == 0;
     double t0 = now_s();
+    check_select(argc, argv);
     printf("size_t: %u bits, LINEAR_RT_MAX_DIM %u, LINEAR_RT_MAX_RAYS_PER_CALL %u\n", (unsigned)(sizeof(size_t) * 8),
            LINEAR_RT_MAX_DIM, LINEAR_RT_MAX_RAYS_PER_CALL);
-    test_layout_sizes();
-    test_impossible_sizes();
-    test_ray_counts();
-    test_thin_maps();
-    test_thin_updates();
+    RUN_TEST(test_layout_sizes);
+    RUN_TEST(test_impossible_sizes);
+    RUN_TEST(test_ray_counts);
+    RUN_TEST(test_thin_maps);
+    RUN_TEST(test_thin_updates);
     if (quick) {
         printf("  note: LRT_TEST_LIMITS=quick: the real 8192^2 and 16384^2 maps are skipped\n");
     } else {
-        test_8192();
-        test_16384();
+        RUN_TEST(test_8192);
+        RUN_TEST(test_16384);
     }
     printf("test_limits: %.1f s of CPU\n", now_s() - t0);
     return check_summary();

@@ -2,7 +2,7 @@
    bit for bit: the SSE2 child test (this file's own copy, default x86-64
    flags), plain C (LINEAR_RT_NO_SIMD) and AVX2 (-mavx2, run only where the
    CPU has it), each a separate copy of the implementation (tests/paths_tu.c).
-   test_core judges every path against the reference within MODEL.md's
+   test_core judges every path against the reference within docs/MODEL.md's
    tolerance; this test holds them to the same floats, which the header
    promises and the GPU comparison of test_vulkan relies on.
 
@@ -88,19 +88,13 @@ static void map_and_rays(int w, int h, int shape, lrt_format format, int reverse
     free(rays);
 }
 
-int main(void)
+/* every size, shape and format, Z direction, node width, strided or not */
+static void test_maps(void)
 {
     static const int sizes[][2] = {{1, 1}, {1, 23}, {23, 1}, {3, 5}, {7, 9}, {8, 8}, {33, 20}, {100, 37}, {5, 300}, {257, 129}};
     const size_t nsizes = sizeof sizes / sizeof sizes[0];
     size_t s;
-    int shape, f, k;
-    test_map m;
-    lrt_ray r;
-#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
-    __builtin_cpu_init();
-    g_have_avx2 = __builtin_cpu_supports("avx2");
-#endif
-    if (!g_have_avx2) printf("note: this CPU has no AVX2: SSE2 against scalar only\n");
+    int shape, f;
     for (s = 0; s < nsizes; ++s)
         for (shape = 0; shape < SHAPE_COUNT; ++shape)
             for (f = 1; f <= 3; ++f) {
@@ -108,9 +102,17 @@ int main(void)
                 map_and_rays(sizes[s][0], sizes[s][1], shape, (lrt_format)f, (int)(s & 1), (s % 3 == 0) ? 8u : 16u, 3000,
                              (int)(s & 2), (shape == SHAPE_SCENE || shape == SHAPE_POLES) && f == 2);
             }
+}
+
+static void test_large(void)
+{
     map_and_rays(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, 100000, 0, 0);
     map_and_rays(1024, 1024, SHAPE_POLES, LRT_FORMAT_FLOAT32, 1, 8, 30000, 0, 0);
     map_and_rays(1282, 1110, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 30000, 1, 0);
+}
+
+static void test_thickness(void)
+{
     map_and_rays(1024, 1024, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, 50000, 0, 1);
     map_and_rays(513, 257, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 20000, 1, 1);
     /* constant and relative thickness: plain float (the AVX2 texel test's own b(d)), then others */
@@ -120,12 +122,34 @@ int main(void)
     map_and_rays(257, 130, SHAPE_POLES, LRT_FORMAT_FLOAT32, 1, 16, 20000, 0, LRT_THICKNESS_RELATIVE);
     map_and_rays(100, 37, SHAPE_SCENE, LRT_FORMAT_UNORM16, 1, 8, 20000, 1, LRT_THICKNESS_CONSTANT);
     map_and_rays(101, 37, SHAPE_TERRACES, LRT_FORMAT_UNORM8, 0, 16, 20000, 0, LRT_THICKNESS_RELATIVE);
-    for (k = 0; found_case(k, &m, &r); ++k) { /* the fuzzer's rays, the rare set-up among them */
+}
+
+/* the fuzzer's rays, the rare set-up among them */
+static void test_found_cases(void)
+{
+    test_map m;
+    lrt_ray r;
+    int k;
+    for (k = 0; found_case(k, &m, &r); ++k) {
         char what[64];
         snprintf(what, sizeof what, "found case %d", k);
         compare(what, &m, 0, &r, 1);
         free_map(&m);
     }
+}
+
+int main(int argc, char **argv)
+{
+    check_select(argc, argv);
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+    __builtin_cpu_init();
+    g_have_avx2 = __builtin_cpu_supports("avx2");
+#endif
+    if (!g_have_avx2) printf("note: this CPU has no AVX2: SSE2 against scalar only\n");
+    RUN_TEST(test_maps);
+    RUN_TEST(test_large);
+    RUN_TEST(test_thickness);
+    RUN_TEST(test_found_cases);
     printf("%zu rays compared across the paths\n", g_rays);
     return check_summary();
 }

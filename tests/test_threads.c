@@ -585,13 +585,14 @@ static int break_rule(void)
 int main(int argc, char **argv)
 {
     if (argc > 1 && strcmp(argv[1], "--break-rule") == 0) return break_rule();
-    if (argc > 1) {
-        printf("usage: %s [--break-rule]\n", argv[0]);
+    if (argc > 2 || (argc > 1 && argv[1][0] == '-')) {
+        printf("usage: %s [--break-rule | TEST]\n", argv[0]);
         return 2;
     }
+    check_select(argc, argv);
     printf("threads: %d%s\n", THREADS, TSAN_BUILD ? ", under ThreadSanitizer" : "");
-    test_slices();
-    test_frames();
-    test_at_once();
+    RUN_TEST(test_slices);
+    RUN_TEST(test_frames);
+    RUN_TEST(test_at_once);
     return check_summary();
 }

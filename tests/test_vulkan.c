@@ -1,5 +1,5 @@
 /* tests/test_vulkan.c - the Vulkan path of linear_rt.h (the kernels of
-   shaders/, embedded in shaders_spv.h) against the CPU path and MODEL.md.
+   shaders/, embedded in shaders_spv.h) against the CPU path and docs/MODEL.md.
 
    On the first device lrt_vk_device_create finds (lavapipe on the project's
    machines), with the Khronos validation layer on, synchronization
@@ -423,6 +423,16 @@ static void test_build_and_trace(void)
     build_case(300, 201, SHAPE_WILD, LRT_FORMAT_FLOAT32, 0, 16, SRC_PACKED, VK_FORMAT_UNDEFINED, 2600, LRT_THICKNESS_CONSTANT);
     build_case(512, 512, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 16, SRC_IMAGE, VK_FORMAT_D32_SFLOAT, 20000, LRT_THICKNESS_CONSTANT);
     build_case(514, 513, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 1, 16, SRC_PACKED, VK_FORMAT_UNDEFINED, 20000, LRT_THICKNESS_RELATIVE);
+}
+
+/* A quick loop's Vulkan test (make check): one build and trace of a
+   buffer depth and of a constant-thickness tree on an image, the CPU's
+   nodes and answers bit for bit, validation on. */
+static void test_smoke(void)
+{
+    build_case(100, 37, SHAPE_SCENE, LRT_FORMAT_FLOAT32, 0, 0, SRC_OFFSET, VK_FORMAT_UNDEFINED, 2600, 0);
+    build_case(64, 64, SHAPE_POLES, LRT_FORMAT_UNORM16, 1, 8, SRC_IMAGE, default_image_format(LRT_FORMAT_UNORM16, 1), 1300,
+               LRT_THICKNESS_CONSTANT);
 }
 
 /* ---- (b) update == the CPU's update ---------------------------------------------------- */
@@ -1274,12 +1284,13 @@ static void print_trace_summary(void)
     CHECK(g_trace_total.differ == 0, "%zu closest-hit GPU answers differ from the CPU's", g_trace_total.differ);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     const char *ci = getenv("CI");
     const int in_ci = ci && strcmp(ci, "true") == 0;
     lrt_result r;
-    test_bad_arguments_no_device();
+    check_select(argc, argv);
+    RUN_TEST(test_bad_arguments_no_device);
     r = lrt_vk_device_create(&g_dev, LRT_VK_DEVICE_VALIDATION | LRT_VK_DEVICE_SYNC_VALIDATION);
     if (r == LRT_ERROR_NO_VULKAN_LOADER || r == LRT_ERROR_NO_VULKAN_DEVICE || r == LRT_ERROR_MISSING_VULKAN_FEATURE) {
         printf("test-vulkan: %s: %s (%s)\n", in_ci ? "FAIL under CI=true" : "skipped", lrt_result_string(r),
@@ -1300,14 +1311,15 @@ int main(void)
     r = lrt_vk_context_create(&g_dev.desc, &g_ctx);
     CHECK(r == LRT_SUCCESS, "lrt_vk_context_create: %s", lrt_result_string(r));
     if (r == LRT_SUCCESS && vkt_init(&g_t, &g_dev) == 0) {
-        test_context_options();
-        test_device_without_extension();
-        test_bad_arguments();
-        test_device_limits();
-        test_build_and_trace();
-        test_found_cases();
-        test_update();
-        test_2d_dispatch();
+        RUN_TEST(test_smoke);
+        RUN_TEST(test_context_options);
+        RUN_TEST(test_device_without_extension);
+        RUN_TEST(test_bad_arguments);
+        RUN_TEST(test_device_limits);
+        RUN_TEST(test_build_and_trace);
+        RUN_TEST(test_found_cases);
+        RUN_TEST(test_update);
+        RUN_TEST(test_2d_dispatch);
         print_trace_summary();
     } else {
         CHECK(0, "Vulkan set-up failed");

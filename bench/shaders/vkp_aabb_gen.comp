@@ -1,6 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// vkp_aabb_gen.comp - the AABB of every texel box [i,i+1] x [j,j+1] x [d,1],
+// vkp_aabb_gen.comp - the AABB of every texel box [i,i+1] x [j,j+1] x [d,b]
+// (b = 1, or its back depth with a thickness),
 // primitive k being texel table[k] (the texels in Z order: lavapipe's builder
 // keeps the submission order, so the order makes the tree). One invocation
 // per primitive; pc.ray_count = the number of primitives.
@@ -21,5 +22,5 @@ void main()
     vkp_aabbs.f[b + 2u] = vkp_depth.depth[texel];
     vkp_aabbs.f[b + 3u] = float(i + 1u);
     vkp_aabbs.f[b + 4u] = float(j + 1u);
-    vkp_aabbs.f[b + 5u] = 1.0;
+    vkp_aabbs.f[b + 5u] = vkp_back_at(i, j);
 }

@@ -1,10 +1,12 @@
 // vkp_common.glsl - what every Vulkan peer of the benchmark shares (ray-query
 // BVHs and screen-space marches, bench/m_vk_peers.c): the buffers, the push
-// constants, and MODEL.md's rules for invalid rays, the two kinds of miss and
+// constants, and docs/MODEL.md's rules for invalid rays, the two kinds of miss and
 // the clip of a ray to the screen box. Included by each bench/shaders/vkp_*.comp.
 //
 // Bindings (set 0; a kernel declares only those it uses):
-//   0 depth   float per texel, row 0 first, 0 near (standard Z, already clamped)
+//   0 depth   float per texel, row 0 first, 0 near (standard Z, already clamped);
+//             with a thickness (pc.flags bit 1) then each texel's back depth
+//             b = max(depth, back), the box [d, b]
 //   1 rays    lrt_ray  {vec3 origin; float tmin; vec3 dir; float tmax;}
 //   2 hits    lrt_hit  {float t; uint x, y, kind;} (kind < 2^16: the face half is 0, not reported)
 //   3 table   uint per primitive: the texel (y*width + x) it belongs to
@@ -17,7 +19,7 @@ layout(push_constant, std430) uniform VkpPush {
     uint width, height;     // texels
     uint ray_first;         // first ray of this dispatch
     uint ray_count;         // rays in this dispatch (or texels of the level being written)
-    uint flags;             // bit 0: any hit will do (occlusion)
+    uint flags;             // bit 0: any hit will do (occlusion); bit 1: back depths follow
     uint level_count;       // Hi-Z: levels, level 0 being the depth map itself
     uint level;             // Hi-Z mip build: the level written
     uint pad;
@@ -45,6 +47,12 @@ layout(set = 0, binding = 1, std430) readonly buffer VkpRays { VkpRay r[]; } vkp
 layout(set = 0, binding = 2, std430) writeonly buffer VkpHits { VkpHit h[]; } vkp_hits;
 
 float vkp_depth_at(uint x, uint y) { return vkp_depth.depth[y * pc.width + x]; }
+const uint VKP_FLAG_BACK = 2u;
+// the back of texel (x, y): its back depth with a thickness, else 1 (infinite)
+float vkp_back_at(uint x, uint y)
+{
+    return (pc.flags & VKP_FLAG_BACK) != 0u ? vkp_depth.depth[(pc.height + y) * pc.width + x] : 1.0;
+}
 
 // a NaN or an infinity (read from the bits: no fast-math assumption can drop it)
 bool vkp_nonfinite(float f) { return (floatBitsToUint(f) & 0x7f800000u) == 0x7f800000u; }
@@ -61,7 +69,7 @@ VkpHit vkp_hit(float t, uint x, uint y) { return VkpHit(t, x, y, VKP_HIT); }
 // a march's hit: t clamped to the ray's [tmin, tmax], as the CPU marches do
 VkpHit vkp_march_hit(VkpRay r, float t, uint x, uint y) { return VkpHit(clamp(t, r.tmin, r.tmax), x, y, VKP_HIT); }
 
-// MODEL.md: a miss is a tmax miss when the point at tmax lies in the closed
+// docs/MODEL.md: a miss is a tmax miss when the point at tmax lies in the closed
 // screen rectangle (x and y only), else the ray left the screen.
 VkpHit vkp_miss(VkpRay r)
 {
@@ -125,7 +133,7 @@ bool vkp_inside_point(vec3 p, out uint hx, out uint hy)
     uint j0 = (float(j1) == p.y && j1 > 0u) ? j1 - 1u : j1;
     for (uint j = j0; j <= j1; ++j)
         for (uint i = i0; i <= i1; ++i)
-            if (p.z >= vkp_depth_at(i, j)) {
+            if (p.z >= vkp_depth_at(i, j) && p.z <= vkp_back_at(i, j)) {
                 hx = i;
                 hy = j;
                 return true;
@@ -159,7 +167,7 @@ bool vkp_inside(vec3 o, vec3 v, float t, out uint hx, out uint hy)
         for (uint i = i0; i <= i1; ++i)
             if (vkp_at_or_past(o.x, v.x, t, float(i)) && vkp_at_or_past(-o.x, -v.x, t, -float(i + 1u)) &&
                 vkp_at_or_past(o.y, v.y, t, float(j)) && vkp_at_or_past(-o.y, -v.y, t, -float(j + 1u)) &&
-                vkp_at_or_past(o.z, v.z, t, vkp_depth_at(i, j))) {
+                vkp_at_or_past(o.z, v.z, t, vkp_depth_at(i, j)) && vkp_at_or_past(-o.z, -v.z, t, -vkp_back_at(i, j))) {
                 hx = i;
                 hy = j;
                 return true;

@@ -12,7 +12,7 @@
 // zlo <= d + 0.02, the surface being taken as 0.02 deep. The reported t is
 // where the ray enters [d, d + 0.02] within the stretch, the texel the one
 // sampled. At most max(W, H) steps; a walk that ends without a hit misses,
-// its kind by MODEL.md's rule.
+// its kind by docs/MODEL.md's rule.
 #include "vkp_common.glsl"
 
 const float VKP_THICKNESS = 0.02;
@@ -35,11 +35,13 @@ bool vkp_dda_test(VkpLine L, float sa, float sb, out uint i, out uint j, out flo
     i = vkp_cell(L.p0.x + s * L.dl.x, pc.width);
     j = vkp_cell(L.p0.y + s * L.dl.y, pc.height);
     float d = vkp_depth_at(i, j);
+    // a scene's own thickness where it has one (its back depths), as the CPU's DDA
+    float th = (pc.flags & VKP_FLAG_BACK) != 0u ? vkp_back_at(i, j) - d : VKP_THICKNESS;
     float za = L.p0.z + sa * L.dl.z, zb = L.p0.z + sb * L.dl.z;
     sh = sa;
-    if (!(vkp_behind(max(za, zb), d) && min(za, zb) <= d + VKP_THICKNESS)) return false;
-    if (!(vkp_behind(za, d) && za <= d + VKP_THICKNESS))
-        sh = clamp(sa + ((za < d ? d : d + VKP_THICKNESS) - za) / (zb - za) * (sb - sa), sa, sb);
+    if (!(vkp_behind(max(za, zb), d) && min(za, zb) <= d + th)) return false;
+    if (!(vkp_behind(za, d) && za <= d + th))
+        sh = clamp(sa + ((za < d ? d : d + th) - za) / (zb - za) * (sb - sa), sa, sb);
     return true;
 }
 

@@ -8,8 +8,9 @@
 // The walk starts at level 0 at the clipped start t0; each iteration looks at
 // the cell of the current level under the ray's point:
 //   - the point at or behind the cell's min depth (less vkp_common.glsl's
-//     bias): at level 0 a hit (the texel's box holds the point); above, go
-//     down a level;
+//     bias): at level 0 a hit (the texel's box holds the point; with a
+//     thickness, behind its back, on to the next texel); above, go down a
+//     level;
 //   - else, if the ray moves away from the camera and reaches the min depth
 //     inside the cell and before t1: advance to it and go down a level (at
 //     level 0 a hit there);
@@ -61,16 +62,25 @@ void main()
         uint cx = vkp_cell((p.x + nudge.x) / s, vkp_level_width(level));
         uint cy = vkp_cell((p.y + nudge.y) / s, vkp_level_height(level));
         float d = vkp_hiz_at(level, cx, cy);
+        float tb = min(vkp_exit(float(cx) * s, float(cx + 1u) * s, r.o.x, r.v.x, iv.x),
+                       vkp_exit(float(cy) * s, float(cy + 1u) * s, r.o.y, r.v.y, iv.y));
         if (vkp_behind(p.z, d)) {
-            if (level == 0u) {
+            if (level > 0u) {
+                --level;
+                continue;
+            }
+            if (p.z <= vkp_back_at(cx, cy)) {
                 vkp_hits.h[ri] = vkp_march_hit(r, t, cx, cy);
                 return;
             }
-            --level;
+            // behind this texel's back (thickness): on to the next texel
+            if (tb >= t1) {
+                vkp_hits.h[ri] = vkp_miss(r);
+                return;
+            }
+            t = max(t, tb);
             continue;
         }
-        float tb = min(vkp_exit(float(cx) * s, float(cx + 1u) * s, r.o.x, r.v.x, iv.x),
-                       vkp_exit(float(cy) * s, float(cy + 1u) * s, r.o.y, r.v.y, iv.y));
         float tz = r.v.z > 0.0 ? (d - r.o.z) / r.v.z : 3.0e38;
         if (tz <= tb && tz <= t_end) { // reaches the cell's min depth inside the cell
             t = max(t, tz);

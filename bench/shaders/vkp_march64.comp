@@ -5,11 +5,11 @@
 // float. The ray's interval clipped to the screen box [t0, t1] is cut into
 // 64 equal steps; the samples at t0 + k (t1 - t0) / 64, k = 0..64, read the
 // depth of the texel under the point. The first sample at or behind it
-// (z >= depth, less vkp_common.glsl's bias: infinite thickness) ends the
+// (z >= depth, less vkp_common.glsl's bias, and z <= its back) ends the
 // march: sample 0 is a hit at t0 (the ray starts inside); otherwise 8
 // bisection steps between the sample before (in front) and this one keep the
 // one behind, and its t and texel are reported. A march that ends in front
-// misses, its kind by MODEL.md's rule.
+// misses, its kind by docs/MODEL.md's rule.
 #include "vkp_common.glsl"
 
 const int VKP_STEPS = 64;
@@ -20,7 +20,7 @@ bool vkp_solid(VkpRay r, float t, out uint i, out uint j)
     vec3 p = r.o + t * r.v;
     i = vkp_cell(p.x, pc.width);
     j = vkp_cell(p.y, pc.height);
-    return vkp_behind(p.z, vkp_depth_at(i, j));
+    return vkp_behind(p.z, vkp_depth_at(i, j)) && p.z <= vkp_back_at(i, j); // inside [d, b]
 }
 
 void main()

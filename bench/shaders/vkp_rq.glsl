@@ -10,7 +10,7 @@ layout(set = 0, binding = 5) uniform accelerationStructureEXT vkp_tlas;
 // be lost), and a triangle's t comes back with an error of a few ulps of the
 // coordinates (relative to the origin's and the direction's scale, not to
 // t). The margin: 1e-6 of t, or 4e-7 of the coordinates' scale along the
-// ray, whichever is more (a few 1e-7 texel: well inside MODEL.md's 1e-5).
+// ray, whichever is more (a few 1e-7 texel: well inside docs/MODEL.md's 1e-5).
 float vkp_widen(float t, vec3 o, vec3 v)
 {
     float m = max(max(abs(v.x), abs(v.y)), abs(v.z));
@@ -33,7 +33,7 @@ struct VkpQuery {
 // of the boxes there (x or y an integer: a cell edge; z: a texel top) makes
 // the traversal's slab test compute 0 * inf = NaN, and lavapipe then drops
 // the boxes on both sides. Such an origin component is moved by one ulp
-// (into the screen, or towards the far plane for z), which MODEL.md's
+// (into the screen, or towards the far plane for z), which docs/MODEL.md's
 // tolerance allows (the answer is exact for that ray). z only for boxes: a
 // triangle query nudged onto a texel top would lie in its plane.
 float vkp_off_plane(float o, float v, float hi, bool integer_planes)

@@ -1,14 +1,15 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // vkp_rq_aabb.comp - a generic ray-query BVH over the depth map: one
-// procedural AABB per texel box [i,i+1] x [j,j+1] x [d,1] (primitive k is
+// procedural AABB per texel box [i,i+1] x [j,j+1] x [d,b] (b: 1, or the
+// texel's back depth with a thickness; primitive k is
 // texel table[k], in Z order), one TLAS instance. Each AABB candidate gets
 // the exact slab test of its box; the smallest entry t is committed (closest
 // hit), or the first one ends the query (pc.flags bit 0: any hit).
 #include "vkp_common.glsl"
 #include "vkp_rq.glsl"
 
-// Entry t of the ray o + t v into the box [lo, hi] within [ta, tb]: MODEL.md's
+// Entry t of the ray o + t v into the box [lo, hi] within [ta, tb]: docs/MODEL.md's
 // plane crossings (plane - o) * (1 / v), and a zero component tested by o.
 bool vkp_box(vec3 o, vec3 v, vec3 iv, vec3 lo, vec3 hi, float ta, float tb, out float te)
 {
@@ -62,7 +63,7 @@ void main()
         uint texel = vkp_table.texel[rayQueryGetIntersectionPrimitiveIndexEXT(q, false)];
         uint i = vkp_texel_x(texel), j = vkp_texel_y(texel);
         vec3 lo = vec3(float(i), float(j), vkp_depth.depth[texel]);
-        vec3 hi = vec3(float(i + 1u), float(j + 1u), 1.0);
+        vec3 hi = vec3(float(i + 1u), float(j + 1u), vkp_back_at(i, j));
         float te;
         if (vkp_box(s.o, r.v, iv, lo, hi, s.s0, best, te) && (!found || te < best)) {
             found = true;

@@ -57,7 +57,7 @@ LrtParams params()
 }
 
 // depth of texel (x, y) as the tracer sees it (lrt_depth_raw: the float's bits
-// after MODEL.md's clamp; this example's depth is LRT_FORMAT_FLOAT32),
+// after docs/MODEL.md's clamp; this example's depth is LRT_FORMAT_FLOAT32),
 // clamped to the map's edge
 float depth_at(LrtParams p, int x, int y)
 {
@@ -85,7 +85,7 @@ void main()
         shadow_buf.texels[k] = 2u;
         return;
     }
-    // A ray from the texel's own surface is inside its box (MODEL.md): lift it
+    // A ray from the texel's own surface is inside its box (docs/MODEL.md): lift it
     // towards the eye by half the depth step to its neighbours, so that it
     // clears a plane through them, plus a bias.
     float sx = slope(d, depth_at(p, c.x - 1, c.y), depth_at(p, c.x + 1, c.y));

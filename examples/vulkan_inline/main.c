@@ -199,7 +199,7 @@ static float cpu_depth_at(const float *d, int w, int h, int x, int y)
     x = x < 0 ? 0 : x > w - 1 ? w - 1 : x;
     y = y < 0 ? 0 : y > h - 1 ? h - 1 : y;
     v = d[(size_t)y * (size_t)w + (size_t)x];
-    return v != v || v > 1.0f ? 1.0f : v < 0.0f ? 0.0f : v; /* MODEL.md's clamp, as lrt_depth_raw */
+    return v != v || v > 1.0f ? 1.0f : v < 0.0f ? 0.0f : v; /* docs/MODEL.md's clamp, as lrt_depth_raw */
 }
 
 static float cpu_slope(float d, float a, float b)
@@ -232,7 +232,7 @@ static int cpu_ray(const float *depth, int w, int h, int x, int y, const shadow_
 
 /* A disagreement is still right when the exact reference (tests/reference.h)
    gives the GPU's hit or miss for the ray or for the ray with o and v moved
-   by 8, then 1, float ulps (MODEL.md "Right, and how right"). */
+   by 8, then 1, float ulps (docs/MODEL.md "Right, and how right"). */
 static int gpu_right(const ref_map *ref, const lrt_ray *ray, int gpu_hit)
 {
     static const int steps[2] = {8, 1};
