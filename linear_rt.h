@@ -38,7 +38,7 @@
        lrt_result r = lrt_bvh_build(&bvh, &depth, NULL, NULL); // once per size
        ...each frame, after the depth changed:
        r = lrt_bvh_update(&bvh, &depth, NULL);                 // whole map, or a dirty rect
-       r = lrt_trace(&bvh, &depth, rays, hits, ray_count, 0);  // or LRT_TRACE_ANY_HIT
+       r = lrt_trace(&bvh, &depth, rays, hits, ray_count, 0);  // flags: 0
        ...
        lrt_bvh_destroy(&bvh);
    Rays live in screen space: x in [0,W], y in [0,H] in texels, z = depth in
@@ -418,10 +418,12 @@ typedef struct lrt_hit {
     uint16_t face;           /* lrt_hit_face */
 } lrt_hit;
 
-enum {
-    LRT_TRACE_ANY_HIT = 1u   /* occlusion: stop at the first hit found (its t is a
-                                real hit, not promised to be the closest) */
-};
+/* Trace flags: none yet, pass 0 (anything else is LRT_ERROR_INVALID_OPTION).
+   There is no any-hit mode: the walk visits children front to back and
+   stops at its first texel hit, which is the closest, so occlusion rays
+   (AO, shadows) take the same call; an any-hit flag that changed nothing
+   was taken out (a node bound on what is certainly solid, which could end
+   occlusion rays higher in the tree, is not built). */
 
 /* Trace count rays into hits (one lrt_hit per ray). depth must be the map
    the BVH was last built or updated from. At most LINEAR_RT_MAX_RAYS_PER_CALL
@@ -659,7 +661,7 @@ LINEAR_RT_API lrt_result lrt_vk_cmd_build(lrt_vk_context *ctx, VkCommandBuffer c
 LINEAR_RT_API lrt_result lrt_vk_cmd_update(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
                                            const lrt_vk_depth *depth, const lrt_rect *dirty);
 /* Traces count lrt_ray at rays_offset into count lrt_hit at hits_offset
-   (storage buffers), flags 0 or LRT_TRACE_ANY_HIT, one invocation per ray.
+   (storage buffers), flags 0 (as lrt_trace), one invocation per ray.
    Offsets: multiples of minStorageBufferOffsetAlignment; else the library
    binds lower and starts at a later ray, which works when the two offsets
    are the same ray index away from aligned offsets (a slice [first, end) of
@@ -3339,13 +3341,11 @@ LINEAR_RT_DEF lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *de
     size_t stride;
     lrt_result r;
     if ((r = lrt__check_pair(bvh, depth, &stride)) != LRT_SUCCESS) return r;
-    if (flags & ~(uint32_t)LRT_TRACE_ANY_HIT) return LRT_ERROR_INVALID_OPTION;
+    if (flags) return LRT_ERROR_INVALID_OPTION; /* no flags yet */
     if (first > end || end - first > LINEAR_RT_MAX_RAYS_PER_CALL) return LRT_ERROR_TOO_MANY_RAYS;
     if (first == end) return LRT_SUCCESS;
     if (!rays || !hits) return LRT_ERROR_NULL_POINTER;
     lrt__walk_init(&w, bvh, depth, stride);
-    /* The walk already stops at the first (closest) hit, so any-hit needs no
-       separate path: the flag is accepted for what a caller means. */
     if (w.wide_codes) lrt__trace_rays(&w, rays, hits, first, end, 1u);
     else lrt__trace_rays(&w, rays, hits, first, end, 0u);
     return LRT_SUCCESS;
@@ -4372,7 +4372,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer c
     uint32_t gx, gy;
     lrt_result r;
     if ((r = lrt__vk_check(ctx, cmd, bvh, depth, &src)) != LRT_SUCCESS) return r;
-    if (flags & ~(uint32_t)LRT_TRACE_ANY_HIT) return LRT_ERROR_INVALID_OPTION;
+    if (flags) return LRT_ERROR_INVALID_OPTION; /* no flags yet */
     if (count > LINEAR_RT_MAX_RAYS_PER_CALL) return LRT_ERROR_TOO_MANY_RAYS;
     if (count == 0) return LRT_SUCCESS;
     if (rays == VK_NULL_HANDLE || hits == VK_NULL_HANDLE) return LRT_ERROR_NULL_POINTER;

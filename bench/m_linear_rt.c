@@ -94,7 +94,7 @@ static int cpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *r
     lrt_cpu *c = (lrt_cpu *)m->impl;
     lrt_cpu_slice sl[64];
     pthread_t th[64];
-    uint32_t flags = (rs->flags & BENCH_ANY_HIT) ? LRT_TRACE_ANY_HIT : 0u;
+    uint32_t flags = 0u; /* closest hit for every set: the first hit the walk finds is the closest */
     int k, t = c->threads;
     double t0 = bench_now_ms();
     for (k = 0; k < t; ++k) {
@@ -327,7 +327,7 @@ static int gpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *r
         g->ray_cap = rs->count;
     }
     memcpy(g->rays.map, rs->rays, rs->count * sizeof(lrt_ray));
-    if (gpu_run(g, sc, GPU_TRACE, (uint32_t)rs->count, (rs->flags & BENCH_ANY_HIT) ? LRT_TRACE_ANY_HIT : 0u, ms, why, n))
+    if (gpu_run(g, sc, GPU_TRACE, (uint32_t)rs->count, 0u, ms, why, n))
         return 1;
     memcpy(hits, g->hits.map, rs->count * sizeof(lrt_hit));
     return 0;

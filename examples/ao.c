@@ -2,8 +2,8 @@
 
    For each texel, AO_RAYS short rays (AO_RADIUS view-space units) over the
    hemisphere of its normal, cosine-weighted, the pattern turned per texel
-   by a 4x4 dither; any hit occludes (LRT_TRACE_ANY_HIT: the tracer may stop
-   at the first hit it finds). The occluded share, smoothed over 4x4 texels
+   by a 4x4 dither; any hit occludes (the tracer stops at its first hit,
+   the closest). The occluded share, smoothed over 4x4 texels
    of similar depth, is the picture: white open, dark occluded.
 
    build/ao [--size N] [--depth FILE ...] [--radius R]   writes out/ao.png */
@@ -152,7 +152,7 @@ int main(int argc, char **argv)
     t0 = example_now_ms();
     ao_make_rays(&f, rays, radius, o.threads);
     t1 = example_now_ms();
-    example_trace(&f, rays, hits, (size_t)f.w * AO_RAYS, LRT_TRACE_ANY_HIT, o.threads, "ao trace");
+    example_trace(&f, rays, hits, (size_t)f.w * AO_RAYS, 0, o.threads, "ao trace");
     t2 = example_now_ms();
     ao_occlusion(&f, hits, occ);
     ao_picture(&f, occ, grey);

@@ -513,7 +513,7 @@ static int pictures(const example_options *o)
 
     ao_make_rays(&f, ao_rays, AO_RADIUS, o->threads);
     t0 = example_now_ms();
-    example_trace(&f, ao_rays, ao_hits, (size_t)f.w * AO_RAYS, LRT_TRACE_ANY_HIT, o->threads, "ambient occlusion");
+    example_trace(&f, ao_rays, ao_hits, (size_t)f.w * AO_RAYS, 0, o->threads, "ambient occlusion");
     ms_ao = example_now_ms() - t0;
     ao_occlusion(&f, ao_hits, occ);
     ao_picture(&f, occ, img);
@@ -521,7 +521,7 @@ static int pictures(const example_options *o)
 
     shadows_make_rays(&f, rays, SHADOW_LENGTH, o->threads);
     t0 = example_now_ms();
-    example_trace(&f, rays, hits, f.w, LRT_TRACE_ANY_HIT, o->threads, "contact shadows");
+    example_trace(&f, rays, hits, f.w, 0, o->threads, "contact shadows");
     ms_sh = example_now_ms() - t0;
     shadows_shade(&f, hits, img);
     bad |= example_write_png(o->out_dir, "shadows.png", f.w, f.h, 3, img);

@@ -106,7 +106,7 @@ int main(int argc, char **argv)
     t0 = example_now_ms();
     shadows_make_rays(&f, rays, length, o.threads);
     t1 = example_now_ms();
-    example_trace(&f, rays, hits, f.w, LRT_TRACE_ANY_HIT, o.threads, "shadow trace");
+    example_trace(&f, rays, hits, f.w, 0, o.threads, "shadow trace");
     t2 = example_now_ms();
     shadows_shade(&f, hits, out);
     for (k = 0; k < n; ++k) shadowed += hits[k].kind == LRT_HIT;

@@ -1042,7 +1042,7 @@ uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint
     return mask;
 }
 
-LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, bool any_hit)
+LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
 {
     LrtHit hit;
     hit.t = 0.0;

@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// lrt_trace.comp - one ray per invocation through the BVH: closest hit, or
-// any hit (trace_flags bit 0), into hits[ray_first + i].
+// lrt_trace.comp - one ray per invocation through the BVH: its closest hit,
+// into hits[ray_first + i].
 #include "lrt_common.glsl"
 
 struct LrtRayIn {
@@ -19,6 +19,6 @@ void main()
     if (idx >= pc.ray_count) return;
     uint i = pc.ray_first + idx;
     LrtRayIn r = lrt_rays.r[i];
-    LrtHit hit = lrt_trace_ray(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, (pc.trace_flags & 1u) != 0u);
+    LrtHit hit = lrt_trace_ray(lrt_params(), r.origin, r.tmin, r.dir, r.tmax);
     lrt_hits.h[i] = uvec4(floatBitsToUint(hit.t), hit.x, hit.y, lrt_hit_word3(hit));
 }

@@ -33,7 +33,7 @@ static void trace_and_judge(const char *what, const lrt_bvh *bvh, const test_map
         ref_ray q = to_ref(&rays[i]);
         ref_answer a = to_answer(&hits[i]);
         char why[256];
-        if (!ref_check(&m->ref, &q, &a, (flags & LRT_TRACE_ANY_HIT) != 0, why, sizeof why)) {
+        if (!ref_check(&m->ref, &q, &a, 0 /* closest hit */, why, sizeof why)) {
             if (bad < 5)
                 printf("FAIL %s ray %zu (%s) o=(%.9g %.9g %.9g) v=(%.9g %.9g %.9g) t=[%.9g %.9g]: %s\n", what, i,
                        ray_names[kinds[i]], q.o[0], q.o[1], q.o[2], q.v[0], q.v[1], q.v[2], q.tmin, q.tmax, why);
@@ -76,10 +76,6 @@ static void differential(int w, int h, int shape, lrt_format format, int reverse
             rays[i] = make_ray(&m, kinds[i]);
         }
         trace_and_judge(what, &bvh, &m, rays, kinds, nrays, 0);
-        if (nrays > 64) { /* any-hit on a slice */
-            strncat(what, " any-hit", sizeof what - strlen(what) - 1);
-            trace_and_judge(what, &bvh, &m, rays, kinds, 64 * (nrays / 64 > 4 ? 4 : nrays / 64), LRT_TRACE_ANY_HIT);
-        }
     }
     lrt_bvh_destroy(&bvh);
     free_map(&m);
@@ -785,6 +781,7 @@ static void test_bad_arguments(void)
     CHECK(lrt_trace(&bvh, &dm, &ray, NULL, 1, 0) == LRT_ERROR_NULL_POINTER, "trace null hits");
     CHECK(lrt_trace(&bvh, &dm, NULL, NULL, 0, 0) == LRT_SUCCESS, "trace no rays");
     CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, 0x10) == LRT_ERROR_INVALID_OPTION, "trace unknown flag");
+    CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, 1) == LRT_ERROR_INVALID_OPTION, "trace flag 1 (any-hit, taken out)");
     CHECK(lrt_trace(&bvh, &dm, &ray, &hit, (size_t)LINEAR_RT_MAX_RAYS_PER_CALL + 1, 0) == LRT_ERROR_TOO_MANY_RAYS,
           "too many rays");
     CHECK(lrt_trace_range(&bvh, &dm, &ray, &hit, 2, 1, 0) == LRT_ERROR_TOO_MANY_RAYS, "range end before first");

@@ -193,11 +193,11 @@ static size_t test_effects(const example_frame *f)
     ssr_shade(f, hits, img);
 
     shadows_make_rays(f, rays, SHADOW_LENGTH, 2);
-    example_trace(f, rays, hits, f->w, LRT_TRACE_ANY_HIT, 2, NULL);
+    example_trace(f, rays, hits, f->w, 0, 2, NULL);
     CHECK(judge(f, rays, hits, n, 1, "shadow") == 0, "every shadow ray agrees with the reference (any hit)");
 
     ao_make_rays(f, rays, AO_RADIUS, 2);
-    example_trace(f, rays, hits, (size_t)f->w * AO_RAYS, LRT_TRACE_ANY_HIT, 2, NULL);
+    example_trace(f, rays, hits, (size_t)f->w * AO_RAYS, 0, 2, NULL);
     CHECK(judge(f, rays, hits, n * AO_RAYS, 1, "ao") == 0, "every AO ray agrees with the reference (any hit)");
     ao_occlusion(f, hits, occ);
     /* open floor: nothing within the AO radius; the corner: the floor just

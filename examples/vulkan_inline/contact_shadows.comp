@@ -99,6 +99,6 @@ void main()
     precise float vz = pc.light.z * far;
     vec3 origin = vec3(float(c.x) + 0.5, float(c.y) + 0.5, oz);
     vec3 dir = vec3(pc.light.xy, vz);
-    LrtHit h = lrt_trace_ray(p, origin, 0.0, dir, 1.0, true);
+    LrtHit h = lrt_trace_ray(p, origin, 0.0, dir, 1.0);
     shadow_buf.texels[k] = h.kind == LRT_HIT ? 1u : 0u;
 }

@@ -461,7 +461,7 @@ int main(int argc, char **argv)
         has_ray[k] = cpu_ray(depth, (int)w, (int)h, (int)(k % w), (int)(k / w), &push, &rays[k]);
         if (!has_ray[k]) lrt_camera_segment(NULL, NULL, NULL, &rays[k]); /* an invalid ray: a miss, not traced */
     }
-    CHECK_LRT(lrt_trace(&cpu_bvh, &cpu_depth, rays, hits, n, LRT_TRACE_ANY_HIT));
+    CHECK_LRT(lrt_trace(&cpu_bvh, &cpu_depth, rays, hits, n, 0));
     cpu_ms = now_ms() - t0;
 
     /* texel by texel: sky where there is no ray; else hit == shadowed */

@@ -352,7 +352,7 @@ static void judge(const ref_map *m, const lrt_ray *rays, const lrt_hit *hits, si
         a.x = (int)h->x;
         a.y = (int)h->y;
         a.face = (int)h->face;
-        if (!ref_check(m, &q, &a, (flags & LRT_TRACE_ANY_HIT) != 0, why, sizeof why)) {
+        if (!ref_check(m, &q, &a, 0 /* closest hit */, why, sizeof why)) {
             print_neighbourhood(m, &q);
             FAIL("%s, ray %zu%s o=(%a %a %a) v=(%a %a %a) t=[%a %a]: %s", g_map, i, flags ? " (any-hit)" : "",
                  r->origin[0], r->origin[1], r->origin[2], r->dir[0], r->dir[1], r->dir[2], r->tmin, r->tmax, why);
@@ -685,7 +685,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     /* trace: the whole batch, judged; two slices and the build_in tree agree */
     {
-        codes fe = trace_flags & ~(uint32_t)LRT_TRACE_ANY_HIT ? CODE(LRT_ERROR_INVALID_OPTION) : 0;
+        codes fe = trace_flags ? CODE(LRT_ERROR_INVALID_OPTION) : 0; /* no trace flags yet */
         codes terr = fe | pair_errors(&bvh, dp);
         size_t split = nrays ? rect_sel % (nrays + 1) : 0;
         r = lrt_trace(&bvh, dp, rays, hits, nrays, trace_flags);
