@@ -47,7 +47,7 @@ endif
 GLSLANG ?= glslangValidator
 SPIRV_VAL ?= spirv-val
 SPV_ENV := --target-env vulkan1.2
-SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl)
+SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl) linear_rt.h # the kernels read its >>contract block
 SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 
 # what `make test` runs, one count each in its summary line

@@ -10,6 +10,7 @@
 
    SECTIONS (each has its anchor: search for ">>walk" and the like)
      >>usage       DO THIS, USE (CPU), USE (VULKAN), BARRIERS, the tree's layout
+     >>contract    what the kernels and this file share (C and glslang read it)
      >>api         declarations: limits, result codes, depth in, layout, the BVH
                    and its thickness models, traversal, camera helpers
      >>vulkan-api  declarations of the Vulkan path (LINEAR_RT_VULKAN)
@@ -191,6 +192,58 @@
 
    LICENCE: MIT, at the end of this file.
 */
+/* ---- the host/shader contract ---------------------------------- >>contract
+   What the kernels (shaders/) and this file must agree on, written once and
+   read by both compilers: a shader that defines LRT_GLSL and includes this
+   file gets this block alone (shaders/lrt_common.glsl, and an engine's shader
+   before shaders/linear_rt.glsl, as examples/vulkan_inline does). The C API
+   takes its values from here; the C side checks the push constants' layout
+   at compile time (>>vulkan). Values carry a u: unsigned in both languages. */
+#ifndef LINEAR_RT_CONTRACT
+#define LINEAR_RT_CONTRACT
+#define LRT_K_MAX_LEVELS 16u            /* stored levels never exceed this */
+#define LRT_K_FORMAT_UNORM8 1u          /* lrt_format */
+#define LRT_K_FORMAT_UNORM16 2u
+#define LRT_K_FORMAT_FLOAT32 3u
+#define LRT_K_DEPTH_REVERSED_Z 1u       /* lrt_depth.flags */
+#define LRT_K_DEPTH_BACK_FOLLOWS 2u
+#define LRT_K_HIT 1u                    /* lrt_hit_kind */
+#define LRT_K_MISS_TMAX 2u
+#define LRT_K_MISS_OFF_SCREEN 3u
+#define LRT_K_MISS_INVALID_RAY 4u
+#define LRT_K_FACE_NONE 0u              /* lrt_hit_face */
+#define LRT_K_FACE_TOP 1u
+#define LRT_K_FACE_SIDE 2u
+#define LRT_K_FACE_BACK 3u
+#define LRT_K_FACE_INSIDE 4u
+#define LRT_K_THICKNESS_INFINITE 0u     /* lrt_thickness */
+#define LRT_K_THICKNESS_BACK_MAP 1u
+#define LRT_K_THICKNESS_CONSTANT 2u
+#define LRT_K_THICKNESS_RELATIVE 3u
+#define LRT_K_VK_GROUP_SIZE 64u         /* invocations per workgroup, in x */
+#define LRT_K_VK_BINDING_DEPTH_BUFFER 0u /* descriptor set 0 of the kernels */
+#define LRT_K_VK_BINDING_DEPTH_IMAGE 1u
+#define LRT_K_VK_BINDING_NODES 2u
+#define LRT_K_VK_BINDING_COUNTERS 3u
+#define LRT_K_VK_BINDING_RAYS 4u
+#define LRT_K_VK_BINDING_HITS 5u
+#define LRT_K_VK_BINDING_BACK_BUFFER 6u
+#define LRT_K_VK_BINDING_BACK_IMAGE 7u
+/* The push constants of every kernel, in this order (84 bytes), U32 and
+   F32 being the language's 32-bit unsigned and float types: the map
+   (texels, format, flags, node bits, levels; a buffer depth's byte offset
+   and row stride), the refit's texel rectangle (inclusive) and build flag
+   (1: padding written too), the trace's first ray and count, trace flags
+   (0), a back-map tree's back map (byte offset, row stride), and the tree's
+   thickness model with lrt_layout.back_k. */
+#define LRT_K_VK_PUSH_CONSTANTS(U32, F32)                                             \
+    U32 width, height, format, flags, node_bits, level_count, depth_offset, row_stride; \
+    U32 rect_x0, rect_y0, rect_x1, rect_y1, build, ray_first, ray_count, trace_flags;   \
+    U32 back_offset, back_row_stride, thickness;                                      \
+    F32 back_k0, back_k1;
+#endif /* LINEAR_RT_CONTRACT */
+
+#ifndef LRT_GLSL /* the rest is C */
 #ifndef LINEAR_RT_H
 #define LINEAR_RT_H
 
@@ -211,7 +264,7 @@ extern "C" {
 
 /* ---- limits --------------------------------------------------------- >>api */
 #define LINEAR_RT_MAX_DIM 16384u            /* largest width or height         */
-#define LINEAR_RT_MAX_LEVELS 16u            /* stored levels never exceed this */
+#define LINEAR_RT_MAX_LEVELS LRT_K_MAX_LEVELS /* stored levels never exceed this */
 #define LINEAR_RT_MAX_RAYS_PER_CALL (1u << 30) /* rays in one trace call       */
 
 /* ---- result codes: every entry point returns one ------------------------- */
@@ -244,21 +297,21 @@ typedef enum lrt_result {
 
 /* ---- depth in --------------------------------------------------------------- */
 typedef enum lrt_format {
-    LRT_FORMAT_UNORM8 = 1,   /* uint8_t,  depth = v / 255   */
-    LRT_FORMAT_UNORM16 = 2,  /* uint16_t, depth = v / 65535 */
-    LRT_FORMAT_FLOAT32 = 3,  /* float,    depth = v (clamped to [0,1], NaN -> 1) */
+    LRT_FORMAT_UNORM8 = LRT_K_FORMAT_UNORM8,   /* uint8_t,  depth = v / 255   */
+    LRT_FORMAT_UNORM16 = LRT_K_FORMAT_UNORM16, /* uint16_t, depth = v / 65535 */
+    LRT_FORMAT_FLOAT32 = LRT_K_FORMAT_FLOAT32, /* float,    depth = v (clamped to [0,1], NaN -> 1) */
     LRT_FORMAT_MAX_ENUM = 0x7fffffff
 } lrt_format;
 
 /* lrt_depth.flags */
 enum {
-    LRT_DEPTH_REVERSED_Z = 1u,   /* 1 is near, 0 is far */
+    LRT_DEPTH_REVERSED_Z = LRT_K_DEPTH_REVERSED_Z, /* 1 is near, 0 is far */
     /* thickness (LRT_THICKNESS_BACK_MAP trees, and only they): this
        lrt_depth is the first of two, the second describes each texel's back
        depth (a back-face depth pass): same width, height, format and
        reversed flag, a row stride of its own. A back in front of the depth
        counts as the depth (docs/MODEL.md). */
-    LRT_DEPTH_BACK_FOLLOWS = 2u
+    LRT_DEPTH_BACK_FOLLOWS = LRT_K_DEPTH_BACK_FOLLOWS
 };
 
 typedef struct lrt_depth {
@@ -332,10 +385,10 @@ typedef struct lrt_allocator {
    same options in lrt_vk_bvh_desc (a back map: two lrt_vk_depth, both
    buffers or both images): the kernels answer as the CPU. */
 typedef enum lrt_thickness {
-    LRT_THICKNESS_INFINITE = 0,   /* [depth, 1]: today's solid, the default */
-    LRT_THICKNESS_BACK_MAP = 1,   /* [depth, max(depth, back)] */
-    LRT_THICKNESS_CONSTANT = 2,   /* [depth, depth of z(depth) + thickness_value] */
-    LRT_THICKNESS_RELATIVE = 3,   /* [depth, depth of z(depth) * (1 + thickness_value)] */
+    LRT_THICKNESS_INFINITE = LRT_K_THICKNESS_INFINITE, /* [depth, 1]: today's solid, the default */
+    LRT_THICKNESS_BACK_MAP = LRT_K_THICKNESS_BACK_MAP, /* [depth, max(depth, back)] */
+    LRT_THICKNESS_CONSTANT = LRT_K_THICKNESS_CONSTANT, /* [depth, depth of z(depth) + thickness_value] */
+    LRT_THICKNESS_RELATIVE = LRT_K_THICKNESS_RELATIVE, /* [depth, depth of z(depth) * (1 + thickness_value)] */
     LRT_THICKNESS_MAX_ENUM = 0x7fffffff
 } lrt_thickness;
 
@@ -389,10 +442,10 @@ typedef struct lrt_ray {     /* screen space; 8 floats, the same layout as the G
 } lrt_ray;
 
 typedef enum lrt_hit_kind {
-    LRT_HIT = 1,                 /* t and texel x, y are set                          */
-    LRT_MISS_TMAX = 2,           /* reached tmax on screen without touching the solid */
-    LRT_MISS_OFF_SCREEN = 3,     /* left (or never met) the screen rectangle: fall back */
-    LRT_MISS_INVALID_RAY = 4,    /* NaN/inf component, tmin < 0 or tmin > tmax: not traced */
+    LRT_HIT = LRT_K_HIT,                           /* t and texel x, y are set */
+    LRT_MISS_TMAX = LRT_K_MISS_TMAX,               /* reached tmax on screen without touching the solid */
+    LRT_MISS_OFF_SCREEN = LRT_K_MISS_OFF_SCREEN,   /* left (or never met) the screen rectangle: fall back */
+    LRT_MISS_INVALID_RAY = LRT_K_MISS_INVALID_RAY, /* NaN/inf component, tmin < 0 or tmin > tmax: not traced */
     LRT_HIT_KIND_MAX_ENUM = 0x7fffffff
 } lrt_hit_kind;
 
@@ -404,11 +457,11 @@ typedef enum lrt_hit_kind {
    solid. On an edge shared by faces any of them is right; ties are told
    as top, then side, then back. */
 typedef enum lrt_hit_face {
-    LRT_FACE_NONE = 0,           /* a miss */
-    LRT_FACE_TOP = 1,            /* on z = depth of the texel */
-    LRT_FACE_SIDE = 2,           /* on x = x, x + 1 or y = y, y + 1 */
-    LRT_FACE_BACK = 3,           /* on z = back (1 without a back map), entered from behind */
-    LRT_FACE_INSIDE = 4          /* the origin at tmin, inside the box: t = tmin */
+    LRT_FACE_NONE = LRT_K_FACE_NONE,     /* a miss */
+    LRT_FACE_TOP = LRT_K_FACE_TOP,       /* on z = depth of the texel */
+    LRT_FACE_SIDE = LRT_K_FACE_SIDE,     /* on x = x, x + 1 or y = y, y + 1 */
+    LRT_FACE_BACK = LRT_K_FACE_BACK,     /* on z = back (1 without a back map), entered from behind */
+    LRT_FACE_INSIDE = LRT_K_FACE_INSIDE  /* the origin at tmin, inside the box: t = tmin */
 } lrt_hit_face;
 
 typedef struct lrt_hit {
@@ -3693,20 +3746,22 @@ struct lrt_vk_context {
 #undef LRT__VK_MEMBER
 };
 
-/* The 64 bytes of push constants of shaders/README.md, in order. */
+/* The push constants of >>contract, the same fields the kernels declare. */
 typedef struct lrt__vk_push {
-    uint32_t width, height, format, flags, node_bits, level_count, depth_offset, row_stride;
-    uint32_t rect_x0, rect_y0, rect_x1, rect_y1, build, ray_first, ray_count, trace_flags;
-    uint32_t back_offset, back_row_stride; /* a back-map tree's back map (buffers) */
-    uint32_t thickness, back_k0, back_k1;  /* the tree's model and lrt_layout.back_k (float bits) */
+    LRT_K_VK_PUSH_CONSTANTS(uint32_t, float)
 } lrt__vk_push;
+/* the layout both sides assume: 21 packed 4-byte fields */
+typedef char lrt__vk_push_is_84_bytes[sizeof(lrt__vk_push) == 84 && offsetof(lrt__vk_push, trace_flags) == 60 &&
+                                              offsetof(lrt__vk_push, back_k0) == 76 && sizeof(float) == 4 ? 1 : -1];
 
 enum {
-    LRT__VK_BIND_DEPTH_BUFFER = 0, LRT__VK_BIND_DEPTH_IMAGE = 1, LRT__VK_BIND_NODES = 2,
-    LRT__VK_BIND_COUNTERS = 3, LRT__VK_BIND_RAYS = 4, LRT__VK_BIND_HITS = 5,
-    LRT__VK_BIND_BACK_BUFFER = 6, LRT__VK_BIND_BACK_IMAGE = 7, LRT__VK_BINDINGS = 8
+    LRT__VK_BIND_DEPTH_BUFFER = LRT_K_VK_BINDING_DEPTH_BUFFER, LRT__VK_BIND_DEPTH_IMAGE = LRT_K_VK_BINDING_DEPTH_IMAGE,
+    LRT__VK_BIND_NODES = LRT_K_VK_BINDING_NODES, LRT__VK_BIND_COUNTERS = LRT_K_VK_BINDING_COUNTERS,
+    LRT__VK_BIND_RAYS = LRT_K_VK_BINDING_RAYS, LRT__VK_BIND_HITS = LRT_K_VK_BINDING_HITS,
+    LRT__VK_BIND_BACK_BUFFER = LRT_K_VK_BINDING_BACK_BUFFER, LRT__VK_BIND_BACK_IMAGE = LRT_K_VK_BINDING_BACK_IMAGE,
+    LRT__VK_BINDINGS = 8
 };
-#define LRT__VK_GROUP 64u           /* invocations per workgroup, in x */
+#define LRT__VK_GROUP LRT_K_VK_GROUP_SIZE /* invocations per workgroup, in x */
 #define LRT__VK_GROUPS_PER_ROW 65535u /* above this many groups the dispatch is 2D */
 
 static void *lrt__vk_host_alloc(const VkAllocationCallbacks *cb, size_t size)
@@ -4243,8 +4298,8 @@ static void lrt__vk_push_common(const lrt_vk_bvh *bvh, const lrt_vk_depth *depth
     pc->back_offset = src->back_offset;
     pc->back_row_stride = src->back_row_stride;
     pc->thickness = bvh->layout.thickness;
-    memcpy(&pc->back_k0, &bvh->layout.back_k[0], 4);
-    memcpy(&pc->back_k1, &bvh->layout.back_k[1], 4);
+    pc->back_k0 = bvh->layout.back_k[0];
+    pc->back_k1 = bvh->layout.back_k[1];
 }
 
 /* Binds, pushes descriptors (depth, nodes, then two more: counters, or rays
@@ -4771,6 +4826,8 @@ LINEAR_RT_DEF void lrt_vk_device_destroy(lrt_vk_device *device)
 #endif
 #endif /* LINEAR_RT_VULKAN_DEVICE_HELPER implementation */
 #endif /* LINEAR_RT_IMPLEMENTATION */
+
+#endif /* LRT_GLSL */
 
 /*
 --------------------------------------------------------------------- >>licence

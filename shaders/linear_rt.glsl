@@ -3,11 +3,14 @@
 // library's own kernels and for an engine shader that traces inline.
 //
 // The includer declares, before including:
+//   #define LRT_GLSL 1 and #include "linear_rt.h" (its >>contract block: the
+//     numbers host and shader share; the rest of that file is skipped)
 //   #define LRT_DEPTH_IMAGE 0 or 1
 //   #define LRT_NODE_WORD(i)      word i of the node array (uint)
 //   #define LRT_DEPTH_WORD(i)     word i of the depth buffer (LRT_DEPTH_IMAGE 0)
 //   #define LRT_DEPTH_TEXEL(x, y) texelFetch(depth, ivec2(x, y), 0).r (LRT_DEPTH_IMAGE 1)
-// and passes an LrtParams (the push constants of shaders/README.md). For a
+// and passes an LrtParams (the first fields of the push constants of the
+// contract). For a
 // back-map tree (LrtParams.thickness LRT_THICKNESS_BACK_MAP) also
 //   #define LRT_BACK_WORD(i) / LRT_BACK_TEXEL(x, y)  the back map, as the depth
 // (without them such a tree cannot be traced here), and #define
@@ -29,21 +32,28 @@
 #ifndef LINEAR_RT_GLSL
 #define LINEAR_RT_GLSL
 
-#define LRT_MAX_LEVELS 16
-#define LRT_HIT 1u
-#define LRT_MISS_TMAX 2u
-#define LRT_MISS_OFF_SCREEN 3u
-#define LRT_MISS_INVALID_RAY 4u
-#define LRT_FACE_NONE 0u
-#define LRT_FACE_TOP 1u
-#define LRT_FACE_SIDE 2u
-#define LRT_FACE_BACK 3u
-#define LRT_FACE_INSIDE 4u
-#define LRT_DEPTH_BACK_FOLLOWS 2u // LrtParams.flags: a back map follows (thickness)
-#define LRT_THICKNESS_INFINITE 0u // LrtParams.thickness: lrt_thickness of linear_rt.h
-#define LRT_THICKNESS_BACK_MAP 1u
-#define LRT_THICKNESS_CONSTANT 2u
-#define LRT_THICKNESS_RELATIVE 3u
+// the numbers host and shader share: linear_rt.h's >>contract block
+#ifndef LINEAR_RT_CONTRACT
+#error "define LRT_GLSL and include linear_rt.h before linear_rt.glsl"
+#endif
+#define LRT_MAX_LEVELS int(LRT_K_MAX_LEVELS)
+#define LRT_HIT LRT_K_HIT
+#define LRT_MISS_TMAX LRT_K_MISS_TMAX
+#define LRT_MISS_OFF_SCREEN LRT_K_MISS_OFF_SCREEN
+#define LRT_MISS_INVALID_RAY LRT_K_MISS_INVALID_RAY
+#define LRT_FACE_NONE LRT_K_FACE_NONE
+#define LRT_FACE_TOP LRT_K_FACE_TOP
+#define LRT_FACE_SIDE LRT_K_FACE_SIDE
+#define LRT_FACE_BACK LRT_K_FACE_BACK
+#define LRT_FACE_INSIDE LRT_K_FACE_INSIDE
+#define LRT_UNORM8 LRT_K_FORMAT_UNORM8   // LrtParams.format
+#define LRT_UNORM16 LRT_K_FORMAT_UNORM16
+#define LRT_FLOAT32 LRT_K_FORMAT_FLOAT32
+#define LRT_REVERSED_Z LRT_K_DEPTH_REVERSED_Z // LrtParams.flags
+#define LRT_THICKNESS_INFINITE LRT_K_THICKNESS_INFINITE // LrtParams.thickness
+#define LRT_THICKNESS_BACK_MAP LRT_K_THICKNESS_BACK_MAP
+#define LRT_THICKNESS_CONSTANT LRT_K_THICKNESS_CONSTANT
+#define LRT_THICKNESS_RELATIVE LRT_K_THICKNESS_RELATIVE
 
 // false: no back-map trees here, and their code folds away (a branch the
 // compiler cannot remove costs lavapipe 0.55-0.67x on secondary rays)
@@ -158,9 +168,9 @@ uint lrt_clamp_float_bits(float g)
 // the raw value of a texel fetched from an image (depth or back map)
 uint lrt_raw_of_texel(LrtParams p, float f)
 {
-    bool rev = (p.flags & 1u) != 0u;
-    if (p.format == 1u) { uint v = uint(f * 255.0 + 0.5); return rev ? 255u - v : v; }
-    if (p.format == 2u) { uint v = uint(f * 65535.0 + 0.5); return rev ? 65535u - v : v; }
+    bool rev = (p.flags & LRT_REVERSED_Z) != 0u;
+    if (p.format == LRT_UNORM8) { uint v = uint(f * 255.0 + 0.5); return rev ? 255u - v : v; }
+    if (p.format == LRT_UNORM16) { uint v = uint(f * 65535.0 + 0.5); return rev ? 65535u - v : v; }
     precise float g = rev ? 1.0 - f : f;
     return lrt_clamp_float_bits(g);
 }
@@ -171,9 +181,9 @@ uint lrt_back_map_raw(LrtParams p, uint x, uint y) { return lrt_raw_of_texel(p, 
 // the raw value of the texel at byte addr of a buffer whose word holding it is word
 uint lrt_raw_of_word(LrtParams p, uint word, uint addr)
 {
-    bool rev = (p.flags & 1u) != 0u;
-    if (p.format == 1u) { uint v = (word >> ((addr & 3u) * 8u)) & 0xffu; return rev ? 255u - v : v; }
-    if (p.format == 2u) { uint v = (word >> ((addr & 2u) * 8u)) & 0xffffu; return rev ? 65535u - v : v; }
+    bool rev = (p.flags & LRT_REVERSED_Z) != 0u;
+    if (p.format == LRT_UNORM8) { uint v = (word >> ((addr & 3u) * 8u)) & 0xffu; return rev ? 255u - v : v; }
+    if (p.format == LRT_UNORM16) { uint v = (word >> ((addr & 2u) * 8u)) & 0xffffu; return rev ? 65535u - v : v; }
     precise float f = uintBitsToFloat(word);
     precise float g = rev ? 1.0 - f : f;
     return lrt_clamp_float_bits(g);
@@ -181,7 +191,7 @@ uint lrt_raw_of_word(LrtParams p, uint word, uint addr)
 
 uint lrt_texel_addr(LrtParams p, uint offset, uint stride, uint x, uint y)
 {
-    return offset + y * stride + x * (p.format == 1u ? 1u : p.format == 2u ? 2u : 4u);
+    return offset + y * stride + x * (p.format == LRT_UNORM8 ? 1u : p.format == LRT_UNORM16 ? 2u : 4u);
 }
 
 uint lrt_depth_raw(LrtParams p, uint x, uint y)
@@ -240,11 +250,11 @@ void lrt_two_prod(float a, float b, out float p, out float e)
 // back the depth's own exact plane (linear_rt.h's lrt__model_back_bits)
 uint lrt_model_back_bits(LrtParams p, uint raw)
 {
-    precise float df = p.format == 1u ? float(raw) / 255.0 : p.format == 2u ? float(raw) / 65535.0 : uintBitsToFloat(raw);
+    precise float df = p.format == LRT_UNORM8 ? float(raw) / 255.0 : p.format == LRT_UNORM16 ? float(raw) / 65535.0 : uintBitsToFloat(raw);
     float b = lrt_model_back(p, df);
-    if (p.format != 3u) {
+    if (p.format != LRT_FLOAT32) {
         float pp, e; // b * vmax <= raw, exactly
-        lrt_two_prod(b, p.format == 1u ? 255.0 : 65535.0, pp, e);
+        lrt_two_prod(b, p.format == LRT_UNORM8 ? 255.0 : 65535.0, pp, e);
         if (pp < float(raw) || (pp == float(raw) && e <= 0.0)) return ~0u;
     }
     return floatBitsToUint(b);
@@ -260,7 +270,7 @@ uint lrt_texel_back(LrtParams p, uint x, uint y, out uint format)
     if (p.thickness == LRT_THICKNESS_BACK_MAP) return max(d, lrt_back_map_raw(p, x, y));
     uint bits = lrt_model_back_bits(p, d);
     if (bits == ~0u) return d;
-    format = 3u;
+    format = LRT_FLOAT32;
     return bits;
 }
 
@@ -301,8 +311,8 @@ uint lrt_texel_code(LrtParams p, uint x, uint y)
 {
     uint qmax = p.node_bits == 16u ? 65535u : 255u;
     uint raw = lrt_depth_raw(p, x, y);
-    if (p.format == 1u) return qmax - (raw * qmax) / 255u;
-    if (p.format == 2u) return qmax - (raw * qmax) / 65535u; // < 2^32
+    if (p.format == LRT_UNORM8) return qmax - (raw * qmax) / 255u;
+    if (p.format == LRT_UNORM16) return qmax - (raw * qmax) / 65535u; // < 2^32
     return qmax - lrt_floor_scaled(raw, qmax);
 }
 
@@ -313,8 +323,8 @@ uint lrt_texel_back_code(LrtParams p, uint x, uint y)
     uint qmax = p.node_bits == 16u ? 65535u : 255u;
     uint format;
     uint raw = lrt_texel_back(p, x, y, format);
-    if (format == 1u) return (raw * qmax + 254u) / 255u;
-    if (format == 2u) return (raw * qmax + 65534u) / 65535u; // < 2^32
+    if (format == LRT_UNORM8) return (raw * qmax + 254u) / 255u;
+    if (format == LRT_UNORM16) return (raw * qmax + 65534u) / 65535u; // < 2^32
     return lrt_floor_scaled(raw, qmax) + (lrt_scaled_is_whole(raw, qmax) ? 0u : 1u);
 }
 
@@ -433,13 +443,13 @@ void lrt_grow_prod(inout float acc[8], inout int m, float a, float b, int extra,
 // z is scaled by 2^zk (lrt_setup_rare) scales the depth too, exactly.
 float lrt_depth_plane(LrtSetup s, uint format, uint raw)
 {
-    bool unorm = format != 3u && raw != (format == 1u ? 255u : 65535u); // v = max is d = 1 exactly
-    float d = format == 3u ? uintBitsToFloat(raw) : unorm ? 0.0 : 1.0;
+    bool unorm = format != LRT_FLOAT32 && raw != (format == LRT_UNORM8 ? 255u : 65535u); // v = max is d = 1 exactly
+    float d = format == LRT_FLOAT32 ? uintBitsToFloat(raw) : unorm ? 0.0 : 1.0;
     if (s.zero.z) {
         // v/max <= o.z, compared without rounding v/max: v <= o.z * max
         bool inside = d <= s.o.z;
         if (unorm) {
-            float qm = format == 1u ? 255.0 : 65535.0, p, e;
+            float qm = format == LRT_UNORM8 ? 255.0 : 65535.0, p, e;
             lrt_two_prod(s.o.z, qm, p, e);
             inside = float(raw) < p || (float(raw) == p && e >= 0.0);
         }
@@ -451,12 +461,12 @@ float lrt_depth_plane(LrtSetup s, uint format, uint raw)
         return t;
     }
     // v/max - o.z = (v - o.z * max) / max, with o.z * max = p + e exactly
-    float qm = format == 1u ? 255.0 : 65535.0, p, e, v = float(raw);
+    float qm = format == LRT_UNORM8 ? 255.0 : 65535.0, p, e, v = float(raw);
     if (s.zk != 0) v = lrt_ldexp(v, s.zk);
     lrt_two_prod(s.o.z, qm, p, e);
     precise float n = (v - p) - e;
     // 1.0f/255.0f and 1.0f/65535.0f as linear_rt.h rounds them
-    float inv_qm = format == 1u ? uintBitsToFloat(0x3b808081u) : uintBitsToFloat(0x37800080u);
+    float inv_qm = format == LRT_UNORM8 ? uintBitsToFloat(0x3b808081u) : uintBitsToFloat(0x37800080u);
     precise float t = (n * inv_qm) * s.iv.z;
     return t;
 }
@@ -474,7 +484,7 @@ uint lrt_clip(inout LrtSetup s, LrtParams p, float tmin, float tmax)
     // the far plane z = 1 bounds the box from the other side than a depth
     // plane does: for a z that does not change, it keeps the ray iff o.z <= 1
     float t1 = s.zero.z ? (((s.neg.z != 0u) == (s.o.z <= 1.0)) ? -LRT_INF : LRT_INF)
-                        : lrt_depth_plane(s, 3u, floatBitsToUint(1.0));
+                        : lrt_depth_plane(s, LRT_FLOAT32, floatBitsToUint(1.0));
     // the near plane z = 0 bounds it from the same side as a depth plane:
     // for a z that does not change, it keeps the ray iff o.z >= 0
     precise float tn = (0.0 - s.o.z) * s.iv.z;
@@ -814,10 +824,10 @@ float lrt_widen(float ex)
 float lrt_back_plane(LrtSetup s, uint format, uint raw)
 {
     if (!s.zero.z) return lrt_depth_plane(s, format, raw);
-    bool unorm = format != 3u && raw != (format == 1u ? 255u : 65535u);
-    bool inside = s.o.z <= (format == 3u ? uintBitsToFloat(raw) : 1.0); // o.z <= b
+    bool unorm = format != LRT_FLOAT32 && raw != (format == LRT_UNORM8 ? 255u : 65535u);
+    bool inside = s.o.z <= (format == LRT_FLOAT32 ? uintBitsToFloat(raw) : 1.0); // o.z <= b
     if (unorm) { // o.z * max <= v, without rounding
-        float qm = format == 1u ? 255.0 : 65535.0, pp, e;
+        float qm = format == LRT_UNORM8 ? 255.0 : 65535.0, pp, e;
         lrt_two_prod(s.o.z, qm, pp, e);
         inside = pp < float(raw) || (pp == float(raw) && e <= 0.0);
     }
@@ -852,7 +862,7 @@ uint lrt_face(LrtParams p, LrtSetup s, uint tx, uint ty, float t)
     if (s.neg.z == 0u && !s.zero.z && lrt_depth_plane(s, p.format, lrt_depth_raw(p, tx, ty)) == t) return LRT_FACE_TOP;
     precise float xe = (float(tx + s.neg.x) - s.o.x) * s.iv.x, ye = (float(ty + s.neg.y) - s.o.y) * s.iv.y;
     if ((!s.zero.x && xe == t) || (!s.zero.y && ye == t)) return LRT_FACE_SIDE;
-    uint format = 3u, raw = floatBitsToUint(1.0); // without a back: the far plane
+    uint format = LRT_FLOAT32, raw = floatBitsToUint(1.0); // without a back: the far plane
     if (lrt_has_back(p)) raw = lrt_texel_back(p, tx, ty, format);
     if (s.neg.z != 0u && !s.zero.z && lrt_depth_plane(s, format, raw) == t) return LRT_FACE_BACK;
     return LRT_FACE_INSIDE;

@@ -2,28 +2,27 @@
 // kernels (shaders/README.md), then the shared code of linear_rt.glsl.
 
 
-layout(local_size_x = 64) in;
+// the host/shader contract: linear_rt.h's >>contract block, read here
+#define LRT_GLSL 1
+#include "../linear_rt.h"
 
-layout(push_constant) uniform LrtPush {
-    uint width, height, format, flags, node_bits, level_count, depth_offset, row_stride;
-    uint rect_x0, rect_y0, rect_x1, rect_y1, build, ray_first, ray_count, trace_flags;
-    uint back_offset, back_row_stride, thickness;
-    float back_k0, back_k1;
-} pc;
+layout(local_size_x = LRT_K_VK_GROUP_SIZE) in;
+
+layout(push_constant) uniform LrtPush { LRT_K_VK_PUSH_CONSTANTS(uint, float) } pc;
 
 #if LRT_DEPTH_IMAGE
-layout(set = 0, binding = 1) uniform sampler2D lrt_depth_image;
+layout(set = 0, binding = LRT_K_VK_BINDING_DEPTH_IMAGE) uniform sampler2D lrt_depth_image;
 #define LRT_DEPTH_TEXEL(x, y) texelFetch(lrt_depth_image, ivec2(int(x), int(y)), 0).r
 // a back-map tree's back map (thickness): the depth again when there is none
-layout(set = 0, binding = 7) uniform sampler2D lrt_back_image;
+layout(set = 0, binding = LRT_K_VK_BINDING_BACK_IMAGE) uniform sampler2D lrt_back_image;
 #define LRT_BACK_TEXEL(x, y) texelFetch(lrt_back_image, ivec2(int(x), int(y)), 0).r
 #else
-layout(set = 0, binding = 0, std430) readonly buffer LrtDepth { uint words[]; } lrt_depth;
+layout(set = 0, binding = LRT_K_VK_BINDING_DEPTH_BUFFER, std430) readonly buffer LrtDepth { uint words[]; } lrt_depth;
 #define LRT_DEPTH_WORD(i) lrt_depth.words[i]
-layout(set = 0, binding = 6, std430) readonly buffer LrtBack { uint words[]; } lrt_back;
+layout(set = 0, binding = LRT_K_VK_BINDING_BACK_BUFFER, std430) readonly buffer LrtBack { uint words[]; } lrt_back;
 #define LRT_BACK_WORD(i) lrt_back.words[i]
 #endif
-layout(set = 0, binding = 2, std430) coherent buffer LrtNodes { uint words[]; } lrt_nodes;
+layout(set = 0, binding = LRT_K_VK_BINDING_NODES, std430) coherent buffer LrtNodes { uint words[]; } lrt_nodes;
 #define LRT_NODE_WORD(i) lrt_nodes.words[i]
 
 // back-map trees get pipelines of their own (the host sets this to true for
@@ -52,8 +51,8 @@ LrtParams lrt_params()
     return p;
 }
 
-// this invocation's index in a 1D or 2D dispatch of 64-wide groups
+// this invocation's index in a 1D or 2D dispatch of LRT_K_VK_GROUP_SIZE-wide groups
 uint lrt_invocation()
 {
-    return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;
+    return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * LRT_K_VK_GROUP_SIZE + gl_LocalInvocationID.x;
 }

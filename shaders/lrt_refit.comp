@@ -18,7 +18,7 @@
 // children's.
 #include "lrt_common.glsl"
 
-layout(set = 0, binding = 3, std430) coherent buffer LrtCounters { uint c[]; } lrt_counters;
+layout(set = 0, binding = LRT_K_VK_BINDING_COUNTERS, std430) coherent buffer LrtCounters { uint c[]; } lrt_counters;
 
 // writes 8 codes as node `slot0` (code units)
 void lrt_store_node(uint slot0, uint codes[8])

@@ -10,8 +10,8 @@ struct LrtRayIn {
     vec3 dir;
     float tmax;
 };
-layout(set = 0, binding = 4, std430) readonly buffer LrtRays { LrtRayIn r[]; } lrt_rays;
-layout(set = 0, binding = 5, std430) writeonly buffer LrtHits { uvec4 h[]; } lrt_hits; // lrt_hit: t, x, y, kind | face << 16
+layout(set = 0, binding = LRT_K_VK_BINDING_RAYS, std430) readonly buffer LrtRays { LrtRayIn r[]; } lrt_rays;
+layout(set = 0, binding = LRT_K_VK_BINDING_HITS, std430) writeonly buffer LrtHits { uvec4 h[]; } lrt_hits; // lrt_hit: t, x, y, kind | face << 16
 
 void main()
 {

@@ -5,21 +5,28 @@
 // shadow ray towards the light, any hit. Writes 1 (shadowed), 0 (lit) or
 // 2 (sky: no ray) per texel.
 //
-// To include linear_rt.glsl a shader provides three things:
-//   1. the depth (here a storage buffer at binding 0, LRT_DEPTH_IMAGE 0) and
-//      the node array of an lrt_vk_bvh (binding 2), as macros the include reads;
+// To include linear_rt.glsl a shader provides four things:
+//   0. the host/shader contract: #define LRT_GLSL and #include "linear_rt.h"
+//      (its >>contract block alone: formats, kinds, bindings, ...);
+//   1. the depth (here a storage buffer at the library's depth binding,
+//      LRT_DEPTH_IMAGE 0) and the node array of an lrt_vk_bvh, as macros the
+//      include reads;
 //   2. LRT_DEPTH_IMAGE, LRT_DEPTH_WORD(i) and LRT_NODE_WORD(i), defined before
 //      the #include;
-//   3. an LrtParams (the first 8 push constants of shaders/README.md) for
-//      each lrt_trace_ray call.
-// Compile: glslangValidator -V --target-env vulkan1.2 -Ishaders contact_shadows.comp
+//   3. an LrtParams (the first 8 fields of the contract's push constants)
+//      for each lrt_trace_ray call.
+// Compile: glslangValidator -V --target-env vulkan1.2 -I. -Ishaders contact_shadows.comp
+
+// 0. the contract
+#define LRT_GLSL 1
+#include "linear_rt.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-// 1. the library's buffers, at the binding numbers of shaders/README.md
-// (any set and binding would do: the macros below are all the include sees)
-layout(set = 0, binding = 0, std430) readonly buffer Depth { uint words[]; } depth_buf;
-layout(set = 0, binding = 2, std430) readonly buffer Nodes { uint words[]; } node_buf;
+// 1. the library's buffers, at the library's own binding numbers (any set
+// and binding would do: the macros below are all the include sees)
+layout(set = 0, binding = LRT_K_VK_BINDING_DEPTH_BUFFER, std430) readonly buffer Depth { uint words[]; } depth_buf;
+layout(set = 0, binding = LRT_K_VK_BINDING_NODES, std430) readonly buffer Nodes { uint words[]; } node_buf;
 // our own output: one uint per texel
 layout(set = 0, binding = 3, std430) writeonly buffer Shadow { uint texels[]; } shadow_buf;
 

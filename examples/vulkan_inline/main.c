@@ -106,11 +106,11 @@ static int own_create(own *o, const lrt_vk_device *dev)
     if (!o->name) return vkt_fail("loading " #name, VK_ERROR_INITIALIZATION_FAILED);
     OWN_FUNCS(OWN_LOAD)
 #undef OWN_LOAD
-    /* depth (0) and nodes (2) where shaders/README.md has them, our output at 3;
+    /* depth and nodes at the library's bindings (linear_rt.h's >>contract), our output at 3;
        push descriptors: the device has VK_KHR_push_descriptor (linear_rt needs it) */
     memset(b, 0, sizeof b);
     for (i = 0; i < 3; ++i) {
-        b[i].binding = i == 0 ? 0u : i == 1 ? 2u : 3u;
+        b[i].binding = i == 0 ? LRT_K_VK_BINDING_DEPTH_BUFFER : i == 1 ? LRT_K_VK_BINDING_NODES : 3u;
         b[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         b[i].descriptorCount = 1;
         b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -178,7 +178,7 @@ static void own_record(const own *o, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
     memset(w, 0, sizeof w);
     for (i = 0; i < 3; ++i) {
         w[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        w[i].dstBinding = i == 0 ? 0u : i == 1 ? 2u : 3u;
+        w[i].dstBinding = i == 0 ? LRT_K_VK_BINDING_DEPTH_BUFFER : i == 1 ? LRT_K_VK_BINDING_NODES : 3u;
         w[i].descriptorCount = 1;
         w[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         w[i].pBufferInfo = &bi[i];

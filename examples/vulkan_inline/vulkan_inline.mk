@@ -19,11 +19,12 @@ VI_DEPS := $(VI_DIR)/main.c $(LIB) shaders_spv.h $(SCENE) tests/vk_util.h tests/
 TESTS += test-vulkan-inline
 .PHONY: test-vulkan-inline
 
-# The SPIR-V is compiled here, never committed: glslang finds linear_rt.glsl
-# through -Ishaders, and spv2h embeds it as contact_shadows_spv[].
-$(VI_SPV_H): $(VI_DIR)/contact_shadows.comp shaders/linear_rt.glsl $(B)/spv2h | $(B)
+# The SPIR-V is compiled here, never committed: glslang finds linear_rt.h
+# (its contract block) through -I. and linear_rt.glsl through -Ishaders, and
+# spv2h embeds it as contact_shadows_spv[].
+$(VI_SPV_H): $(VI_DIR)/contact_shadows.comp shaders/linear_rt.glsl linear_rt.h $(B)/spv2h | $(B)
 	@mkdir -p $(B)/vulkan_inline_spv
-	$(GLSLANG) -V $(SPV_ENV) -Ishaders -o $(B)/vulkan_inline_spv/contact_shadows.spv $(VI_DIR)/contact_shadows.comp \
+	$(GLSLANG) -V $(SPV_ENV) -I. -Ishaders -o $(B)/vulkan_inline_spv/contact_shadows.spv $(VI_DIR)/contact_shadows.comp \
 	  > $(B)/vulkan_inline_spv/contact_shadows.log 2>&1 || { cat $(B)/vulkan_inline_spv/contact_shadows.log; exit 1; }
 	@if command -v $(SPIRV_VAL) >/dev/null 2>&1; then $(SPIRV_VAL) $(SPV_ENV) $(B)/vulkan_inline_spv/contact_shadows.spv; fi
 	$(B)/spv2h $@ contact_shadows_spv=$(B)/vulkan_inline_spv/contact_shadows.spv
