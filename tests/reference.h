@@ -585,25 +585,25 @@ static float ref__recipe_back(const ref__recipe *r, float d)
 }
 
 /* The recipe's back depth of one converted depth dd (as ref_map holds it),
-   as double: what ref_map_set_back_constant stores for that texel (NaN on
-   bad parameters). For tests. */
-REF_FUNC double ref_back_constant_recipe(double dd, double thickness, double near_z, double far_z)
+   as double: what ref_map_set_back_constant (relative 0) or _relative (1)
+   stores for that texel (NaN on bad parameters). For tests. */
+static double ref__recipe_of(double dd, double amount, int relative, double near_z, double far_z)
 {
     ref__recipe r;
     double b;
-    if (ref__recipe_init(&r, thickness, 0, near_z, far_z) != 0 || !(dd == dd)) return strtod("nan", NULL);
+    if (ref__recipe_init(&r, amount, relative, near_z, far_z) != 0 || !(dd == dd)) return strtod("nan", NULL);
     b = (double)ref__recipe_back(&r, ref__depth_f32(dd));
     return b < dd ? dd : b;
 }
 
-/* the same for the relative model */
+REF_FUNC double ref_back_constant_recipe(double dd, double thickness, double near_z, double far_z)
+{
+    return ref__recipe_of(dd, thickness, 0, near_z, far_z);
+}
+
 REF_FUNC double ref_back_relative_recipe(double dd, double k, double near_z, double far_z)
 {
-    ref__recipe r;
-    double b;
-    if (ref__recipe_init(&r, k, 1, near_z, far_z) != 0 || !(dd == dd)) return strtod("nan", NULL);
-    b = (double)ref__recipe_back(&r, ref__depth_f32(dd));
-    return b < dd ? dd : b;
+    return ref__recipe_of(dd, k, 1, near_z, far_z);
 }
 
 /* Both models: m->b[k] = the recipe's b of texel k's float32 depth, as a
