@@ -5,7 +5,7 @@
    (h = 1 - z); an 8-wide BVH is laid over it once; each frame only its heights
    are refitted; rays walk it with a traversal made for this one tree shape.
    What a hit means is fixed by docs/MODEL.md of the project: every texel is the
-   closed box [i,i+1] x [j,j+1] x [depth,1] (with a back map: [depth, back])
+   closed box [i,i+1] x [j,j+1] x [depth,1] (with thickness: [depth, back])
    and a ray hits the first box it touches.
 
    SECTIONS (each has its anchor: search for ">>walk" and the like)
