@@ -24,11 +24,11 @@ DEMO_FLAGS = $(STD) $(WARN) $(CFLAGS) -O3 $(NATIVE)
 
 B := build
 LIB := linear_rt.h
-REF := tests/reference.h
+REF := tests/support/reference.h
 SCENE := examples/scene.h
-RAYS := tests/rays.h tests/check.h
+RAYS := tests/support/rays.h tests/support/check.h
 SPV_H := shaders_spv.h
-VK_UTIL := tests/vk_util.h
+VK_UTIL := tests/support/vk_util.h
 
 # Vulkan: the headers decide whether the demo and tests get the Vulkan path.
 # Nothing links against Vulkan: the loader is opened at run time (-ldl).
@@ -86,8 +86,8 @@ FORCE:
 EXAMPLE_HDR := examples/example.h examples/depth_file.h examples/surface.h $(SCENE) $(LIB)
 EXAMPLES := minimal ssr ao shadows
 
-$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c bench/m_march_cpu.c bench/bench.h bench/march_common.h $(EXAMPLE_HDR) $(REF) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
-	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" examples/demo.c bench/m_march_cpu.c -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
+$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c tests/support/march_cpu.c tests/support/bench.h tests/support/march_common.h $(EXAMPLE_HDR) $(REF) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
+	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" examples/demo.c tests/support/march_cpu.c -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
 
 # install first, then a new make: HAVE_VULKAN and the like are read when make
 # reads this file, so the build must come from a make started after the install
@@ -115,20 +115,20 @@ pictures: $(B)/demo $(B)/ssr
 
 # the examples as tests: their effects against the reference, their
 # pictures, their answers to bad files (tests/test_examples.c)
-$(B)/test_examples: tests/test_examples.c examples/ssr.c examples/ao.c examples/shadows.c $(EXAMPLE_HDR) $(REF) tests/check.h | deps $(B)
+$(B)/test_examples: tests/test_examples.c examples/ssr.c examples/ao.c examples/shadows.c $(EXAMPLE_HDR) $(REF) tests/support/check.h | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) -O2 $< -o $@ $(LDLIBS)
 
 test-examples: $(B)/test_examples $(addprefix $(B)/,$(EXAMPLES))
 	$(B)/test_examples
 
 # ---- tests --------------------------------------------------------------------
-$(B)/test_reference: tests/test_reference.c $(REF) tests/check.h | deps $(B)
+$(B)/test_reference: tests/test_reference.c $(REF) tests/support/check.h | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) $< -o $@ $(LDLIBS)
 
 $(B)/test_core: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) $< -o $@ $(LDLIBS)
 
-$(B)/test_reference_san: tests/test_reference.c $(REF) tests/check.h | deps $(B)
+$(B)/test_reference_san: tests/test_reference.c $(REF) tests/support/check.h | deps $(B)
 	$(CC) $(STD) $(WARN) $(SAN) $< -o $@ $(LDLIBS)
 
 $(B)/test_core_san: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
@@ -299,8 +299,8 @@ test-demo: $(B)/demo
 # peers glslang (their kernels are compiled here into build/, never committed).
 HAVE_EMBREE := $(shell test -f /usr/include/embree3/rtcore.h && echo 1)
 HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
-BENCH_SRC := bench/main.c bench/m_linear_rt.c bench/m_embree.c bench/m_march_cpu.c bench/m_vk_peers.c
-BENCH_HDR := bench/bench.h bench/march_common.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
+BENCH_SRC := bench/main.c bench/m_linear_rt.c bench/m_embree.c tests/support/march_cpu.c bench/m_vk_peers.c
+BENCH_HDR := tests/support/bench.h tests/support/march_common.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
 BENCH_FLAGS := $(STD) $(WARN) $(CFLAGS) -O3 $(NATIVE)
 BENCH_LIBS := $(LDLIBS)
 BENCH_DEPS :=

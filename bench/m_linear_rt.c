@@ -7,7 +7,7 @@
 #define LINEAR_RT_VULKAN_DEVICE_HELPER
 #endif
 #define LINEAR_RT_IMPLEMENTATION
-#include "bench.h"
+#include "../tests/support/bench.h"
 
 #include <pthread.h>
 #include <stdio.h>
@@ -15,7 +15,7 @@
 #include <string.h>
 
 #ifdef BENCH_HAVE_VULKAN
-#include "../tests/vk_util.h"
+#include "../tests/support/vk_util.h"
 #endif
 
 /* ---- CPU --------------------------------------------------------------------- */

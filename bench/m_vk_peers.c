@@ -10,7 +10,7 @@
      "march64 vulkan"       fixed-step linear march, 64 steps + 8 bisection steps
      "dda vulkan"           per-pixel DDA, stride 1, thickness 0.02
      "hiz64 vulkan"         min-depth Hi-Z traversal, at most 64 iterations
-   The marches are scored, not exact: the algorithms of bench/m_march_cpu.c
+   The marches are scored, not exact: the algorithms of tests/support/march_cpu.c
    ("march64 cpu", "dda cpu", "hiz64 cpu"), in float. Kernels:
    bench/shaders/vkp_*.comp (each says exactly what it computes).
 
@@ -69,7 +69,7 @@
    validation layer for these devices (=sync: with synchronization
    validation): each warning or error is printed to stderr and counted in
    vkp_validation_messages. */
-#include "bench.h"
+#include "../tests/support/bench.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -6,7 +6,7 @@
    rays, short ambient-occlusion rays, shadow rays, random segments) each
    method builds, updates and traces, timed by itself (medians after a
    warm-up; GPU timestamps on Vulkan), and is scored against the exact
-   reference of the tests (tests/reference.h) on a fixed sample of the rays:
+   reference of the tests (tests/support/reference.h) on a fixed sample of the rays:
    exact methods by docs/MODEL.md's rule, approximate ones by the share of rays
    with the right hit/miss and texel, false hits, false misses and the mean
    distance from the right hit. Then the stability suite: small named cases
@@ -20,8 +20,8 @@
    view-space segments from each texel's position and normal, through
    lrt_camera_segment, origins lifted by the examples' policy. */
 #define _POSIX_C_SOURCE 200809L
-#include "bench.h"
-#include "../tests/reference.h"
+#include "../tests/support/bench.h"
+#include "../tests/support/reference.h"
 #include "../examples/scene.h"
 #include "../examples/depth_file.h"
 #include "../examples/surface.h"

@@ -6,7 +6,7 @@
    - primary rays (one per texel, straight into the depth) on 1 and 2
      threads, and update + trace, the design's headline figure;
    - reflection-like random segments (one per texel) on 1 and 2 threads;
-   - agreement with tests/reference.h: every primary ray and a fixed sample
+   - agreement with tests/support/reference.h: every primary ray and a fixed sample
      of the segments.
    - built with LINEAR_RT_VULKAN (make demo does where <vulkan/vulkan.h> is
      installed): the same map on the first Vulkan device (lavapipe on a
@@ -15,7 +15,7 @@
      GPU hits checked against the CPU hits; also the segments. No device:
      the demo says why and shows the CPU table alone.
    Then the pictures, into out/ (examples/ssr.c, ao.c and shadows.c, and the
-   benchmark's 64-step linear march, bench/m_march_cpu.c): the scene's
+   benchmark's 64-step linear march, tests/support/march_cpu.c): the scene's
    colour and depth, reflections traced with linear_rt and the same rays
    marched in 64 steps, side by side, ambient occlusion and contact shadows;
    each with its time, and the share of reflection rays on which the march
@@ -31,15 +31,15 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "example.h" /* linear_rt.h's implementation, the frame, PNG out */
-#include "../bench/bench.h"
-#include "../tests/reference.h"
+#include "../tests/support/bench.h"
+#include "../tests/support/reference.h"
 #include "scene.h"
 #define EXAMPLE_NO_MAIN
 #include "ssr.c"
 #include "ao.c"
 #include "shadows.c"
 #ifdef LINEAR_RT_VULKAN
-#include "../tests/vk_util.h"
+#include "../tests/support/vk_util.h"
 #endif
 
 #include <pthread.h>
@@ -410,9 +410,9 @@ static void usage(const char *argv0)
             example_options_usage(), (unsigned)LINEAR_RT_MAX_DIM);
 }
 
-double bench_now_ms(void) { return example_now_ms(); } /* for bench/m_march_cpu.c */
+double bench_now_ms(void) { return example_now_ms(); } /* for tests/support/march_cpu.c */
 
-/* The 64-step linear march of the benchmark (bench/m_march_cpu.c), on the
+/* The 64-step linear march of the benchmark (tests/support/march_cpu.c), on the
    same rays: what an engine would write instead. */
 static int march64_trace(const example_frame *f, const lrt_ray *rays, lrt_hit *hits, int threads, double *ms)
 {
@@ -730,7 +730,7 @@ int main(int argc, char **argv)
         printf("\n");
     }
     fflush(stdout);
-    printf("agreement with the exact reference (tests/reference.h, closest hit)\n");
+    printf("agreement with the exact reference (tests/support/reference.h, closest hit)\n");
     agree_p = check_rays(&m, prim, hits1, n, n, "primary");
     printf("  primary rays, all %lu: agree: %lu / %lu\n", (unsigned long)n,
            (unsigned long)agree_p, (unsigned long)n);

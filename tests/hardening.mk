@@ -29,7 +29,7 @@ CLANG_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-fr
 # in size arithmetic they are the bugs of the issue: linear_rt.h has none
 INT_SAN := -fsanitize=integer,implicit-conversion -fno-sanitize-recover=all \
            -fsanitize-ignorelist=tools/ubsan-integer.ignore -O1 -g
-# 32-bit x86 with SSE2 arithmetic (tests/reference.h refuses x87's excess precision)
+# 32-bit x86 with SSE2 arithmetic (tests/support/reference.h refuses x87's excess precision)
 M32 := -m32 -msse2 -mfpmath=sse
 VALGRIND_FLAGS := -q --error-exitcode=1 --leak-check=full --show-leak-kinds=definite --errors-for-leak-kinds=definite
 LSAN_ENV := LSAN_OPTIONS=suppressions=$(CURDIR)/tools/lsan.supp:print_suppressions=0
@@ -56,7 +56,7 @@ HAVE_M32 = $(call need,$@,printf '\043include <stdio.h>\nint main(void) { return
 HAVE_TOOL = $(call need,$@,command -v $(1),$(1) is not installed: tools/install-deps.sh installs it)
 
 # ---- clang ASan + UBSan ----------------------------------------------------------
-$(B)/test_reference_csan: tests/test_reference.c $(REF) tests/check.h | deps $(B)
+$(B)/test_reference_csan: tests/test_reference.c $(REF) tests/support/check.h | deps $(B)
 	$(CLANG) $(STD) $(WARN) $(CLANG_SAN) $< -o $@ $(LDLIBS)
 
 $(B)/test_core_csan: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)

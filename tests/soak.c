@@ -8,7 +8,7 @@
    a random rectangle only (noise, a plane, a bump, near or far, NaN and
    out-of-range floats) and refits the tree with that rectangle (or, one
    frame in 8, the whole map); the refit must equal a fresh build byte for
-   byte. Then a batch of rays of every kind of tests/rays.h is traced by a
+   byte. Then a batch of rays of every kind of tests/support/rays.h is traced by a
    pool of 4 threads, 2 to 4 of them taking a slice (lrt_trace_range) while
    the main thread waits. The
    threads' hits
@@ -21,9 +21,9 @@
 #define _POSIX_C_SOURCE 200809L /* pthreads and clock_gettime under -std=c99 */
 #define LINEAR_RT_IMPLEMENTATION
 #include "../linear_rt.h"
-#include "reference.h"
+#include "support/reference.h"
 #include "../examples/scene.h"
-#include "rays.h"
+#include "support/rays.h"
 
 #include <pthread.h>
 #include <stdio.h>

@@ -1,7 +1,7 @@
 /* tests/test_core.c - the CPU path of linear_rt.h against docs/MODEL.md.
 
    Every traced ray is judged by the separate exact reference of
-   tests/reference.h (ref_check: docs/MODEL.md's "Right, and how right"). Also:
+   tests/support/reference.h (ref_check: docs/MODEL.md's "Right, and how right"). Also:
    the named cases of docs/MODEL.md, Morton mapping and level geometry, update
    versus rebuild byte for byte, every bad argument's result code, the
    allocator hooks and caller-owned memory.
@@ -9,10 +9,10 @@
    Prints one line per failure and ends with "N passed, M failed". */
 #define LINEAR_RT_IMPLEMENTATION
 #include "../linear_rt.h"
-#include "reference.h"
+#include "support/reference.h"
 #include "../examples/scene.h"
-#include "rays.h"
-#include "check.h"
+#include "support/rays.h"
+#include "support/check.h"
 
 #include <stdio.h>
 #include <stdlib.h>

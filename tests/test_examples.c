@@ -4,7 +4,7 @@
      round trips, near/far clipping, reversed Z, bad matrices;
    - examples/ssr.c, ao.c, shadows.c on a small embedded scene: every
      reflection and shadow ray agrees with the exact reference
-     (tests/reference.h), the AO of an open floor is near zero and of the
+     (tests/support/reference.h), the AO of an open floor is near zero and of the
      corner where a box meets the floor is not;
    - the example programs themselves (build/ssr, ao, shadows, minimal): the
      pictures they write have the frame's size; a user's depth file that is
@@ -16,8 +16,8 @@
 #include "../examples/ao.c"
 #include "../examples/shadows.c"
 #include "../examples/ssr.c"
-#include "check.h"
-#include "reference.h"
+#include "support/check.h"
+#include "support/reference.h"
 
 #define SIZE 96u
 #define DIR "build/examples_test"

@@ -12,8 +12,8 @@
        success, one byte more: LRT_ERROR_SIZE_OVERFLOW);
    (c) a real 8192x8192 float map: build, a dirty-rect update equal to a
        fresh build byte for byte, and a sample of rays (primary rays of whole
-       rows and columns, rays of every kind of tests/rays.h) judged by the
-       exact reference of tests/reference.h; real 1x16384 and 16384x1 maps
+       rows and columns, rays of every kind of tests/support/rays.h) judged by the
+       exact reference of tests/support/reference.h; real 1x16384 and 16384x1 maps
        judged the same way; a real 16384x16384 8-bit map (primary rays of
        its edges judged by docs/MODEL.md's rule: own texel, t = d);
    (d) ray counts: more than LINEAR_RT_MAX_RAYS_PER_CALL, SIZE_MAX and
@@ -26,10 +26,10 @@
    "N passed, M failed". */
 #define LINEAR_RT_IMPLEMENTATION
 #include "../linear_rt.h"
-#include "reference.h"
+#include "support/reference.h"
 #include "../examples/scene.h"
-#include "rays.h"
-#include "check.h"
+#include "support/rays.h"
+#include "support/check.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -295,7 +295,7 @@ static lrt_ray primary_ray(uint32_t i, uint32_t j)
 }
 
 /* Primary rays of the given rows and columns, then n_random rays of every
-   kind of tests/rays.h, all judged by the reference. */
+   kind of tests/support/rays.h, all judged by the reference. */
 static void trace_sample(const char *what, const lrt_bvh *bvh, const test_map *m, const uint32_t *rows, size_t nrows,
                          const uint32_t *cols, size_t ncols, size_t n_random)
 {
@@ -403,7 +403,7 @@ static void test_thin_maps(void)
         }
 }
 
-/* 1x16384 and 16384x1 float maps over moving frames (tests/rays.h): the
+/* 1x16384 and 16384x1 float maps over moving frames (tests/support/rays.h): the
    update of the changed rect equals a rebuild byte for byte */
 static void test_thin_updates(void)
 {

@@ -9,10 +9,10 @@
    Prints one line per failure and ends with "N passed, M failed". */
 #define LINEAR_RT_IMPLEMENTATION
 #include "../linear_rt.h"
-#include "reference.h"
+#include "support/reference.h"
 #include "../examples/scene.h"
-#include "rays.h"
-#include "check.h"
+#include "support/rays.h"
+#include "support/check.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,11 +1,11 @@
 /* tests/test_reference.c - self-test of the exact reference tracer
-   (tests/reference.h) on hand-made cases with known answers, plus a
+   (tests/support/reference.h) on hand-made cases with known answers, plus a
    cross-check against an all-texel scan and against dense sampling.
 
    gcc -std=c99 -O2 -Wall -Wextra -Wpedantic -Werror tests/test_reference.c -o /tmp/test_reference -lm
    g++ -x c++ -std=c++11 -O2 -Wall -Wextra -Werror tests/test_reference.c -o /tmp/test_reference_cpp -lm
 */
-#include "reference.h"
+#include "support/reference.h"
 
 #include <float.h>
 #include <math.h>
@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "check.h"
+#include "support/check.h"
 
 /* ------------------------------------------------------------ helpers -- */
 

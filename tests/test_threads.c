@@ -26,10 +26,10 @@
 #define _POSIX_C_SOURCE 200809L /* pthreads under -std=c99 */
 #define LINEAR_RT_IMPLEMENTATION
 #include "../linear_rt.h"
-#include "reference.h"
+#include "support/reference.h"
 #include "../examples/scene.h"
-#include "rays.h"
-#include "check.h"
+#include "support/rays.h"
+#include "support/check.h"
 
 #include <pthread.h>
 #include <stdio.h>

@@ -11,9 +11,9 @@
        (D32_SFLOAT, R32_SFLOAT, D16_UNORM, R16_UNORM, R8_UNORM);
    (b) update with a dirty rect and with NULL over moving frames == the CPU's
        update, byte for byte;
-   (c) trace: rays of every kind of tests/rays.h on GPU and CPU: same kind and
+   (c) trace: rays of every kind of tests/support/rays.h on GPU and CPU: same kind and
        texel, t within 1e-5 * (1 + |t|); where they differ, the GPU answer
-       must still be right by tests/reference.h's ref_check (counted);
+       must still be right by tests/support/reference.h's ref_check (counted);
        any-hit on a slice at an offset; 2D dispatches of trace and refit;
    (d) every bad argument's result code, without a device and with one, and
        that an erroring call records nothing;
@@ -31,11 +31,11 @@
 #endif
 #define LINEAR_RT_IMPLEMENTATION
 #include "../linear_rt.h"
-#include "reference.h"
+#include "support/reference.h"
 #include "../examples/scene.h"
-#include "rays.h"
-#include "check.h"
-#include "vk_util.h"
+#include "support/rays.h"
+#include "support/check.h"
+#include "support/vk_util.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -5,7 +5,7 @@
    One device (lavapipe on the project's machines) with the Khronos
    validation layer, synchronization validation and its thread-safety checks
    on (any message fails the test), one lrt_vk_context. 4 threads, each with
-   its own command pool, command buffer and fence (tests/vk_util.h), its own
+   its own command pool, command buffer and fence (tests/support/vk_util.h), its own
    lrt_vk_bvh, depth (a buffer, or a sampled image it uploads itself), rays
    and hits, and its own map size, format and node bits, run frames: record
    build (frame 0) or update (the changed rectangle, or the whole map) and a
@@ -35,11 +35,11 @@
 #endif
 #define LINEAR_RT_IMPLEMENTATION
 #include "../linear_rt.h"
-#include "reference.h"
+#include "support/reference.h"
 #include "../examples/scene.h"
-#include "rays.h"
-#include "check.h"
-#include "vk_util.h"
+#include "support/rays.h"
+#include "support/check.h"
+#include "support/vk_util.h"
 
 #include <math.h>
 #include <pthread.h>

@@ -19,8 +19,8 @@
 #define LINEAR_RT_IMPLEMENTATION
 #include "../../linear_rt.h" /* with -DLINEAR_RT_VULKAN -DLINEAR_RT_VULKAN_DEVICE_HELPER */
 #include "../scene.h"
-#include "../../tests/vk_util.h"
-#include "../../tests/reference.h"
+#include "../../tests/support/vk_util.h"
+#include "../../tests/support/reference.h"
 #include "vulkan_inline_spv.h" /* contact_shadows_spv[]: contact_shadows.comp, compiled by make */
 
 #include <math.h>
@@ -230,7 +230,7 @@ static int cpu_ray(const float *depth, int w, int h, int x, int y, const shadow_
     return 1;
 }
 
-/* A disagreement is still right when the exact reference (tests/reference.h)
+/* A disagreement is still right when the exact reference (tests/support/reference.h)
    gives the GPU's hit or miss for the ray or for the ray with o and v moved
    by 8, then 1, float ulps (docs/MODEL.md "Right, and how right"). */
 static int gpu_right(const ref_map *ref, const lrt_ray *ray, int gpu_hit)

@@ -14,7 +14,7 @@ VI_DIR := examples/vulkan_inline
 VI_SPV_H := $(B)/vulkan_inline_spv.h
 VI_HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
 # the scene, the tests' Vulkan helpers and reference are included by main.c
-VI_DEPS := $(VI_DIR)/main.c $(LIB) shaders_spv.h $(SCENE) tests/vk_util.h tests/reference.h $(VI_SPV_H)
+VI_DEPS := $(VI_DIR)/main.c $(LIB) shaders_spv.h $(SCENE) tests/support/vk_util.h tests/support/reference.h $(VI_SPV_H)
 
 TESTS += test-vulkan-inline
 .PHONY: test-vulkan-inline

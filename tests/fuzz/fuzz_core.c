@@ -19,7 +19,7 @@
    read those bytes, so older inputs keep their meaning.
    It builds (lrt_bvh_build and lrt_bvh_build_in into exactly
    lrt_bvh_memory_size heap bytes), traces, judges every answer with the
-   exact reference of tests/reference.h (ref_check: docs/MODEL.md's "Right, and
+   exact reference of tests/support/reference.h (ref_check: docs/MODEL.md's "Right, and
    how right"; with the back map as the reference's b, or the reference's
    own b of the constant or relative model, ref_map_set_back_constant /
    ref_map_set_back_relative), then changes the depth (and the back map)
@@ -37,7 +37,7 @@
    past them. */
 #define LINEAR_RT_IMPLEMENTATION
 #include "../../linear_rt.h"
-#include "../reference.h"
+#include "../support/reference.h"
 
 #include <float.h>
 #include <math.h>

@@ -1,4 +1,4 @@
-/* tests/check.h - the tests' one assertion: CHECK(cond, printf-args) counts
+/* tests/support/check.h - the tests' one assertion: CHECK(cond, printf-args) counts
    a pass or prints the failure and counts it; check_summary() prints the
    closing "N passed, M failed" line and gives the exit code.
    One test of a program: `build/test_core test_update` runs only the test

@@ -1,4 +1,4 @@
-/* tests/reference.h - the exact reference tracer of the tests, and the
+/* tests/support/reference.h - the exact reference tracer of the tests, and the
    comparator that judges a tracer's answers by docs/MODEL.md
    ("Right, and how right").
 
@@ -100,10 +100,10 @@
 /* The error-free transformations need IEEE double arithmetic rounded to
    nearest, without excess precision or reassociation. */
 #if defined(__FAST_MATH__)
-#error "tests/reference.h: do not build the exact reference with -ffast-math"
+#error "tests/support/reference.h: do not build the exact reference with -ffast-math"
 #endif
 #if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 2
-#error "tests/reference.h: needs double arithmetic without excess precision (use SSE2)"
+#error "tests/support/reference.h: needs double arithmetic without excess precision (use SSE2)"
 #endif
 
 #if defined(__GNUC__)

@@ -1,5 +1,5 @@
-/* tests/rays.h - what the tests trace: depth maps of many shapes in every
-   format, each with its exact reference twin (tests/reference.h), and rays
+/* tests/support/rays.h - what the tests trace: depth maps of many shapes in every
+   format, each with its exact reference twin (tests/support/reference.h), and rays
    of every kind docs/MODEL.md names, from one deterministic random sequence.
    Shared by tests/test_core.c (the CPU path) and tests/test_vulkan.c (the
    kernels). Include after linear_rt.h, reference.h and examples/scene.h;
