@@ -70,6 +70,7 @@
    validation): each warning or error is printed to stderr and counted in
    vkp_validation_messages. */
 #include "../tests/support/bench.h"
+#include "../tests/support/march_common.h" /* bmc_depth: the model's clamp */
 
 #include <math.h>
 #include <stdio.h>
@@ -873,14 +874,10 @@ static void vkp_upload_depth(vkp *p, const bench_scene *sc)
 {
     float *d = (float *)p->depth.map;
     size_t i, count = (size_t)p->w * p->h;
-    for (i = 0; i < count; ++i) {
-        float v = sc->depth[i];
-        d[i] = !(v <= 1.0f) ? 1.0f : v < 0.0f ? 0.0f : v;
-    }
+    for (i = 0; i < count; ++i) d[i] = bmc_depth(sc->depth[i]);
     p->has_back = sc->back != NULL;
     for (i = 0; p->has_back && i < count; ++i) {
-        float b = sc->back[i];
-        b = !(b <= 1.0f) ? 1.0f : b < 0.0f ? 0.0f : b;
+        const float b = bmc_depth(sc->back[i]);
         d[count + i] = b > d[i] ? b : d[i];
     }
 }

@@ -244,6 +244,16 @@ void lrt_two_prod(float a, float b, out float p, out float e)
     e = ee;
 }
 
+// the sign of x * max - v for a unorm raw value v (max 255 or 65535),
+// exactly: where a depth v / max lies against x, without rounding v / max
+int lrt_scaled_sign(float x, uint format, uint raw)
+{
+    float pp, e;
+    lrt_two_prod(x, format == LRT_UNORM8 ? 255.0 : 65535.0, pp, e);
+    if (pp != float(raw)) return pp < float(raw) ? -1 : 1;
+    return e < 0.0 ? -1 : e > 0.0 ? 1 : 0;
+}
+
 // a texel's back under the constant or relative model: b(d) as float bits,
 // or ~0u when b is not behind a unorm depth's exact v / max (b rounds to
 // the float d, below v / max): the box is then the flat plate [d, d], its
@@ -252,11 +262,7 @@ uint lrt_model_back_bits(LrtParams p, uint raw)
 {
     precise float df = p.format == LRT_UNORM8 ? float(raw) / 255.0 : p.format == LRT_UNORM16 ? float(raw) / 65535.0 : uintBitsToFloat(raw);
     float b = lrt_model_back(p, df);
-    if (p.format != LRT_FLOAT32) {
-        float pp, e; // b * vmax <= raw, exactly
-        lrt_two_prod(b, p.format == LRT_UNORM8 ? 255.0 : 65535.0, pp, e);
-        if (pp < float(raw) || (pp == float(raw) && e <= 0.0)) return ~0u;
-    }
+    if (p.format != LRT_FLOAT32 && lrt_scaled_sign(b, p.format, raw) <= 0) return ~0u; // b <= v / max
     return floatBitsToUint(b);
 }
 
@@ -447,12 +453,7 @@ float lrt_depth_plane(LrtSetup s, uint format, uint raw)
     float d = format == LRT_FLOAT32 ? uintBitsToFloat(raw) : unorm ? 0.0 : 1.0;
     if (s.zero.z) {
         // v/max <= o.z, compared without rounding v/max: v <= o.z * max
-        bool inside = d <= s.o.z;
-        if (unorm) {
-            float qm = format == LRT_UNORM8 ? 255.0 : 65535.0, p, e;
-            lrt_two_prod(s.o.z, qm, p, e);
-            inside = float(raw) < p || (float(raw) == p && e >= 0.0);
-        }
+        bool inside = unorm ? lrt_scaled_sign(s.o.z, format, raw) >= 0 : d <= s.o.z;
         return (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
     }
     if (!unorm) {
@@ -825,12 +826,8 @@ float lrt_back_plane(LrtSetup s, uint format, uint raw)
 {
     if (!s.zero.z) return lrt_depth_plane(s, format, raw);
     bool unorm = format != LRT_FLOAT32 && raw != (format == LRT_UNORM8 ? 255u : 65535u);
-    bool inside = s.o.z <= (format == LRT_FLOAT32 ? uintBitsToFloat(raw) : 1.0); // o.z <= b
-    if (unorm) { // o.z * max <= v, without rounding
-        float qm = format == LRT_UNORM8 ? 255.0 : 65535.0, pp, e;
-        lrt_two_prod(s.o.z, qm, pp, e);
-        inside = pp < float(raw) || (pp == float(raw) && e <= 0.0);
-    }
+    bool inside = unorm ? lrt_scaled_sign(s.o.z, format, raw) <= 0 // o.z * max <= v
+                        : s.o.z <= (format == LRT_FLOAT32 ? uintBitsToFloat(raw) : 1.0); // o.z <= b
     return (s.neg.z != 0u) == inside ? -LRT_INF : LRT_INF;
 }
 
