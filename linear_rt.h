@@ -15,12 +15,14 @@
                    and its thickness models, traversal, camera helpers
      >>vulkan-api  declarations of the Vulkan path (LINEAR_RT_VULKAN)
      >>impl        the implementation: config macros and the ISA prelude (every
-                   SIMD decision: LRT__SSE, LRT__AVX), then by the data's path:
+                   SIMD decision: LRT__SSE, LRT__AVX_BUILT, LRT__AVX_AT_RUN_TIME),
+                   then by the data's path:
      >>depth         1. depth in: validation, one texel's raw value, the backs
      >>heights       2. heights: depth to rounded-up codes, back codes
      >>layout        3. level geometry and the modified Morton mapping
      >>nodes         4. nodes: build and update (the refit)
      >>walk          5. traversal: ray set-up, node and texel tests, the walk
+     >>walk-avx2        the same walk compiled for AVX2, chosen at run time
      >>camera        6. rays from a camera
      >>vulkan        7. Vulkan: the kernels' host side (SPIR-V in shaders_spv.h)
      >>licence     MIT
@@ -139,8 +141,17 @@
                                    both or neither
        LINEAR_RT_NO_SIMD           plain C instead of the SSE2 / AVX2 child test
                                    (the answers are the same bit for bit)
-       LINEAR_RT_NO_AVX            SSE2 even when compiled for AVX2 (-mavx2,
-                                   -march=native: then 8 children in one register)
+       LINEAR_RT_NO_AVX            SSE2 only: no AVX2 walk, neither compiled in
+                                   (-mavx2 -mfma, -march=native) nor chosen at
+                                   run time
+       LINEAR_RT_NO_RUNTIME_DISPATCH  no AVX2 walk unless the build targets it.
+                                   By default gcc and clang on x86-64 compile the
+                                   walk twice (SSE2, and AVX2 + FMA by a target
+                                   pragma) and lrt_trace picks by the CPU; other
+                                   compilers choose at compile time (__AVX2__)
+       LINEAR_RT_SELF              the name this file includes itself by for
+                                   that second pass (default "linear_rt.h",
+                                   found beside itself): set it for a renamed copy
        LINEAR_RT_VULKAN            the lrt_vk_* API and its implementation
                                    (define it for the API in every file that
                                    uses it, as for the implementation)
@@ -489,6 +500,10 @@ LINEAR_RT_API lrt_result lrt_trace(const lrt_bvh *bvh, const lrt_depth *depth, c
    LINEAR_RT_MAX_RAYS_PER_CALL rays: LRT_ERROR_TOO_MANY_RAYS. */
 LINEAR_RT_API lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
                                          lrt_hit *hits, size_t first, size_t end, uint32_t flags);
+/* Which CPU walk lrt_trace runs here: "avx2", "sse2" or "scalar" as the
+   build chose, or "avx2 (chosen at run time)" / "sse2 (chosen at run time)"
+   where a plain x86-64 build probes the CPU (OPTIONS). A static string. */
+LINEAR_RT_API const char *lrt_cpu_path(void);
 
 /* ---- rays from a camera (optional helpers) ---------------------------------
    An engine has view-space rays (a reflection, an AO or a shadow ray from a
@@ -787,31 +802,40 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
    place that decides which SIMD paths are compiled.
    ========================================================================== */
 #ifdef LINEAR_RT_IMPLEMENTATION
-#ifndef LINEAR_RT_IMPLEMENTATION_DONE
+#if !defined(LINEAR_RT_IMPLEMENTATION_DONE) || defined(LRT__AVX2_PASS)
+#ifndef LRT__AVX2_PASS /* the AVX2 pass (>>walk-avx2) compiles only the walk */
 #define LINEAR_RT_IMPLEMENTATION_DONE
 
 #include <string.h>
 #include <math.h>
+/* SSE2 is the x86-64 baseline: compiled wherever the compiler targets it. */
 #if defined(__SSE2__) && !defined(LINEAR_RT_NO_SIMD)
 #include <emmintrin.h>
 #define LRT__SSE 1
 #else
 #define LRT__SSE 0
 #endif
-/* With AVX2 (-mavx2, -march=native) a node's 8 children are tested in one
-   register; the floats are the same as the SSE2 and scalar paths'. */
-#if LRT__SSE && defined(__AVX2__) && !defined(LINEAR_RT_NO_AVX)
+/* AVX2 and FMA (8 children in one register): compiled in when the build
+   targets them (-mavx2 -mfma, -march=native); otherwise, with gcc or clang on
+   x86-64, compiled as a second pass of the walk (>>walk-avx2) and chosen at
+   run time by one CPU probe (lrt__cpu_has_avx2). Every path computes the same
+   floats: the answers are equal bit for bit. */
+#if LRT__SSE && defined(__AVX2__) && defined(__FMA__) && !defined(LINEAR_RT_NO_AVX)
 #include <immintrin.h>
-#define LRT__AVX 1
+#define LRT__AVX_BUILT 1 /* the whole file is compiled for AVX2 */
+#define LRT__AVX_AT_RUN_TIME 0
+#elif LRT__SSE && !defined(LINEAR_RT_NO_AVX) && !defined(LINEAR_RT_NO_RUNTIME_DISPATCH) && \
+    (defined(__x86_64__) || defined(__i386__)) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define LRT__AVX_BUILT 0
+#define LRT__AVX_AT_RUN_TIME 1 /* the walk twice: SSE2, and AVX2 + FMA by target pragma */
 #else
-#define LRT__AVX 0
+#define LRT__AVX_BUILT 0
+#define LRT__AVX_AT_RUN_TIME 0
 #endif
-/* a * b + c where a * b is exact (small integers times powers of two), so
-   fused or not it is the same float: one instruction where FMA is there */
-#if LRT__AVX && defined(__FMA__)
-#define LRT__EXACT_MADD8(a, b, c) _mm256_fmadd_ps(a, b, c)
-#elif LRT__AVX
-#define LRT__EXACT_MADD8(a, b, c) _mm256_add_ps(c, _mm256_mul_ps(a, b))
+#define LRT__AVX LRT__AVX_BUILT /* the pass being compiled: AVX2 or not (>>walk-avx2 redefines it) */
+#ifndef LINEAR_RT_SELF
+#define LINEAR_RT_SELF "linear_rt.h" /* for the AVX2 pass: this file, found beside itself */
 #endif
 
 #ifndef LINEAR_RT_ASSERT
@@ -888,7 +912,7 @@ LINEAR_RT_DEF const char *lrt_result_string(lrt_result result)
    1. Depth in: validation and decoding of one texel.
    ========================================================================== */
 
-static uint32_t lrt__format_bytes(lrt_format f)
+LRT__FORCE_INLINE uint32_t lrt__format_bytes(lrt_format f)
 {
     return f == LRT_FORMAT_UNORM8 ? 1u : f == LRT_FORMAT_UNORM16 ? 2u : f == LRT_FORMAT_FLOAT32 ? 4u : 0u;
 }
@@ -953,7 +977,7 @@ static lrt_result lrt__check_back(const lrt_depth *depth, uint32_t thickness, si
    integer v (reversed Z flipped in integers), or the bits of the float after
    the flip (in float) and the clamp. The exact texel test takes its depth
    plane from this without rounding v/max (see lrt__depth_plane). */
-LRT__INLINE uint32_t lrt__map_raw(const lrt_depth *depth, const void *data, size_t stride, uint32_t x, uint32_t y)
+LRT__FORCE_INLINE uint32_t lrt__map_raw(const lrt_depth *depth, const void *data, size_t stride, uint32_t x, uint32_t y)
 {
     const unsigned char *row = (const unsigned char *)data + stride * y;
     int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
@@ -976,7 +1000,7 @@ LRT__INLINE uint32_t lrt__map_raw(const lrt_depth *depth, const void *data, size
     }
 }
 
-LRT__INLINE uint32_t lrt__depth_raw(const lrt_depth *depth, size_t stride, uint32_t x, uint32_t y)
+LRT__FORCE_INLINE uint32_t lrt__depth_raw(const lrt_depth *depth, size_t stride, uint32_t x, uint32_t y)
 {
     return lrt__map_raw(depth, depth->data, stride, x, y);
 }
@@ -1574,6 +1598,11 @@ LINEAR_RT_DEF lrt_result lrt_bvh_update(lrt_bvh *bvh, const lrt_depth *depth, co
     return LRT_SUCCESS;
 }
 
+/* lrt_hit is 4 words on the CPU and in the kernels' hit buffer (lrt_trace.comp) */
+typedef char lrt__hit_is_16_bytes[sizeof(lrt_hit) == 16 && sizeof(lrt_ray) == 32 ? 1 : -1];
+
+#endif /* !LRT__AVX2_PASS: the walk follows, compiled in every pass */
+
 /* ================================================================== >>walk
    5. Traversal (RayQuery.Proceed of the design), specialised for this tree:
       no triangles, no instances, no stored boxes. A node's children form a
@@ -1596,6 +1625,9 @@ LINEAR_RT_DEF lrt_result lrt_bvh_update(lrt_bvh *bvh, const lrt_depth *depth, co
 #if LRT__AVX
 typedef __m256 lrt__lanes;
 #define LRT__BROADCAST(x) _mm256_set1_ps(x)
+/* a * b + c where a * b is exact (small integers times powers of two), so
+   fused or not it is the same float: one instruction where FMA is there */
+#define LRT__EXACT_MADD8(a, b, c) _mm256_fmadd_ps(a, b, c)
 #elif LRT__SSE
 typedef __m128 lrt__lanes;
 #define LRT__BROADCAST(x) _mm_set1_ps(x)
@@ -1660,7 +1692,7 @@ typedef struct lrt__signs {
    FLT_MAX (tmax = FLT_MAX is the usual "no limit"), or is infinite, stays
    as it is: an entry of +inf (a slab never entered) must never pass. */
 #define LRT__WIDEN_EXIT (1.0f / 2097152.0f)
-LRT__INLINE float lrt__widen(float exit)
+LRT__FORCE_INLINE float lrt__widen(float exit)
 {
     float w = exit + fabsf(exit) * LRT__WIDEN_EXIT;
     return w <= 3.40282347e38f ? w : exit;
@@ -1668,7 +1700,7 @@ LRT__INLINE float lrt__widen(float exit)
 
 static int lrt__finite(float f) { return f - f == 0.0f; }
 
-LRT__INLINE uint32_t lrt__sign_bit(float f)
+LRT__FORCE_INLINE uint32_t lrt__sign_bit(float f)
 {
     uint32_t u;
     memcpy(&u, &f, 4);
@@ -1676,7 +1708,7 @@ LRT__INLINE uint32_t lrt__sign_bit(float f)
 }
 
 /* Entering and leaving t of the slab [lo, hi] along one axis. */
-LRT__INLINE void lrt__slab(float lo, float hi, float o, float iv, uint32_t neg, float *enter, float *exit)
+LRT__FORCE_INLINE void lrt__slab(float lo, float hi, float o, float iv, uint32_t neg, float *enter, float *exit)
 {
     float a = (lo - o) * iv, b = (hi - o) * iv;
     *enter = LRT__MAX_KEEP(neg ? b : a, *enter);
@@ -1801,7 +1833,7 @@ static float lrt__depth_plane_scaled(const lrt__ray_setup *s, lrt_format format,
     return (n * (vmax == 255u ? 1.0f / 255.0f : 1.0f / 65535.0f)) * s->iv[2];
 }
 
-LRT__INLINE float lrt__depth_plane(const lrt__ray_setup *s, lrt_format format, uint32_t raw)
+LRT__FORCE_INLINE float lrt__depth_plane(const lrt__ray_setup *s, lrt_format format, uint32_t raw)
 {
     const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
     float p, e, n;
@@ -1821,7 +1853,7 @@ LRT__INLINE float lrt__depth_plane(const lrt__ray_setup *s, lrt_format format, u
    is then only ever taken for a z in range, where o.z * 65535 cannot
    overflow). Returns the kind a miss would have: off the screen when the
    rectangle's part of [tmin, tmax] is empty or ends before tmax. */
-LRT__INLINE uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t height, float tmin, float tmax)
+LRT__FORCE_INLINE uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t height, float tmin, float tmax)
 {
     /* the far plane's t the way the texel test computes depth planes, so a
        far-plane texel (depth 1) is met exactly at the clip */
@@ -2366,7 +2398,7 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
     for (i = 0; i < 4u; ++i) lrt__signs_init(&w->signs[i], i & 1u, i >> 1);
 }
 
-LRT__INLINE uint32_t lrt__lowest_bit(uint32_t m)
+LRT__FORCE_INLINE uint32_t lrt__lowest_bit(uint32_t m)
 {
 #if defined(__GNUC__) || defined(__clang__)
     return (uint32_t)__builtin_ctz(m);
@@ -2378,7 +2410,7 @@ LRT__INLINE uint32_t lrt__lowest_bit(uint32_t m)
 }
 
 /* Bits needed to write m: 0 for 0. */
-LRT__INLINE uint32_t lrt__bit_length(uint32_t m)
+LRT__FORCE_INLINE uint32_t lrt__bit_length(uint32_t m)
 {
 #if defined(__GNUC__) || defined(__clang__)
     return m ? 32u - (uint32_t)__builtin_clz(m) : 0u;
@@ -2393,7 +2425,7 @@ LRT__INLINE uint32_t lrt__bit_length(uint32_t m)
    that node. Two texel indices share a node of a level exactly when their
    highest differing bit is below the level's span, so the level is a
    table lookup per axis. */
-LRT__INLINE uint32_t lrt__start_level(const lrt__walk *w, const uint32_t i0[2], const uint32_t i1[2], uint32_t *sx, uint32_t *sy)
+LRT__FORCE_INLINE uint32_t lrt__start_level(const lrt__walk *w, const uint32_t i0[2], const uint32_t i1[2], uint32_t *sx, uint32_t *sy)
 {
     const lrt_layout *L = w->L;
     uint32_t lv = w->start_level[0][lrt__bit_length(i0[0] ^ i1[0])];
@@ -2410,7 +2442,7 @@ LRT__INLINE uint32_t lrt__start_level(const lrt__walk *w, const uint32_t i0[2], 
    one texel (a camera ray, say) is level 0: one exact box test. The texel
    box is widened by a margin far above float rounding, so it is
    conservative. */
-LRT__INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_setup *s, uint32_t *sx, uint32_t *sy)
+LRT__FORCE_INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_setup *s, uint32_t *sx, uint32_t *sy)
 {
     const lrt_layout *L = w->L;
     uint32_t i0[2], i1[2];
@@ -2467,7 +2499,7 @@ LRT__INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_setup *s
 
 /* First code of node (x, y) of level lv in the node array (code units):
    the row-major block of its parent, then its slot in the block. */
-LRT__INLINE size_t lrt__node_slot(const lrt__walk *w, uint32_t lv, uint32_t x, uint32_t y)
+LRT__FORCE_INLINE size_t lrt__node_slot(const lrt__walk *w, uint32_t lv, uint32_t x, uint32_t y)
 {
     size_t index = 0;
     if (lv < w->L->level_count) {
@@ -2480,7 +2512,7 @@ LRT__INLINE size_t lrt__node_slot(const lrt__walk *w, uint32_t lv, uint32_t x, u
 
 /* First code of the children of node (x, y) of level lv >= 2: the nodes of
    level lv - 1 in its block, whose first codes follow 8 apart. */
-LRT__INLINE size_t lrt__children_slot(const lrt__walk *w, uint32_t lv, uint32_t x, uint32_t y)
+LRT__FORCE_INLINE size_t lrt__children_slot(const lrt__walk *w, uint32_t lv, uint32_t x, uint32_t y)
 {
     const lrt__walk_level *v = &w->lv[lv];
     return v->children + ((size_t)y * v->width + x) * 64u;
@@ -2490,7 +2522,7 @@ LRT__INLINE size_t lrt__children_slot(const lrt__walk *w, uint32_t lv, uint32_t 
 /* Reorders a slot mask so that bit k is slot k ^ flip: then walking bits from
    the lowest is walking the children front to back. XOR by 4, 2, 1 swaps
    nibbles, bit pairs, neighbours. */
-LRT__INLINE uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
+LRT__FORCE_INLINE uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
 {
     if (flip & 4u) m = ((m & 0x0fu) << 4) | ((m >> 4) & 0x0fu);
     if (flip & 2u) m = ((m & 0x33u) << 2) | ((m >> 2) & 0x33u);
@@ -2500,14 +2532,14 @@ LRT__INLINE uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
 #endif
 
 /* Code `slot` of the node array (a height, or a back code past back_codes). */
-LRT__INLINE uint32_t lrt__code(const lrt__walk *w, size_t slot, uint32_t wide)
+LRT__FORCE_INLINE uint32_t lrt__code(const lrt__walk *w, size_t slot, uint32_t wide)
 {
     return wide ? ((const uint16_t *)w->nodes)[slot] : ((const uint8_t *)w->nodes)[slot];
 }
 
 #if LRT__SSE
 /* A node's 8 codes as 16-bit lanes, in slot order. */
-LRT__INLINE __m128i lrt__load_codes(const lrt__walk *w, size_t slot0, uint32_t wide)
+LRT__FORCE_INLINE __m128i lrt__load_codes(const lrt__walk *w, size_t slot0, uint32_t wide)
 {
     if (wide) return _mm_loadu_si128((const __m128i *)(const void *)((const uint16_t *)w->nodes + slot0));
     return _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)((const uint8_t *)w->nodes + slot0)),
@@ -2799,7 +2831,7 @@ static LRT__NOINLINE float lrt__back_plane(const lrt__walk *w, const lrt__ray_se
 }
 
 /* The exact test of one candidate texel against its true depth. */
-LRT__INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float enter,
+LRT__FORCE_INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float enter,
                            float exit, uint32_t code, float *t)
 {
     uint32_t raw;
@@ -2846,12 +2878,9 @@ static uint32_t lrt__face(const lrt__walk *w, const lrt__ray_setup *s, uint32_t 
     return LRT_FACE_INSIDE;
 }
 
-/* lrt_hit is 4 words on the CPU and in the kernels' hit buffer (lrt_trace.comp) */
-typedef char lrt__hit_is_16_bytes[sizeof(lrt_hit) == 16 && sizeof(lrt_ray) == 32 ? 1 : -1];
-
 /* A hit at t of the walked ray, told in the caller's ray: undo the restart
    and the rescale, and stay inside [tmin, tmax] despite rounding. */
-LRT__INLINE void lrt__report_hit(const lrt__walk *w, const lrt_ray *ray, const lrt__ray_setup *s, float t_scale, float t,
+LRT__FORCE_INLINE void lrt__report_hit(const lrt__walk *w, const lrt_ray *ray, const lrt__ray_setup *s, float t_scale, float t,
                                  uint32_t tx, uint32_t ty, lrt_hit *hit)
 {
     hit->face = (uint16_t)lrt__face(w, s, tx, ty, t);
@@ -2914,7 +2943,7 @@ static void lrt__cull_constants(const lrt__walk *w, const lrt__ray_setup *s, flo
 
 /* Per-ray constants of every node test, set once a ray is walked; cull:
    lrt__cull_constants, stride floats apart (AVX2 only). */
-LRT__INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s, const float *cull, size_t stride)
+LRT__FORCE_INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s, const float *cull, size_t stride)
 {
     s->sg = &w->signs[s->neg_x | (s->neg_y << 1)];
 #if LRT__SSE
@@ -3179,7 +3208,7 @@ typedef struct lrt__batch8 {
 } lrt__batch8;
 
 /* lanes where the float bits x are 0 or their size lies in [low, low + span) (lrt__setup_ray) */
-LRT__INLINE __m256i lrt__bits_in(__m256 x, uint32_t low, uint32_t span)
+LRT__FORCE_INLINE __m256i lrt__bits_in(__m256 x, uint32_t low, uint32_t span)
 {
     const __m256i size = _mm256_and_si256(_mm256_castps_si256(x), _mm256_set1_epi32(0x7fffffff));
     const __m256i bias = _mm256_set1_epi32((int)0x80000000u);
@@ -3189,7 +3218,7 @@ LRT__INLINE __m256i lrt__bits_in(__m256 x, uint32_t low, uint32_t span)
 }
 
 /* lrt__cull_axis on 8 lanes */
-LRT__INLINE void lrt__cull_axis8(__m256 o, __m256 iv, float extent, __m256 t_hi, float *cull_iv, float *c_enter, float *c_exit)
+LRT__FORCE_INLINE void lrt__cull_axis8(__m256 o, __m256 iv, float extent, __m256 t_hi, float *cull_iv, float *c_enter, float *c_exit)
 {
     const __m256 sign = _mm256_set1_ps(-0.0f), size = _mm256_andnot_ps(sign, iv);
     const __m256 huge = _mm256_cmp_ps(size, _mm256_set1_ps(LRT__CULL_IV_MAX), _CMP_NLT_UQ);
@@ -3387,10 +3416,226 @@ LRT__FORCE_INLINE void lrt__trace_rays(const lrt__walk *w, const lrt_ray *rays, 
     for (; i < end; ++i) lrt__trace_one(w, &rays[i], &hits[i], wide);
 }
 
+/* The walk of lrt_trace_range once its arguments are checked. */
+static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t stride, const lrt_ray *rays,
+                            lrt_hit *hits, size_t first, size_t end)
+{
+    lrt__walk w;
+    lrt__walk_init(&w, bvh, depth, stride);
+    if (w.wide_codes) lrt__trace_rays(&w, rays, hits, first, end, 1u);
+    else lrt__trace_rays(&w, rays, hits, first, end, 0u);
+}
+
+/* the macros whose text differs between the passes */
+#undef LRT__BROADCAST
+#undef LRT__LANE
+#ifdef LRT__EXACT_MADD8
+#undef LRT__EXACT_MADD8
+#endif
+
+#ifndef LRT__AVX2_PASS
+/* ============================================================= >>walk-avx2
+   The AVX2 pass. A build for plain x86-64 (no -mavx2) compiles the walk
+   above a second time, here: this file includes itself with LRT__AVX2_PASS
+   defined, which skips everything but the walk, and every function of it is
+   compiled for AVX2, FMA, BMI1 and BMI2 (a target pragma) under a name
+   ending in _avx2. lrt_trace_range calls that walk where the CPU has all
+   four (lrt__cpu_has_avx2: one look at the CPU-feature bits that libgcc or
+   compiler-rt fill once at start-up). The walk's float steps never fuse
+   differently here (tests/test_paths.c holds every path to the same bits,
+   also with -ffp-contract=fast).
+   ========================================================================== */
+#if LRT__AVX_AT_RUN_TIME
+#define LRT__AVX2_PASS
+#undef LRT__AVX
+#define LRT__AVX 1
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2,fma,bmi,bmi2"))), apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx2,fma,bmi,bmi2")
+#endif
+
+#define lrt__back_plane lrt__back_plane_avx2
+#define lrt__batch8 lrt__batch8_avx2
+#define lrt__bit_length lrt__bit_length_avx2
+#define lrt__bits_in lrt__bits_in_avx2
+#define lrt__box8 lrt__box8_avx2
+#define lrt__child_slabs lrt__child_slabs_avx2
+#define lrt__children_slot lrt__children_slot_avx2
+#define lrt__clip lrt__clip_avx2
+#define lrt__code lrt__code_avx2
+#define lrt__crossing lrt__crossing_avx2
+#define lrt__crossing_sum lrt__crossing_sum_avx2
+#define lrt__cull_axis lrt__cull_axis_avx2
+#define lrt__cull_axis8 lrt__cull_axis8_avx2
+#define lrt__cull_children lrt__cull_children_avx2
+#define lrt__cull_constants lrt__cull_constants_avx2
+#define lrt__depth_plane lrt__depth_plane_avx2
+#define lrt__depth_plane_scaled lrt__depth_plane_scaled_avx2
+#define lrt__descend lrt__descend_avx2
+#define lrt__entered_later lrt__entered_later_avx2
+#define lrt__expansion_sign lrt__expansion_sign_avx2
+#define lrt__expansion_value lrt__expansion_value_avx2
+#define lrt__face lrt__face_avx2
+#define lrt__finite lrt__finite_avx2
+#define lrt__grow lrt__grow_avx2
+#define lrt__grow_prod lrt__grow_prod_avx2
+#define lrt__ilogb lrt__ilogb_avx2
+#define lrt__lanes lrt__lanes_avx2
+#define lrt__level1_hit lrt__level1_hit_avx2
+#define lrt__load_codes lrt__load_codes_avx2
+#define lrt__lowest_bit lrt__lowest_bit_avx2
+#define lrt__maxf lrt__maxf_avx2
+#define lrt__node_slot lrt__node_slot_avx2
+#define lrt__on_screen_at_tmax lrt__on_screen_at_tmax_avx2
+#define lrt__order_mask lrt__order_mask_avx2
+#define lrt__pending lrt__pending_avx2
+#define lrt__plane_t lrt__plane_t_avx2
+#define lrt__pow2 lrt__pow2_avx2
+#define lrt__prefetch_children lrt__prefetch_children_avx2
+#define lrt__prefetch_rows lrt__prefetch_rows_avx2
+#define lrt__ray_setup lrt__ray_setup_avx2
+#define lrt__report_hit lrt__report_hit_avx2
+#define lrt__scale_t lrt__scale_t_avx2
+#define lrt__setup8 lrt__setup8_avx2
+#define lrt__setup_rare lrt__setup_rare_avx2
+#define lrt__setup_ray lrt__setup_ray_avx2
+#define lrt__side lrt__side_avx2
+#define lrt__sign_bit lrt__sign_bit_avx2
+#define lrt__signif lrt__signif_avx2
+#define lrt__signs lrt__signs_avx2
+#define lrt__signs_init lrt__signs_init_avx2
+#define lrt__slab lrt__slab_avx2
+#define lrt__slabs8 lrt__slabs8_avx2
+#define lrt__start_level lrt__start_level_avx2
+#define lrt__start_node lrt__start_node_avx2
+#define lrt__test_children lrt__test_children_avx2
+#define lrt__test_texel lrt__test_texel_avx2
+#define lrt__texels8 lrt__texels8_avx2
+#define lrt__trace8 lrt__trace8_avx2
+#define lrt__trace_from lrt__trace_from_avx2
+#define lrt__trace_one lrt__trace_one_avx2
+#define lrt__trace_rays lrt__trace_rays_avx2
+#define lrt__trace_walk lrt__trace_walk_avx2
+#define lrt__two_prod lrt__two_prod_avx2
+#define lrt__two_sum lrt__two_sum_avx2
+#define lrt__visit lrt__visit_avx2
+#define lrt__walk lrt__walk_avx2
+#define lrt__walk_down lrt__walk_down_avx2
+#define lrt__walk_init lrt__walk_init_avx2
+#define lrt__walk_level lrt__walk_level_avx2
+#define lrt__walk_setup lrt__walk_setup_avx2
+#define lrt__widen lrt__widen_avx2
+#define lrt__widen8 lrt__widen8_avx2
+#define lrt__z_plane8 lrt__z_plane8_avx2
+#include LINEAR_RT_SELF
+#undef lrt__back_plane
+#undef lrt__batch8
+#undef lrt__bit_length
+#undef lrt__bits_in
+#undef lrt__box8
+#undef lrt__child_slabs
+#undef lrt__children_slot
+#undef lrt__clip
+#undef lrt__code
+#undef lrt__crossing
+#undef lrt__crossing_sum
+#undef lrt__cull_axis
+#undef lrt__cull_axis8
+#undef lrt__cull_children
+#undef lrt__cull_constants
+#undef lrt__depth_plane
+#undef lrt__depth_plane_scaled
+#undef lrt__descend
+#undef lrt__entered_later
+#undef lrt__expansion_sign
+#undef lrt__expansion_value
+#undef lrt__face
+#undef lrt__finite
+#undef lrt__grow
+#undef lrt__grow_prod
+#undef lrt__ilogb
+#undef lrt__lanes
+#undef lrt__level1_hit
+#undef lrt__load_codes
+#undef lrt__lowest_bit
+#undef lrt__maxf
+#undef lrt__node_slot
+#undef lrt__on_screen_at_tmax
+#undef lrt__order_mask
+#undef lrt__pending
+#undef lrt__plane_t
+#undef lrt__pow2
+#undef lrt__prefetch_children
+#undef lrt__prefetch_rows
+#undef lrt__ray_setup
+#undef lrt__report_hit
+#undef lrt__scale_t
+#undef lrt__setup8
+#undef lrt__setup_rare
+#undef lrt__setup_ray
+#undef lrt__side
+#undef lrt__sign_bit
+#undef lrt__signif
+#undef lrt__signs
+#undef lrt__signs_init
+#undef lrt__slab
+#undef lrt__slabs8
+#undef lrt__start_level
+#undef lrt__start_node
+#undef lrt__test_children
+#undef lrt__test_texel
+#undef lrt__texels8
+#undef lrt__trace8
+#undef lrt__trace_from
+#undef lrt__trace_one
+#undef lrt__trace_rays
+#undef lrt__trace_walk
+#undef lrt__two_prod
+#undef lrt__two_sum
+#undef lrt__visit
+#undef lrt__walk
+#undef lrt__walk_down
+#undef lrt__walk_init
+#undef lrt__walk_level
+#undef lrt__walk_setup
+#undef lrt__widen
+#undef lrt__widen8
+#undef lrt__z_plane8
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+#undef LRT__AVX
+#define LRT__AVX LRT__AVX_BUILT
+#undef LRT__AVX2_PASS
+
+static int lrt__cpu_has_avx2(void)
+{
+    /* libgcc / compiler-rt read CPUID and whether the OS saves the AVX state (XGETBV) */
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
+           __builtin_cpu_supports("bmi2");
+}
+#endif /* LRT__AVX_AT_RUN_TIME */
+
+LINEAR_RT_DEF const char *lrt_cpu_path(void)
+{
+#if LRT__AVX_AT_RUN_TIME
+    return lrt__cpu_has_avx2() ? "avx2 (chosen at run time)" : "sse2 (chosen at run time)";
+#elif LRT__AVX_BUILT
+    return "avx2";
+#elif LRT__SSE
+    return "sse2";
+#else
+    return "scalar";
+#endif
+}
+
 LINEAR_RT_DEF lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
                                          lrt_hit *hits, size_t first, size_t end, uint32_t flags)
 {
-    lrt__walk w;
     size_t stride;
     lrt_result r;
     if ((r = lrt__check_pair(bvh, depth, &stride)) != LRT_SUCCESS) return r;
@@ -3398,9 +3643,13 @@ LINEAR_RT_DEF lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *de
     if (first > end || end - first > LINEAR_RT_MAX_RAYS_PER_CALL) return LRT_ERROR_TOO_MANY_RAYS;
     if (first == end) return LRT_SUCCESS;
     if (!rays || !hits) return LRT_ERROR_NULL_POINTER;
-    lrt__walk_init(&w, bvh, depth, stride);
-    if (w.wide_codes) lrt__trace_rays(&w, rays, hits, first, end, 1u);
-    else lrt__trace_rays(&w, rays, hits, first, end, 0u);
+#if LRT__AVX_AT_RUN_TIME
+    if (lrt__cpu_has_avx2()) {
+        lrt__trace_walk_avx2(bvh, depth, stride, rays, hits, first, end);
+        return LRT_SUCCESS;
+    }
+#endif
+    lrt__trace_walk(bvh, depth, stride, rays, hits, first, end);
     return LRT_SUCCESS;
 }
 
@@ -3617,6 +3866,7 @@ LINEAR_RT_DEF int lrt_camera_planes(const lrt_camera *camera, float *near_z, flo
 #ifdef __cplusplus
 }
 #endif
+#endif /* !LRT__AVX2_PASS */
 #endif /* LINEAR_RT_IMPLEMENTATION_DONE */
 
 /* ================================================================ >>vulkan
@@ -3625,7 +3875,7 @@ LINEAR_RT_DEF int lrt_camera_planes(const lrt_camera *camera, float *near_z, flo
       buffers inside the caller's device. Host and kernels agree on
       shaders/README.md: bindings, push constants, dispatch shape.
    ========================================================================== */
-#if defined(LINEAR_RT_VULKAN) && !defined(LINEAR_RT_VULKAN_IMPLEMENTATION_DONE)
+#if defined(LINEAR_RT_VULKAN) && !defined(LINEAR_RT_VULKAN_IMPLEMENTATION_DONE) && !defined(LRT__AVX2_PASS)
 #define LINEAR_RT_VULKAN_IMPLEMENTATION_DONE
 
 #include "shaders_spv.h" /* lrt_spv_{refit,trace}_{buffer,image}: make spv */
@@ -4466,7 +4716,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer c
 
 /* ---- the standalone device helper (LINEAR_RT_VULKAN_DEVICE_HELPER) ----------------- */
 #if defined(LINEAR_RT_VULKAN) && defined(LINEAR_RT_VULKAN_DEVICE_HELPER) && \
-    !defined(LINEAR_RT_VULKAN_DEVICE_HELPER_IMPLEMENTATION_DONE)
+    !defined(LINEAR_RT_VULKAN_DEVICE_HELPER_IMPLEMENTATION_DONE) && !defined(LRT__AVX2_PASS)
 #define LINEAR_RT_VULKAN_DEVICE_HELPER_IMPLEMENTATION_DONE
 
 #include <stdio.h>

@@ -1138,12 +1138,13 @@ int main(int argc, char **argv)
     if (o.depth_file)
         snprintf(machine, sizeof machine,
                  "%ld-core machine, %d CPU threads per CPU method, %s %ux%u (fov %g, near %g, far %g), %d timed runs "
-                 "(median)",
+                 "(median), linear_rt's CPU walk %s",
                  cores, o.threads, o.depth_file, scenes[0].s.width, scenes[0].s.height, (double)o.fov_deg,
-                 (double)o.near_z, (double)o.far_z, o.runs);
+                 (double)o.near_z, (double)o.far_z, o.runs, lrt_cpu_path());
     else
-        snprintf(machine, sizeof machine, "%ld-core machine, %d CPU threads per CPU method, size %u, %d timed runs (median)",
-                 cores, o.threads, o.size, o.runs);
+        snprintf(machine, sizeof machine,
+                 "%ld-core machine, %d CPU threads per CPU method, size %u, %d timed runs (median), linear_rt's CPU walk %s",
+                 cores, o.threads, o.size, o.runs, lrt_cpu_path());
     printf("linear_rt benchmark: %s\n", machine);
     printf("stability cases and reference answers ...\n");
     fflush(stdout);

@@ -676,13 +676,7 @@ int main(int argc, char **argv)
     printf("compiler: gcc %s\n", __VERSION__);
 #endif
     printf("flags:    %s\n", DEMO_CFLAGS);
-#if defined(__AVX2__) && !defined(LINEAR_RT_NO_SIMD) && !defined(LINEAR_RT_NO_AVX)
-    printf("SIMD:     AVX2 (8 children per node test in one register)\n");
-#elif defined(__SSE2__) && !defined(LINEAR_RT_NO_SIMD)
-    printf("SIMD:     SSE2\n");
-#else
-    printf("SIMD:     none (scalar)\n");
-#endif
+    printf("CPU walk: %s\n", lrt_cpu_path());
     printf("timings:  CLOCK_MONOTONIC, medians after a warm-up (build %d, update %d, trace %d runs)\n\n",
            BUILD_RUNS, UPDATE_RUNS, TRACE_RUNS);
 

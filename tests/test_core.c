@@ -859,6 +859,7 @@ static void test_camera_planes(void)
 int main(int argc, char **argv)
 {
     check_select(argc, argv);
+    printf("walk: %s\n", lrt_cpu_path());
     RUN_TEST(test_named_cases);
     RUN_TEST(test_found_cases);
     RUN_TEST(test_layout);

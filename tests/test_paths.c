@@ -1,11 +1,14 @@
 /* tests/test_paths.c - linear_rt.h's traversal paths give the same answers,
-   bit for bit: the SSE2 child test (this file's own copy, default x86-64
-   flags), plain C (LINEAR_RT_NO_SIMD) and AVX2 (-mavx2, run only where the
-   CPU has it), each a separate copy of the implementation (tests/paths_tu.c).
+   bit for bit. This file's own copy is built as users build it (plain
+   x86-64 flags: the walk twice, AVX2 chosen at run time where the CPU has
+   it); the others are separate copies of the implementation
+   (tests/paths_tu.c): plain C (LINEAR_RT_NO_SIMD), SSE2 alone
+   (LINEAR_RT_NO_AVX), AVX2 compiled in (-mavx2 -mfma, run only where the
+   CPU has it) and the run-time choice again under -std=gnu99, where gcc
+   fuses a * b + c into an fma wherever it may (-ffp-contract=fast).
    test_core judges every path against the reference within docs/MODEL.md's
    tolerance; this test holds them to the same floats, which the header
    promises and the GPU comparison of test_vulkan relies on.
-
    Prints one line per failure and ends with "N passed, M failed". */
 #define LINEAR_RT_IMPLEMENTATION
 #include "../linear_rt.h"
@@ -20,6 +23,17 @@
 
 int paths_trace_scalar(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
 int paths_trace_avx2(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
+int paths_trace_sse2(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
+int paths_trace_contract(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
+typedef int (*paths_fn)(const lrt_depth *, const lrt_build_options *, const lrt_ray *, lrt_hit *, size_t, uint32_t);
+static const struct {
+    const char *name;
+    paths_fn trace;
+    int needs_avx2;
+} g_paths[] = {{"scalar", paths_trace_scalar, 0},
+               {"SSE2 alone", paths_trace_sse2, 0},
+               {"AVX2 compiled in", paths_trace_avx2, 1},
+               {"gnu99 fp-contract=fast", paths_trace_contract, 0}};
 
 static int g_have_avx2;
 static size_t g_rays;
@@ -41,27 +55,27 @@ static void compare(const char *what, const test_map *m, uint32_t node_bits, con
         free(other);
         return;
     }
-    CHECK(lrt_trace(&bvh, depth, rays, own, n, 0) == LRT_SUCCESS, "%s: SSE2 trace", what);
+    CHECK(lrt_trace(&bvh, depth, rays, own, n, 0) == LRT_SUCCESS, "%s: own trace", what);
     lrt_bvh_destroy(&bvh);
-    for (p = 0; p < 2; ++p) {
-        const char *name = p ? "AVX2" : "scalar";
+    for (p = 0; p < (int)(sizeof g_paths / sizeof g_paths[0]); ++p) {
+        const char *name = g_paths[p].name;
         size_t i, differ = 0;
         int r;
-        if (p == 1 && !g_have_avx2) continue;
+        if (g_paths[p].needs_avx2 && !g_have_avx2) continue;
         memset(other, 0xab, n * sizeof *other);
-        r = p ? paths_trace_avx2(depth, &opt, rays, other, n, 0) : paths_trace_scalar(depth, &opt, rays, other, n, 0);
+        r = g_paths[p].trace(depth, &opt, rays, other, n, 0);
         CHECK(r == LRT_SUCCESS, "%s: %s trace returned %d", what, name, r);
         for (i = 0; i < n; ++i) {
             if (memcmp(&own[i], &other[i], sizeof own[i]) != 0) {
                 if (differ == 0)
-                    printf("  %s: ray %zu o=(%.9g %.9g %.9g) v=(%.9g %.9g %.9g): SSE2 kind %u t %.9g (%u,%u), %s kind %u t %.9g (%u,%u)\n",
+                    printf("  %s: ray %zu o=(%.9g %.9g %.9g) v=(%.9g %.9g %.9g): own kind %u t %.9g (%u,%u), %s kind %u t %.9g (%u,%u)\n",
                            what, i, rays[i].origin[0], rays[i].origin[1], rays[i].origin[2], rays[i].dir[0], rays[i].dir[1],
                            rays[i].dir[2], own[i].kind, own[i].t, own[i].x, own[i].y, name, other[i].kind, other[i].t,
                            other[i].x, other[i].y);
                 ++differ;
             }
         }
-        CHECK(differ == 0, "%s: %zu of %zu rays differ between SSE2 and %s", what, differ, n, name);
+        CHECK(differ == 0, "%s: %zu of %zu rays differ between the own copy and %s", what, differ, n, name);
     }
     g_rays += n;
     free(own);
@@ -143,9 +157,10 @@ int main(int argc, char **argv)
     check_select(argc, argv);
 #if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
     __builtin_cpu_init();
-    g_have_avx2 = __builtin_cpu_supports("avx2");
+    g_have_avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 #endif
-    if (!g_have_avx2) printf("note: this CPU has no AVX2: SSE2 against scalar only\n");
+    printf("this copy's walk: %s\n", lrt_cpu_path());
+    if (!g_have_avx2) printf("note: this CPU has no AVX2: the AVX2 copy is compiled, not run\n");
     RUN_TEST(test_maps);
     RUN_TEST(test_large);
     RUN_TEST(test_thickness);
