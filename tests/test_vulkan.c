@@ -810,7 +810,8 @@ static void test_bad_arguments(void)
     EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, &bad, NULL), LRT_ERROR_MISALIGNED, "update: stride not a texel multiple");
     bad = g.depth; bad.offset = 2;
     EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, &bad, NULL), LRT_ERROR_MISALIGNED, "update: offset not a texel multiple");
-    bad = g.depth; bad.row_stride = (VkDeviceSize)g_limits.maxStorageBufferRange + 4;
+    bad = g.depth; /* a whole number of texels past the limit (NVIDIA's limit is 2^32 - 1, not a texel multiple) */
+    bad.row_stride = ((VkDeviceSize)g_limits.maxStorageBufferRange / 4u + 1u) * 4u;
     EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, &bad, NULL), LRT_ERROR_LIMIT_EXCEEDED, "update: span past the range limit");
     { /* thickness: the back map (a second lrt_vk_depth) exactly with a back-map tree, described as the depth is */
         lrt_vk_depth pair[2];
