@@ -144,7 +144,7 @@ test-cppcheck: $(B)/static_tu.c
 	run() { echo "  $(CPPCHECK) $$*"; if $(CPPCHECK) $(CPPCHECK_FLAGS) "$$@" $(B)/static_tu.c; then n=$$((n + 1)); else bad=$$((bad + 1)); fi; }; \
 	run --language=c --std=c99 -D__SSE2__; \
 	run --language=c --std=c99 -DLINEAR_RT_NO_SIMD; \
-	run --language=c --std=c99 -D__SSE2__ -D__AVX2__; \
+	run --language=c --std=c99 -D__SSE2__ -D__AVX2__ -D__FMA__; \
 	run --language=c --std=c99 -D__SSE2__ $(VK_FLAGS); \
 	run --language=c++ --std=c++11 -D__cplusplus -D__SSE2__; \
 	echo "test-cppcheck: $$n passed, $$bad failed"; \
@@ -157,7 +157,7 @@ test-clang-tidy: $(B)/static_tu.c
 	run() { echo "  $(CLANG_TIDY) $(B)/static_tu.c -- $$*"; \
 	  if $(CLANG_TIDY) --quiet $(B)/static_tu.c -- "$$@" 2>/dev/null; then n=$$((n + 1)); else bad=$$((bad + 1)); fi; }; \
 	run -x c $(STD); \
-	run -x c $(STD) -mavx2; \
+	run -x c $(STD) -mavx2 -mfma; \
 	run -x c++ -std=c++11; \
 	if [ "$(HAVE_VULKAN)" = 1 ]; then \
 	  run -x c $(STD) $(VK_FLAGS); \
