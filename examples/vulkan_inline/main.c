@@ -5,8 +5,9 @@
    linear_rt builds the tree on the GPU (lrt_vk_cmd_build) in buffers the
    library makes; everything after that is ours: a descriptor set layout, a
    pipeline layout with our push constants, our pipeline, one dispatch of one
-   invocation per texel. Then the same shadow rays on the CPU (lrt_trace,
-   any hit) must give the same hit or miss on every texel.
+   invocation per texel. Then the same shadow rays on the CPU (lrt_bvh_build
+   and lrt_trace on the same depth) must give the same hit or miss on every
+   texel: the kernels answer what the CPU answers, bit for bit.
 
    build/vulkan_inline [--size N] [--validation] [--out DIR]
      --size N      the embedded scene at N x N texels (default 256)
@@ -19,8 +20,7 @@
 #define LINEAR_RT_IMPLEMENTATION
 #include "../../linear_rt.h" /* with -DLINEAR_RT_VULKAN -DLINEAR_RT_VULKAN_DEVICE_HELPER */
 #include "../scene.h"
-#include "../../tests/support/vk_util.h"
-#include "../../tests/support/reference.h"
+#include "vk_small.h" /* buffers, one command buffer, submit and wait, barriers, timestamps */
 #include "vulkan_inline_spv.h" /* contact_shadows_spv[]: contact_shadows.comp, compiled by make */
 
 #include <math.h>
@@ -53,7 +53,7 @@ typedef struct shadow_push {
     float bias;
 } shadow_push;
 
-/* The Vulkan functions of our own pipeline (vk_util.h has the rest). */
+/* The Vulkan functions of our own pipeline (vk_small.h has the rest). */
 #define OWN_FUNCS(X)                                                                                              \
     X(vkCreateDescriptorSetLayout) X(vkDestroyDescriptorSetLayout) X(vkCreatePipelineLayout)                     \
     X(vkDestroyPipelineLayout) X(vkCreateShaderModule) X(vkDestroyShaderModule) X(vkCreateComputePipelines)      \
@@ -103,7 +103,7 @@ static int own_create(own *o, const lrt_vk_device *dev)
     memset(o, 0, sizeof *o);
 #define OWN_LOAD(name)                                                                                            \
     o->name = (PFN_##name)dev->desc.get_device_proc_addr(device, #name);                                          \
-    if (!o->name) return vkt_fail("loading " #name, VK_ERROR_INITIALIZATION_FAILED);
+    if (!o->name) return vks_fail("loading " #name, VK_ERROR_INITIALIZATION_FAILED);
     OWN_FUNCS(OWN_LOAD)
 #undef OWN_LOAD
     /* depth and nodes at the library's bindings (linear_rt.h's >>contract), our output at 3;
@@ -121,7 +121,7 @@ static int own_create(own *o, const lrt_vk_device *dev)
     si.bindingCount = 3;
     si.pBindings = b;
     if ((r = o->vkCreateDescriptorSetLayout(device, &si, NULL, &o->set_layout)) != VK_SUCCESS)
-        return vkt_fail("vkCreateDescriptorSetLayout", r);
+        return vks_fail("vkCreateDescriptorSetLayout", r);
     memset(&pc, 0, sizeof pc);
     pc.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     pc.size = sizeof(shadow_push);
@@ -132,13 +132,13 @@ static int own_create(own *o, const lrt_vk_device *dev)
     li.pushConstantRangeCount = 1;
     li.pPushConstantRanges = &pc;
     if ((r = o->vkCreatePipelineLayout(device, &li, NULL, &o->layout)) != VK_SUCCESS)
-        return vkt_fail("vkCreatePipelineLayout", r);
+        return vks_fail("vkCreatePipelineLayout", r);
     memset(&mi, 0, sizeof mi);
     mi.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
     mi.codeSize = contact_shadows_spv_SIZE;
     mi.pCode = contact_shadows_spv;
     if ((r = o->vkCreateShaderModule(device, &mi, NULL, &module)) != VK_SUCCESS)
-        return vkt_fail("vkCreateShaderModule", r);
+        return vks_fail("vkCreateShaderModule", r);
     memset(&ci, 0, sizeof ci);
     ci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
     ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
@@ -148,7 +148,7 @@ static int own_create(own *o, const lrt_vk_device *dev)
     ci.layout = o->layout;
     r = o->vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, NULL, &o->pipeline);
     o->vkDestroyShaderModule(device, module, NULL);
-    return r == VK_SUCCESS ? 0 : vkt_fail("vkCreateComputePipelines", r);
+    return r == VK_SUCCESS ? 0 : vks_fail("vkCreateComputePipelines", r);
 }
 
 static void own_destroy(own *o, VkDevice device)
@@ -160,8 +160,8 @@ static void own_destroy(own *o, VkDevice device)
 }
 
 /* Records our dispatch: the tree and depth of linear_rt, our output. */
-static void own_record(const own *o, VkCommandBuffer cmd, const lrt_vk_bvh *bvh, const vkt_buffer *depth,
-                       const vkt_buffer *out, const shadow_push *push)
+static void own_record(const own *o, VkCommandBuffer cmd, const lrt_vk_bvh *bvh, const vks_buffer *depth,
+                       const vks_buffer *out, const shadow_push *push)
 {
     VkDescriptorBufferInfo bi[3];
     VkWriteDescriptorSet w[3];
@@ -230,32 +230,6 @@ static int cpu_ray(const float *depth, int w, int h, int x, int y, const shadow_
     return 1;
 }
 
-/* A disagreement is still right when the exact reference (tests/support/reference.h)
-   gives the GPU's hit or miss for the ray or for the ray with o and v moved
-   by 8, then 1, float ulps (docs/MODEL.md "Right, and how right"). */
-static int gpu_right(const ref_map *ref, const lrt_ray *ray, int gpu_hit)
-{
-    static const int steps[2] = {8, 1};
-    int s, combo, q;
-    for (s = 0; s < 2; ++s) {
-        for (combo = 0; combo < 729; ++combo) { /* 3^6: {-1, 0, +1} steps on each of o, v */
-            double o[3], v[3];
-            int code = combo;
-            for (q = 0; q < 6; ++q) {
-                float f = q < 3 ? ray->origin[q] : ray->dir[q - 3];
-                int k = (code % 3 - 1) * steps[s];
-                code /= 3;
-                for (; k > 0; --k) f = nextafterf(f, HUGE_VALF);
-                for (; k < 0; ++k) f = nextafterf(f, -HUGE_VALF);
-                if (q < 3) o[q] = f;
-                else v[q - 3] = f;
-            }
-            if ((ref_trace(ref, o, v, ray->tmin, ray->tmax).kind == REF_HIT) == gpu_hit) return 1;
-        }
-    }
-    return 0;
-}
-
 static int write_png(const char *dir, const uint32_t *out, uint32_t w, uint32_t h)
 {
     static const uint8_t grey[3] = {235, 60, 150}; /* lit, shadowed, sky */
@@ -294,7 +268,7 @@ int main(int argc, char **argv)
     const int in_ci = ci && strcmp(ci, "true") == 0;
     uint32_t size = 256, w, h;
     int validation = 0, a, rc = EXIT_FAILED;
-    size_t n, k, shadowed = 0, rays_traced = 0, differ = 0, wrong = 0;
+    size_t n, k, shadowed = 0, rays_traced = 0, differ = 0;
     float *depth = NULL;
     lrt_ray *rays = NULL;
     lrt_hit *hits = NULL;
@@ -305,12 +279,11 @@ int main(int argc, char **argv)
     lrt_vk_bvh bvh;
     lrt_vk_bvh_desc bd;
     lrt_vk_depth vd;
-    vkt t;
-    vkt_buffer depth_buf, out_buf;
+    vks t;
+    vks_buffer depth_buf, out_buf;
     own o;
     shadow_push push;
-    VkQueryPool pool = VK_NULL_HANDLE;
-    double build_ms = 0, trace_ms[RUNS], wall_ms[RUNS], cpu_build_ms, cpu_ms, t0;
+    double build_ms = 0, trace_ms[RUNS], wall_ms[RUNS], cpu_build_ms, cpu_ms, t0, gpu_ms[VKS_TIMESTAMPS - 1];
     const uint32_t *out;
     lrt_result r;
     scene_camera cam = scene_default_camera();
@@ -353,7 +326,7 @@ int main(int argc, char **argv)
            VK_API_VERSION_MAJOR(dev.properties.apiVersion), VK_API_VERSION_MINOR(dev.properties.apiVersion),
            VK_API_VERSION_PATCH(dev.properties.apiVersion), validation ? ", validation on" : "");
     CHECK_LRT(lrt_vk_context_create(&dev.desc, &ctx));
-    if (vkt_init(&t, &dev) || own_create(&o, &dev)) goto done;
+    if (vks_init(&t, &dev) || own_create(&o, &dev)) goto done;
 
     /* the scene's depth, and the CPU's tree of it */
     depth = (float *)malloc(n * sizeof *depth);
@@ -375,7 +348,7 @@ int main(int argc, char **argv)
     cpu_build_ms = now_ms() - t0;
 
     /* the depth in a host-visible storage buffer; the GPU's tree */
-    if (vkt_buffer_create(&t, n * sizeof *depth, &depth_buf) || vkt_buffer_create(&t, n * sizeof(uint32_t), &out_buf))
+    if (vks_buffer_create(&t, n * sizeof *depth, &depth_buf) || vks_buffer_create(&t, n * sizeof(uint32_t), &out_buf))
         goto done;
     memcpy(depth_buf.map, depth, n * sizeof *depth); /* host writes before the submission: no barrier */
     memset(&vd, 0, sizeof vd);
@@ -405,15 +378,6 @@ int main(int argc, char **argv)
     push.light[2] = LIGHT_Z;
     push.bias = BIAS;
 
-    if (dev.timestamp_valid_bits) {
-        VkQueryPoolCreateInfo qi;
-        memset(&qi, 0, sizeof qi);
-        qi.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
-        qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
-        qi.queryCount = 3;
-        if (t.vkCreateQueryPool(t.device, &qi, NULL, &pool) != VK_SUCCESS) pool = VK_NULL_HANDLE;
-    }
-
     /* Run 0 builds the tree and dispatches ours in one command buffer; runs
        1..RUNS dispatch ours alone (timed: the median is printed). Barriers as
        linear_rt.h's BARRIERS has them for a trace (our dispatch reads the tree
@@ -421,36 +385,27 @@ int main(int argc, char **argv)
        submission, which needs none. */
     for (a = 0; a <= RUNS; ++a) {
         t0 = now_ms();
-        if (vkt_begin(&t)) goto done;
-        if (pool) {
-            t.vkCmdResetQueryPool(t.cmd, pool, 0, 3);
-            t.vkCmdWriteTimestamp(t.cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, pool, 0);
-        }
+        if (vks_begin(&t)) goto done;
+        vks_timestamp(&t, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0);
         if (a == 0) CHECK_LRT(lrt_vk_cmd_build(ctx, t.cmd, &bvh, &vd));
-        if (pool) t.vkCmdWriteTimestamp(t.cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, 1);
+        vks_timestamp(&t, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 1);
         /* "before update or trace, after the build of the tree": (CS, SHADER_WRITE)
            -> (CS, SHADER_READ); in later runs the same barrier orders the last
            run's writes of our output before this run's (and BARRIERS asks it of
            a build in an earlier submission too) */
-        vkt_barrier(&t, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+        vks_barrier(&t, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
         own_record(&o, t.cmd, &bvh, &depth_buf, &out_buf, &push);
-        if (pool) t.vkCmdWriteTimestamp(t.cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, 2);
+        vks_timestamp(&t, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 2);
         /* "after trace: its hits" -> (HOST, HOST_READ): our output, mapped, read after the fence */
-        vkt_host_barrier(&t);
-        if (vkt_submit(&t)) goto done;
+        vks_barrier(&t, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                    VK_ACCESS_HOST_READ_BIT);
+        if (vks_submit(&t)) goto done;
         if (a > 0) wall_ms[a - 1] = now_ms() - t0;
-        if (pool) {
-            uint64_t ts[3];
-            const double ms = (double)dev.properties.limits.timestampPeriod * 1e-6;
-            VkResult vr = t.vkGetQueryPoolResults(t.device, pool, 0, 3, sizeof ts, ts, sizeof ts[0],
-                                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
-            if (vr != VK_SUCCESS) {
-                vkt_fail("vkGetQueryPoolResults", vr);
-                goto done;
-            }
-            if (a == 0) build_ms = (double)(ts[1] - ts[0]) * ms;
-            else trace_ms[a - 1] = (double)(ts[2] - ts[1]) * ms;
+        if (t.queries) {
+            if (vks_timestamps_ms(&t, gpu_ms)) goto done;
+            if (a == 0) build_ms = gpu_ms[0];
+            else trace_ms[a - 1] = gpu_ms[1];
         }
     }
     out = (const uint32_t *)out_buf.map;
@@ -464,46 +419,24 @@ int main(int argc, char **argv)
     CHECK_LRT(lrt_trace(&cpu_bvh, &cpu_depth, rays, hits, n, 0));
     cpu_ms = now_ms() - t0;
 
-    /* texel by texel: sky where there is no ray; else hit == shadowed */
-    {
-        ref_map ref;
-        int have_ref = 0;
-        for (k = 0; k < n; ++k) {
-            uint32_t want = !has_ray[k] ? OUT_SKY : hits[k].kind == LRT_HIT ? OUT_SHADOWED : OUT_LIT;
-            rays_traced += has_ray[k] != 0;
-            shadowed += out[k] == OUT_SHADOWED;
-            if (out[k] == want) continue;
-            ++differ;
-            if (!has_ray[k] || out[k] > OUT_SKY || want == OUT_SKY) { /* a sky texel is not a matter of rounding */
-                ++wrong;
-            } else {
-                if (!have_ref) {
-                    if (ref_map_from_raw(&ref, depth, (int)w, (int)h, 0, REF_FORMAT_FLOAT32, 0)) {
-                        fprintf(stderr, "vulkan_inline: out of memory for the reference\n");
-                        goto done;
-                    }
-                    have_ref = 1;
-                }
-                if (gpu_right(&ref, &rays[k], out[k] == OUT_SHADOWED)) continue;
-                ++wrong;
-            }
-            if (wrong <= 5)
-                printf("  texel (%u,%u): GPU %u, CPU %u: o=(%.9g %.9g %.9g) v=(%.9g %.9g %.9g)\n", (unsigned)(k % w),
-                       (unsigned)(k / w), out[k], want, (double)rays[k].origin[0], (double)rays[k].origin[1],
-                       (double)rays[k].origin[2], (double)rays[k].dir[0], (double)rays[k].dir[1],
-                       (double)rays[k].dir[2]);
-        }
-        if (have_ref) ref_map_free(&ref);
+    /* texel by texel: sky where there is no ray; else hit == shadowed. The
+       kernels answer what lrt_trace answers, bit for bit, and the rays are
+       the same floats: any disagreement is a failure. */
+    for (k = 0; k < n; ++k) {
+        uint32_t want = !has_ray[k] ? OUT_SKY : hits[k].kind == LRT_HIT ? OUT_SHADOWED : OUT_LIT;
+        rays_traced += has_ray[k] != 0;
+        shadowed += out[k] == OUT_SHADOWED;
+        if (out[k] == want) continue;
+        if (++differ <= 5)
+            printf("  texel (%u,%u): GPU %u, CPU %u: o=(%.9g %.9g %.9g) v=(%.9g %.9g %.9g)\n", (unsigned)(k % w),
+                   (unsigned)(k / w), out[k], want, (double)rays[k].origin[0], (double)rays[k].origin[1],
+                   (double)rays[k].origin[2], (double)rays[k].dir[0], (double)rays[k].dir[1], (double)rays[k].dir[2]);
     }
     if (differ == 0)
         printf("vulkan_inline: %zu texels, %zu shadowed, GPU == CPU on all\n", n, shadowed);
-    else if (wrong == 0)
-        printf("vulkan_inline: %zu texels, %zu shadowed, GPU == CPU on all but %zu, each right by the reference "
-               "(a ray through a texel edge or corner)\n", n, shadowed, differ);
     else
-        printf("vulkan_inline: FAIL: %zu texels, %zu shadowed, GPU != CPU on %zu, %zu of them wrong by the reference\n",
-               n, shadowed, differ, wrong);
-    if (pool)
+        printf("vulkan_inline: FAIL: %zu texels, %zu shadowed, GPU != CPU on %zu\n", n, shadowed, differ);
+    if (t.queries)
         printf("  GPU (timestamps): lrt_vk_cmd_build %.3f ms, our dispatch %.3f ms (median of %d; %.2f ms on the wall "
                "with submit and wait)\n", build_ms, median(trace_ms, RUNS), RUNS, median(wall_ms, RUNS));
     else
@@ -512,18 +445,17 @@ int main(int argc, char **argv)
     printf("  CPU (1 thread): lrt_bvh_build %.2f ms, %zu rays made and traced (lrt_trace, any hit) %.2f ms\n",
            cpu_build_ms, rays_traced, cpu_ms);
     if (write_png(out_dir, out, w, h)) goto done;
-    rc = wrong == 0 ? EXIT_OK : EXIT_FAILED;
+    rc = differ == 0 ? EXIT_OK : EXIT_FAILED;
 
 done:
     if (t.device) {
         t.vkDeviceWaitIdle(t.device);
-        if (pool) t.vkDestroyQueryPool(t.device, pool, NULL);
         own_destroy(&o, t.device);
-        vkt_buffer_destroy(&t, &depth_buf);
-        vkt_buffer_destroy(&t, &out_buf);
+        vks_buffer_destroy(&t, &depth_buf);
+        vks_buffer_destroy(&t, &out_buf);
     }
     lrt_vk_bvh_destroy(ctx, &bvh);
-    vkt_free(&t);
+    vks_free(&t);
     lrt_vk_context_destroy(ctx);
     lrt_vk_device_destroy(&dev);
     lrt_bvh_destroy(&cpu_bvh);
