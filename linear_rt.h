@@ -1610,7 +1610,11 @@ typedef char lrt__hit_is_16_bytes[sizeof(lrt_hit) == 16 && sizeof(lrt_ray) == 32
       only per-child work is the z plane of its height. Children are visited
       front to back (row-major order with the axes flipped by the ray's
       direction signs is front to back for any straight line), so the first
-      texel hit found is the closest and the walk stops there.
+      texel hit found is the closest and the walk stops there. The walk
+      starts at the lowest node holding the whole segment and goes down
+      (lrt__walk_down), or, for a long ray that starts on the surface, at
+      the level-1 node where it starts and climbs (lrt__walk_origin, the
+      kernels' walk): the same order, the same first hit.
       Every t of a plane is (plane - o) * (1/v): monotone in the plane, so a
       child's interval never exceeds its parent's and culling never loses a
       hit the final texel test would find. A 0 direction component gives
