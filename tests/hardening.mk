@@ -63,10 +63,10 @@ $(B)/test_core_csan: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B
 	$(CLANG) $(STD) $(WARN) $(CLANG_SAN) $< -o $@ $(LDLIBS)
 
 $(B)/test_limits_csan: $(LIMITS_DEPS) | deps $(B)
-	$(CLANG) $(STD) $(WARN) $(CLANG_SAN) $< -o $@ $(LDLIBS)
+	$(CLANG) $(STD) $(WARN) $(CLANG_SAN) $(ONE_WALK) $< -o $@ $(LDLIBS)
 
 $(B)/test_vulkan_csan: tests/test_vulkan.c $(LIB) $(SPV_H) $(REF) $(SCENE) $(RAYS) $(VK_UTIL) | deps $(B)
-	$(CLANG) $(STD) $(WARN) $(CLANG_SAN) $(VK_PROGRAM_FLAGS) $< -o $@ $(LDLIBS) $(VK_LIBS)
+	$(CLANG) $(STD) $(WARN) $(CLANG_SAN) $(ONE_WALK) $(VK_PROGRAM_FLAGS) $< -o $@ $(LDLIBS) $(VK_LIBS)
 
 test-sanitize-clang-reference test-sanitize-clang-core test-sanitize-clang-limits: test-sanitize-clang-%: | $(B)
 	@$(HAVE_CLANG_SAN); \
@@ -86,7 +86,7 @@ $(B)/test_core_isan: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) tools/ubsa
 	$(CLANG) $(STD) $(WARN) $(INT_SAN) $< -o $@ $(LDLIBS)
 
 $(B)/test_limits_isan: $(LIMITS_DEPS) tools/ubsan-integer.ignore | deps $(B)
-	$(CLANG) $(STD) $(WARN) $(INT_SAN) $< -o $@ $(LDLIBS)
+	$(CLANG) $(STD) $(WARN) $(INT_SAN) $(ONE_WALK) $< -o $@ $(LDLIBS)
 
 $(B)/test_limits_isan32: $(LIMITS_DEPS) tools/ubsan-integer.ignore | deps $(B)
 	$(CLANG) $(STD) $(WARN) $(M32) $(INT_SAN) $< -o $@ $(LDLIBS)
@@ -104,7 +104,7 @@ test-sanitize-integer: | $(B)
 # test_limits in its quick mode: the real 8192^2 and 16384^2 maps would add a
 # minute under valgrind for the same code paths (ASan runs them)
 $(B)/test_limits: $(LIMITS_DEPS) | deps $(B)
-	$(CC) $(STD) $(WARN) $(CFLAGS) $< -o $@ $(LDLIBS)
+	$(CC) $(STD) $(WARN) $(CFLAGS) $(ONE_WALK) $< -o $@ $(LDLIBS)
 
 test-valgrind-reference test-valgrind-core test-valgrind-limits: test-valgrind-%: | $(B)
 	@$(call HAVE_TOOL,$(VALGRIND)); \

@@ -53,10 +53,10 @@ NEED_VULKAN = if [ "$(HAVE_VULKAN)" != 1 ]; then \
 
 # ---- CPU: threads tracing slices of a batch ------------------------------------------
 $(B)/test_threads: $(THREADS_DEPS) | deps $(B)
-	$(CC) $(STD) $(WARN) $(CFLAGS) $< -o $@ $(LDLIBS)
+	$(CC) $(STD) $(WARN) $(CFLAGS) $(ONE_WALK) $< -o $@ $(LDLIBS)
 
 $(B)/test_threads_tsan: $(THREADS_DEPS) | deps $(B)
-	$(CLANG) $(STD) $(WARN) $(TSAN) $< -o $@ $(LDLIBS)
+	$(CLANG) $(STD) $(WARN) $(TSAN) $(ONE_WALK) $< -o $@ $(LDLIBS)
 
 test-threads: $(B)/test_threads
 	$(B)/test_threads
@@ -76,10 +76,10 @@ test-threads-tsan: | $(B)
 
 # ---- Vulkan: threads recording with one context --------------------------------------
 $(B)/test_vulkan_threads: $(VK_THREADS_DEPS) | deps $(B)
-	$(CC) $(STD) $(WARN) $(CFLAGS) $(VK_PROGRAM_FLAGS) $< -o $@ $(LDLIBS) $(VK_LIBS)
+	$(CC) $(STD) $(WARN) $(CFLAGS) $(ONE_WALK) $(VK_PROGRAM_FLAGS) $< -o $@ $(LDLIBS) $(VK_LIBS)
 
 $(B)/test_vulkan_threads_tsan: $(VK_THREADS_DEPS) | deps $(B)
-	$(CLANG) $(STD) $(WARN) $(TSAN) $(VK_PROGRAM_FLAGS) $< -o $@ $(LDLIBS) $(VK_LIBS)
+	$(CLANG) $(STD) $(WARN) $(TSAN) $(ONE_WALK) $(VK_PROGRAM_FLAGS) $< -o $@ $(LDLIBS) $(VK_LIBS)
 
 test-vulkan-threads: | $(B)
 	@$(NEED_VULKAN); \
