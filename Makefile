@@ -304,7 +304,8 @@ endif
 # validation on. Any test program runs one test by name, e.g.
 # build/test_core test_update.
 CHECK_VK := $(if $(filter 1,$(HAVE_VULKAN)),$(B)/test_vulkan)
-check: $(B)/test_reference $(B)/test_core $(B)/test_paths $(CHECK_VK)
+check: | deps $(B)
+	@$(MAKE) --no-print-directory -j2 $(B)/test_reference $(B)/test_core $(B)/test_paths $(CHECK_VK)
 	$(B)/test_reference
 	$(B)/test_core
 	$(B)/test_paths
