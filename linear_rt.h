@@ -3107,7 +3107,7 @@ LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *
 
 /* The walk from node (nx, ny) of level lv >= 1 down to the first texel hit
    (returns 1 once it is reported), of that node's children only those in
-   filter (bits in visiting order); wide and neg_z (s->neg_z) are constants
+   filter (bits in visiting order; a level-1 node takes 0xff); wide and neg_z (s->neg_z) are constants
    where this is inlined. */
 LRT__FORCE_INLINE int lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
                                      float t_scale, uint32_t lv, uint32_t nx, uint32_t ny, uint32_t filter, uint32_t wide,
@@ -3120,11 +3120,10 @@ LRT__FORCE_INLINE int lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lrt
         /* three copies of the node test: tall nodes, wide ones above the
            texels, and level 1, the only one that needs the children's t */
         if (lv != 1u) {
-            if ((lv & 1u) ? lrt__visit(w, s, 0u, wide, neg_z, filter, &lv, &nx, &ny, &slot0, stack, &sp)
-                          : lrt__visit(w, s, 1u, wide, neg_z, filter, &lv, &nx, &ny, &slot0, stack, &sp)) {
-                filter = 0xffu;
-                continue;
-            }
+            const uint32_t met = (lv & 1u) ? lrt__visit(w, s, 0u, wide, neg_z, filter, &lv, &nx, &ny, &slot0, stack, &sp)
+                                           : lrt__visit(w, s, 1u, wide, neg_z, filter, &lv, &nx, &ny, &slot0, stack, &sp);
+            filter = 0xffu; /* the first node's alone */
+            if (met) continue;
         } else {
             uint32_t tx, ty;
             float t;
@@ -3133,7 +3132,6 @@ LRT__FORCE_INLINE int lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lrt
                 return 1;
             }
         }
-        filter = 0xffu;
         if (sp == 0) break;
         { /* the next child of the last pending node */
             lrt__pending *p = &stack[sp - 1];
