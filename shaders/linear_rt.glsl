@@ -977,14 +977,14 @@ uint lrt_code_in(uvec4 w, uint node_bits, uint slot)
     return (w[slot >> 2] >> ((slot & 3u) * 8u)) & 0xffu;
 }
 
-// is child box [xa,xb] x [ya,yb] x [its decoded depth, its decoded back or 1] met
-// (lrt_test_children); back_scale 0: no back codes
-bool lrt_child_met(LrtSetup s, float xa, float xb, float ya, float yb, uint code, float decode_scale, float qmaxf,
-                   uint back_code, float back_scale)
+// is the child whose x and y slabs the ray crosses in [en, ex] met in
+// its decoded z range [depth, back or 1] (lrt_test_children); back_scale
+// 0: no back codes
+bool lrt_child_met(LrtSetup s, float en, float ex, uint code, float decode_scale, float qmaxf, uint back_code,
+                   float back_scale)
 {
-    float en = s.t_lo, ex = s.t_hi;
-    lrt_slab(xa, xb, s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
-    lrt_slab(ya, yb, s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
+    en = max(s.t_lo, en);
+    ex = min(s.t_hi, ex);
     float tz;
     if (s.zero.z) {
         float dz = (qmaxf - float(code)) * decode_scale;
@@ -1013,11 +1013,30 @@ bool lrt_child_met(LrtSetup s, float xa, float xb, float ya, float yb, uint code
     return en <= lrt_widen(ex);
 }
 
+// entering and leaving t of the 4 slabs [lo + i step, lo + (i + 1) step]
+// of one axis (a node's columns or rows), as lrt_slab gives them
+void lrt_slabs4(float lo, float step, float o, float iv, uint neg, bool zero, out vec4 en, out vec4 ex)
+{
+    precise float t0 = (lo - o) * iv, t1 = (lo + step - o) * iv, t2 = (lo + 2.0 * step - o) * iv;
+    precise float t3 = (lo + 3.0 * step - o) * iv, t4 = (lo + 4.0 * step - o) * iv;
+    vec4 a = vec4(t0, t1, t2, t3), b = vec4(t1, t2, t3, t4);
+    if (zero) {
+        vec4 l = vec4(lo, lo + step, lo + 2.0 * step, lo + 3.0 * step);
+        bvec4 inside = bvec4(uvec4(lessThanEqual(l, vec4(o))) & uvec4(lessThanEqual(vec4(o), l + step)));
+        a = mix(vec4(LRT_INF), vec4(-LRT_INF), inside);
+        b = -a;
+        neg = 0u;
+    }
+    en = neg != 0u ? b : a;
+    ex = neg != 0u ? a : b;
+}
+
 // the children of node (nx, ny) of level lv >= 1 that the ray meets, bit k
 // for the child met k-th in visiting order (slot k ^ flip); as the CPU's
-// node test: the same planes, the decoded bounds, exits widened. The loop
-// runs over slots, so a child's column and row are constants once it is
-// unrolled and the 5 + 3 planes of a 4x2 (3 + 5 of a 2x4) node are shared.
+// node test: the same planes, the decoded bounds, exits widened. One loop
+// for 4x2 and 2x4 nodes: a child's column and row select among the node's
+// 5 column and 5 row planes (a SIMD device runs both sides of a branch on
+// the node's shape where its lanes differ)
 uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint ny, uint flip, float decode_scale, float qmaxf,
                        uint back_base, float back_scale)
 {
@@ -1028,50 +1047,28 @@ uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint
     uint slot0 = lrt_node_code0(p, lv, off, nx, ny);
     uvec4 w = lrt_node_words(p.node_bits, slot0);
     uvec4 b = back_scale != 0.0 ? lrt_node_words(p.node_bits, back_base + slot0) : uvec4(0u); // the back codes
+    vec4 cen, cex, ren, rex;
+    lrt_slabs4(x0, sw, s.o.x, s.iv.x, s.neg.x, s.zero.x, cen, cex);
+    lrt_slabs4(y0, sh, s.o.y, s.iv.y, s.neg.y, s.zero.y, ren, rex);
     uint mask = 0u;
-    if (tall) { // 2 columns, 4 rows: slot = row << 1 | column
-        for (uint slot = 0u; slot < 8u; ++slot) {
-            uint c = slot & 1u, r = slot >> 1;
-            if (lrt_child_met(s, x0 + float(c) * sw, x0 + float(c + 1u) * sw, y0 + float(r) * sh, y0 + float(r + 1u) * sh,
-                              lrt_code_in(w, p.node_bits, slot), decode_scale, qmaxf, lrt_code_in(b, p.node_bits, slot),
-                              back_scale))
-                mask |= 1u << (slot ^ flip);
-        }
-    } else { // 4 columns, 2 rows: slot = row << 2 | column
-        for (uint slot = 0u; slot < 8u; ++slot) {
-            uint c = slot & 3u, r = slot >> 2;
-            if (lrt_child_met(s, x0 + float(c) * sw, x0 + float(c + 1u) * sw, y0 + float(r) * sh, y0 + float(r + 1u) * sh,
-                              lrt_code_in(w, p.node_bits, slot), decode_scale, qmaxf, lrt_code_in(b, p.node_bits, slot),
-                              back_scale))
-                mask |= 1u << (slot ^ flip);
-        }
+    for (uint slot = 0u; slot < 8u; ++slot) { // 4x2: slot = row << 2 | column; 2x4: row << 1 | column
+        // (selects between two fixed indices once the loop is unrolled)
+        float en = tall ? max(cen[slot & 1u], ren[slot >> 1]) : max(cen[slot & 3u], ren[slot >> 2]);
+        float ex = tall ? min(cex[slot & 1u], rex[slot >> 1]) : min(cex[slot & 3u], rex[slot >> 2]);
+        if (lrt_child_met(s, en, ex, lrt_code_in(w, p.node_bits, slot), decode_scale, qmaxf, lrt_code_in(b, p.node_bits, slot),
+                          back_scale))
+            mask |= 1u << (slot ^ flip);
     }
     return mask;
 }
 
-LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
+// the walk from the ray's origin: true with the first texel hit (hx, hy)
+// and its t, false for a miss (lrt_trace_ray reports either)
+bool lrt_walk(LrtParams p, LrtSetup s, out uint hx, out uint hy, out float ht)
 {
-    LrtHit hit;
-    hit.t = 0.0;
-    hit.x = 0u;
-    hit.y = 0u;
-    hit.face = LRT_FACE_NONE;
-    LrtSetup s;
-    float t_scale;
-    uint kind;
-    if (!lrt_setup_ray(p, origin, tmin, dir, tmax, s, t_scale, kind)) {
-        hit.kind = kind;
-        return hit;
-    }
-    uint nx, ny;
-    if (lrt_start_node(p, s, nx, ny) == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
-        float en = s.t_lo, ex = s.t_hi, t;
-        lrt_slab(float(nx), float(nx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
-        lrt_slab(float(ny), float(ny + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
-        if (lrt_test_texel(p, s, nx, ny, en, ex, t)) return lrt_report(p, s, t_scale, t, tmin, tmax, nx, ny);
-        hit.kind = kind;
-        return hit;
-    }
+    hx = 0u;
+    hy = 0u;
+    ht = 0.0;
     // just below 1/qmax, the same float as linear_rt.h's decode_scale
     float decode_scale = p.node_bits == 16u ? uintBitsToFloat(0x37800078u) : uintBitsToFloat(0x3b808079u);
     float qmaxf = p.node_bits == 16u ? 65535.0 : 255.0;
@@ -1098,7 +1095,7 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
                 float en = s.t_lo, ex = s.t_hi, t;
                 lrt_slab(float(tx), float(tx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
                 lrt_slab(float(ty), float(ty + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
-                if (lrt_test_texel(p, s, tx, ty, en, ex, t)) return lrt_report(p, s, t_scale, t, tmin, tmax, tx, ty);
+                if (lrt_test_texel(p, s, tx, ty, en, ex, t)) { hx = tx; hy = ty; ht = t; return true; }
             }
         } else if (m != 0u) { // down into the first child met; the others wait in masks
             uint k = uint(findLSB(m)), slot = k ^ flip;
@@ -1114,7 +1111,7 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
         }
         // this node is done: its next pending sibling, or up
         for (;;) {
-            if (lv >= p.level_count) { hit.kind = kind; return hit; } // the root is done
+            if (lv >= p.level_count) return false; // the root is done
             uint up = lv + 1u;
             if ((tested & (1u << up)) != 0u) {
                 uint pend = lrt_mask_get(masks, up);
@@ -1144,7 +1141,7 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
                 float ex_x = fx == s.o.x ? -LRT_INF : LRT_INF, ex_y = fy == s.o.y ? -LRT_INF : LRT_INF;
                 if (!s.zero.x) { precise float e = (fx - s.o.x) * s.iv.x; ex_x = e; }
                 if (!s.zero.y) { precise float e = (fy - s.o.y) * s.iv.y; ex_y = e; }
-                if (min(ex_x, ex_y) > lrt_widen(s.t_hi)) { hit.kind = kind; return hit; }
+                if (min(ex_x, ex_y) > lrt_widen(s.t_hi)) return false;
                 uint k = lrt_child_slot(lv, cx, cy) ^ (lrt_bw_log2(lv) == 1u ? flip_tall : flip_wide);
                 eligible = ~((2u << k) - 1u) & 0xffu;
                 off += lrt_level_slots(p, lv);
@@ -1153,6 +1150,39 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
             }
         }
     }
+    return false;
+}
+
+LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
+{
+    LrtHit hit;
+    hit.t = 0.0;
+    hit.x = 0u;
+    hit.y = 0u;
+    hit.face = LRT_FACE_NONE;
+    LrtSetup s;
+    float t_scale;
+    uint kind;
+    if (!lrt_setup_ray(p, origin, tmin, dir, tmax, s, t_scale, kind)) {
+        hit.kind = kind;
+        return hit;
+    }
+    uint nx, ny, hx, hy;
+    float ht;
+    bool found;
+    if (lrt_start_node(p, s, nx, ny) == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
+        float en = s.t_lo, ex = s.t_hi;
+        lrt_slab(float(nx), float(nx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
+        lrt_slab(float(ny), float(ny + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
+        found = lrt_test_texel(p, s, nx, ny, en, ex, ht);
+        hx = nx;
+        hy = ny;
+    } else {
+        found = lrt_walk(p, s, hx, hy, ht);
+    }
+    // one exit: the hit's report (its face) stays out of the walk's loop
+    if (found) return lrt_report(p, s, t_scale, ht, tmin, tmax, hx, hy);
+    hit.kind = kind;
     return hit;
 }
 
