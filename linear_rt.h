@@ -2079,8 +2079,11 @@ static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *ray, uint32_t width, uin
     }
     s->t_base = 0.0f;
     s->zk = 0;
-    /* a far-away origin: restart where the ray enters the screen box, as
-       lrt__setup_ray, with crossings that take every size */
+    /* a far-away origin: restart where the ray enters the screen box, with
+       crossings that take every size. The entering axis lands on its plane
+       exactly, the others at the exact crossing rounded once, so the new
+       origin is off the exact entry point by a rounding of a coordinate
+       inside the screen, far below one float ulp of the old one (docs/MODEL.md). */
     if (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
         fabsf(s->o[2]) > 4.0f) {
         float te = tmin, plane = 0.0f, n[3];
@@ -2195,6 +2198,12 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
         }
     }
 #endif
+    /* A far-away origin loses the screen's planes in (plane - o): such a ray
+       restarts where it enters the screen box, in lrt__setup_rare too (one
+       restart, not two: the kernels' common set-up stays short, and lavapipe
+       runs every branch of a kernel, taken or not) */
+    rare |= (fabsf(ray->origin[0]) > 2.0f * (float)width + 16.0f) | (fabsf(ray->origin[1]) > 2.0f * (float)height + 16.0f) |
+            (fabsf(ray->origin[2]) > 4.0f);
     if (LRT__UNLIKELY(rare)) { /* through a copy, so that *s stays the caller's own (kept in registers) */
         lrt__ray_setup r;
         float ts = 1.0f;
@@ -2240,43 +2249,6 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
 #endif
     s->t_base = 0.0f;
     *kind = lrt__clip(s, width, height, tmin, tmax);
-    if (s->t_lo > s->t_hi) return 0;
-    /* A far-away origin loses the screen's planes in (plane - o): restart the
-       ray where it enters the screen box. The entering axis lands on its
-       plane exactly, the others at the exact crossing rounded once, so the
-       new origin is off the exact entry point by a rounding of a coordinate
-       inside the screen, far below one float ulp of the old one (docs/MODEL.md). */
-    if (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
-        fabsf(s->o[2]) > 4.0f) {
-        const float hi[3] = {(float)width, (float)height, 1.0f};
-        float te = tmin, plane = 0.0f, n[3];
-        int axis = -1, tries;
-        for (k = 0; k < 3; ++k) {
-            float p, en;
-            if (v[k] == 0.0f) continue; /* an axis the ray does not move along */
-            p = lrt__sign_bit(v[k]) ? hi[k] : 0.0f;
-            en = (p - s->o[k]) * (1.0f / v[k]);
-            if (en > te) {
-                te = en;
-                axis = k;
-                plane = p;
-            }
-        }
-        for (tries = 0; tries < 3; ++tries) {
-            for (k = 0; k < 3; ++k) {
-                if (axis < 0) n[k] = lrt__crossing(s->o[k], 0.0f, v[k], 1.0f, 0.0f, 1, te, 0, k == 2);
-                else if (k == axis) n[k] = plane;
-                else n[k] = lrt__crossing(s->o[k], s->o[axis], v[k], v[axis], plane, 0, 0.0f, 0, k == 2);
-            }
-            if (axis < 0 || (k = lrt__entered_later(n, v, hi, axis)) < 0) break;
-            axis = k; /* see lrt__entered_later */
-            plane = lrt__sign_bit(v[k]) ? hi[k] : 0.0f;
-            te = (plane - s->o[k]) * (1.0f / v[k]);
-        }
-        for (k = 0; k < 3; ++k) s->o[k] = n[k];
-        s->t_base = te;
-        (void)lrt__clip(s, width, height, 0.0f, tmax - te);
-    }
     return s->t_lo <= s->t_hi;
 }
 

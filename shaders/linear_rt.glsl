@@ -726,6 +726,8 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
         rare = rare || (ao[k] != 0u && !(ao[k] - TINY < 0x7f800000u - TINY));
         rare = rare || (av[k] != 0u && !(av[k] - TINY < HUGE - TINY));
     }
+    // a far-away origin restarts on the screen box there too (as linear_rt.h)
+    rare = rare || abs(o.x) > 2.0 * float(p.width) + 16.0 || abs(o.y) > 2.0 * float(p.height) + 16.0 || abs(o.z) > 4.0;
     if (rare) return lrt_setup_rare(p, o, tmin, v, tmax, s, t_scale, kind);
     t_scale = 1.0;
     s.o = o;
@@ -740,42 +742,6 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
     s.zero = bvec3(v.x == 0.0, v.y == 0.0, v.z == 0.0);
     s.iv = vec3(s.zero.x ? 0.0 : 1.0 / v.x, s.zero.y ? 0.0 : 1.0 / v.y, s.zero.z ? 0.0 : 1.0 / v.z);
     kind = lrt_clip(s, p, tmin, tmax);
-    if (s.t_lo > s.t_hi) return false;
-    // a far-away origin: restart on the screen box (see linear_rt.h)
-    if (abs(s.o.x) > 2.0 * float(p.width) + 16.0 || abs(s.o.y) > 2.0 * float(p.height) + 16.0 || abs(s.o.z) > 4.0) {
-        float hi3[3] = float[3](float(p.width), float(p.height), 1.0);
-        float o3[3] = float[3](s.o.x, s.o.y, s.o.z), v3[3] = float[3](v.x, v.y, v.z);
-        float te = tmin, plane = 0.0;
-        int axis = -1;
-        for (int k = 0; k < 3; ++k) {
-            if (v3[k] == 0.0) continue; // an axis the ray does not move along
-            float pl = (floatBitsToUint(v3[k]) >> 31) != 0u ? hi3[k] : 0.0;
-            precise float en = (pl - o3[k]) * (1.0 / v3[k]);
-            if (en > te) {
-                te = en;
-                axis = k;
-                plane = pl;
-            }
-        }
-        float n3[3];
-        for (int tries = 0; tries < 3; ++tries) {
-            for (int k = 0; k < 3; ++k) {
-                if (axis < 0) n3[k] = lrt_crossing(o3[k], 0.0, v3[k], 1.0, 0.0, true, te, 0, k == 2);
-                else if (k == axis) n3[k] = plane;
-                else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane, false, 0.0, 0, k == 2);
-            }
-            int later = axis < 0 ? -1 : lrt_entered_later(n3, v3, hi3, axis);
-            if (later < 0) break;
-            axis = later;
-            plane = (floatBitsToUint(v3[later]) >> 31) != 0u ? hi3[later] : 0.0;
-            precise float en = (plane - o3[later]) * (1.0 / v3[later]);
-            te = en;
-        }
-        s.o = vec3(n3[0], n3[1], n3[2]);
-        s.t_base = te;
-        precise float rest = tmax - te;
-        lrt_clip(s, p, 0.0, rest);
-    }
     return s.t_lo <= s.t_hi;
 }
 
