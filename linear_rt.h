@@ -2199,9 +2199,9 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
     }
 #endif
     /* A far-away origin loses the screen's planes in (plane - o): such a ray
-       restarts where it enters the screen box, in lrt__setup_rare too (one
-       restart, not two: the kernels' common set-up stays short, and lavapipe
-       runs every branch of a kernel, taken or not) */
+       restarts where it enters the screen box, in lrt__setup_rare (the one
+       restart, for both kinds of ray: the kernels' common set-up stays short,
+       which lavapipe pays for on every ray, as it runs every branch) */
     rare |= (fabsf(ray->origin[0]) > 2.0f * (float)width + 16.0f) | (fabsf(ray->origin[1]) > 2.0f * (float)height + 16.0f) |
             (fabsf(ray->origin[2]) > 4.0f);
     if (LRT__UNLIKELY(rare)) { /* through a copy, so that *s stays the caller's own (kept in registers) */

@@ -726,7 +726,7 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
         rare = rare || (ao[k] != 0u && !(ao[k] - TINY < 0x7f800000u - TINY));
         rare = rare || (av[k] != 0u && !(av[k] - TINY < HUGE - TINY));
     }
-    // a far-away origin restarts on the screen box there too (as linear_rt.h)
+    // a far-away origin restarts on the screen box in the rare set-up, as in linear_rt.h
     rare = rare || abs(o.x) > 2.0 * float(p.width) + 16.0 || abs(o.y) > 2.0 * float(p.height) + 16.0 || abs(o.z) > 4.0;
     if (rare) return lrt_setup_rare(p, o, tmin, v, tmax, s, t_scale, kind);
     t_scale = 1.0;
