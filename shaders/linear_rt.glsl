@@ -831,7 +831,7 @@ uint lrt_face(LrtParams p, LrtSetup s, uint tx, uint ty, float t)
     return LRT_FACE_INSIDE;
 }
 
-LrtHit lrt_report(LrtParams p, LrtSetup s, float t_scale, float t, float tmin, float tmax, uint tx, uint ty)
+LrtHit lrt_report_hit(LrtParams p, LrtSetup s, float t_scale, float t, float tmin, float tmax, uint tx, uint ty)
 {
     precise float tt = (t + s.t_base) * t_scale;
     LrtHit h;
@@ -1028,9 +1028,10 @@ uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint
     return mask;
 }
 
-// the walk from the ray's origin: true with the first texel hit (hx, hy)
+// the walk from the ray's origin (linear_rt.h's lrt__walk_origin, which then
+// goes on down in lrt__walk_down): true with the first texel hit (hx, hy)
 // and its t, false for a miss (lrt_trace_ray reports either)
-bool lrt_walk(LrtParams p, LrtSetup s, out uint hx, out uint hy, out float ht)
+bool lrt_walk_origin(LrtParams p, LrtSetup s, out uint hx, out uint hy, out float ht)
 {
     hx = 0u;
     hy = 0u;
@@ -1144,10 +1145,10 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
         hx = nx;
         hy = ny;
     } else {
-        found = lrt_walk(p, s, hx, hy, ht);
+        found = lrt_walk_origin(p, s, hx, hy, ht);
     }
     // one exit: the hit's report (its face) stays out of the walk's loop
-    if (found) return lrt_report(p, s, t_scale, ht, tmin, tmax, hx, hy);
+    if (found) return lrt_report_hit(p, s, t_scale, ht, tmin, tmax, hx, hy);
     hit.kind = kind;
     return hit;
 }
