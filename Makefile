@@ -66,7 +66,7 @@ include tests/threads.mk
 include tests/fuzz/fuzz.mk
 include examples/vulkan_inline/vulkan_inline.mk
 
-.PHONY: FORCE all demo examples pictures check test test-all deps clean spv spv-check bench bench-deps bench-publish $(TESTS) test-sanitize
+.PHONY: FORCE all demo examples pictures check test test-all test-programs deps clean spv spv-check bench bench-deps bench-publish $(TESTS) test-sanitize
 
 all: $(B)/demo $(B)/test_reference $(B)/test_core
 
@@ -200,47 +200,54 @@ test-header: | deps $(B)
 	@awk '/^```c$$/ { f = 1; next } /^```$$/ { if (f) exit } f' README.md > $(B)/readme_sample.c
 	@n=0; bad=0; \
 	run() { echo "  $$*"; if "$$@"; then n=$$((n + 1)); else bad=$$((bad + 1)); fi; }; \
-	run gcc $(STD) $(STRICT) -c $(B)/header_tu.c -o $(B)/header_gcc.o; \
-	run g++ -x c++ -std=c++11 $(STRICT) -c $(B)/header_tu.c -o $(B)/header_gxx.o; \
+	j=$(B)/header_jobs; rm -rf $$j; mkdir -p $$j; k=0; q=; p=0; \
+	job() { [ $$p -lt 2 ] || take; k=$$((k + 1)); p=$$((p + 1)); echo "  $$*" > $$j/$$k.cmd; \
+	  "$$@" > $$j/$$k.out 2> $$j/$$k.err & q="$$q $$k:$$!"; }; \
+	take() { set -- $$q; i=$${1%%:*}; pid=$${1#*:}; shift; q="$$*"; p=$$((p - 1)); \
+	  if wait $$pid; then ok=1; else ok=0; fi; cat $$j/$$i.cmd $$j/$$i.out; cat $$j/$$i.err >&2; \
+	  if [ $$ok = 1 ]; then n=$$((n + 1)); else bad=$$((bad + 1)); fi; }; \
+	flush() { while [ $$p -gt 0 ]; do take; done; }; \
+	job gcc $(STD) $(STRICT) -c $(B)/header_tu.c -o $(B)/header_gcc.o; \
+	job g++ -x c++ -std=c++11 $(STRICT) -c $(B)/header_tu.c -o $(B)/header_gxx.o; \
 	if command -v clang >/dev/null 2>&1; then \
-	  run clang $(STD) $(STRICT) -c $(B)/header_tu.c -o $(B)/header_clang.o; \
+	  job clang $(STD) $(STRICT) -c $(B)/header_tu.c -o $(B)/header_clang.o; \
 	else echo "  note: clang is not installed: C99 clang check skipped"; fi; \
 	if command -v clang++ >/dev/null 2>&1; then \
-	  run clang++ -x c++ -std=c++11 $(STRICT) -c $(B)/header_tu.c -o $(B)/header_clangxx.o; \
+	  job clang++ -x c++ -std=c++11 $(STRICT) -c $(B)/header_tu.c -o $(B)/header_clangxx.o; \
 	else echo "  note: clang++ is not installed: C++11 clang check skipped"; fi; \
-	run gcc $(STD) $(STRICT) -DLINEAR_RT_STATIC -c $(B)/header_tu.c -o $(B)/header_static.o; \
-	run gcc $(STD) $(STRICT) -DLINEAR_RT_NO_SIMD -c $(B)/header_tu.c -o $(B)/header_nosimd.o; \
-	run gcc $(STD) $(STRICT) -mavx2 -c $(B)/header_tu.c -o $(B)/header_avx2.o; \
-	run g++ -x c++ -std=c++11 $(STRICT) -mavx2 -c $(B)/header_tu.c -o $(B)/header_avx2_gxx.o; \
+	job gcc $(STD) $(STRICT) -DLINEAR_RT_STATIC -c $(B)/header_tu.c -o $(B)/header_static.o; \
+	job gcc $(STD) $(STRICT) -DLINEAR_RT_NO_SIMD -c $(B)/header_tu.c -o $(B)/header_nosimd.o; \
+	job gcc $(STD) $(STRICT) -mavx2 -c $(B)/header_tu.c -o $(B)/header_avx2.o; \
+	job g++ -x c++ -std=c++11 $(STRICT) -mavx2 -c $(B)/header_tu.c -o $(B)/header_avx2_gxx.o; \
 	if command -v clang >/dev/null 2>&1; then \
-	  run clang $(STD) $(STRICT) -mavx2 -c $(B)/header_tu.c -o $(B)/header_avx2_clang.o; fi; \
-	run gcc $(STD) $(STRICT) -mavx2 -mfma -c $(B)/header_tu.c -o $(B)/header_avx2fma.o; \
-	run gcc $(STD) $(STRICT) -DLINEAR_RT_NO_AVX -c $(B)/header_tu.c -o $(B)/header_noavx.o; \
-	run gcc $(STD) $(STRICT) -DLINEAR_RT_NO_RUNTIME_DISPATCH -c $(B)/header_tu.c -o $(B)/header_nodispatch.o; \
-	for o in gcc clang; do [ -f $(B)/header_$$o.o ] || continue; \
+	  job clang $(STD) $(STRICT) -mavx2 -c $(B)/header_tu.c -o $(B)/header_avx2_clang.o; fi; \
+	job gcc $(STD) $(STRICT) -mavx2 -mfma -c $(B)/header_tu.c -o $(B)/header_avx2fma.o; \
+	job gcc $(STD) $(STRICT) -DLINEAR_RT_NO_AVX -c $(B)/header_tu.c -o $(B)/header_noavx.o; \
+	job gcc $(STD) $(STRICT) -DLINEAR_RT_NO_RUNTIME_DISPATCH -c $(B)/header_tu.c -o $(B)/header_nodispatch.o; \
+	flush; for o in gcc clang; do [ -f $(B)/header_$$o.o ] || continue; \
 	  if nm $(B)/header_$$o.o | grep -q 'lrt__trace_walk_avx2'; then echo "  $$o: a plain build has the AVX2 walk (run-time choice)"; n=$$((n + 1)); \
 	  else echo "  FAIL: $$o: a plain build has no AVX2 walk"; bad=$$((bad + 1)); fi; done; \
 	mkdir -p $(B)/renamed && cp linear_rt.h $(B)/renamed/lrt_copy.h && \
 	printf '#define LINEAR_RT_SELF "lrt_copy.h"\n#define LINEAR_RT_IMPLEMENTATION\n#include "renamed/lrt_copy.h"\n' > $(B)/header_renamed_tu.c; \
-	run gcc $(STD) $(STRICT) -c $(B)/header_renamed_tu.c -o $(B)/header_renamed.o; \
-	run gcc $(STD) $(STRICT) -I. $(B)/readme_sample.c -o $(B)/readme_sample -lm; \
-	run $(B)/readme_sample; \
-	run g++ -x c++ -std=c++11 $(STRICT) -I. -c $(B)/readme_sample.c -o $(B)/readme_sample_gxx.o; \
-	if gcc $(STD) -E $(B)/header_tu.c | grep -q 'vulkan'; then echo "  FAIL: the CPU-only build includes Vulkan headers"; bad=$$((bad + 1)); \
+	job gcc $(STD) $(STRICT) -c $(B)/header_renamed_tu.c -o $(B)/header_renamed.o; \
+	job gcc $(STD) $(STRICT) -I. $(B)/readme_sample.c -o $(B)/readme_sample -lm; \
+	flush; run $(B)/readme_sample; \
+	job g++ -x c++ -std=c++11 $(STRICT) -I. -c $(B)/readme_sample.c -o $(B)/readme_sample_gxx.o; \
+	flush; if gcc $(STD) -E $(B)/header_tu.c | grep -q 'vulkan'; then echo "  FAIL: the CPU-only build includes Vulkan headers"; bad=$$((bad + 1)); \
 	else echo "  the CPU-only build includes no Vulkan header"; n=$$((n + 1)); fi; \
 	if [ "$(HAVE_VULKAN)" = 1 ]; then \
 	  printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n' > $(B)/header_vk_tu.c; \
-	  run gcc $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_gcc.o; \
-	  run g++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_gxx.o; \
+	  job gcc $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_gcc.o; \
+	  job g++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_gxx.o; \
 	  if command -v clang >/dev/null 2>&1; then \
-	    run clang $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_clang.o; fi; \
+	    job clang $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_clang.o; fi; \
 	  if command -v clang++ >/dev/null 2>&1; then \
-	    run clang++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_clangxx.o; fi; \
-	  run gcc $(STD) $(STRICT) $(VK_FLAGS) -DVK_NO_PROTOTYPES -DLINEAR_RT_STATIC -c $(B)/header_vk_tu.c -o $(B)/header_vk_static.o; \
-	  run gcc $(STD) $(STRICT) -DLINEAR_RT_VULKAN -c $(B)/header_vk_tu.c -o $(B)/header_vk_nohelper.o; \
+	    job clang++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_clangxx.o; fi; \
+	  job gcc $(STD) $(STRICT) $(VK_FLAGS) -DVK_NO_PROTOTYPES -DLINEAR_RT_STATIC -c $(B)/header_vk_tu.c -o $(B)/header_vk_static.o; \
+	  job gcc $(STD) $(STRICT) -DLINEAR_RT_VULKAN -c $(B)/header_vk_tu.c -o $(B)/header_vk_nohelper.o; \
 	  printf '#include "../linear_rt.h"\n#define LINEAR_RT_VULKAN\n#include "../linear_rt.h"\nint f(void);\nint f(void) { return (int)sizeof(lrt_vk_depth); }\n' > $(B)/header_vk_twice.c; \
-	  run gcc $(STD) $(STRICT) -c $(B)/header_vk_twice.c -o $(B)/header_vk_twice.o; \
-	  if nm $(B)/header_vk_gcc.o | grep -q ' U vk'; then echo "  FAIL: a link-time Vulkan symbol:"; nm $(B)/header_vk_gcc.o | grep ' U vk'; bad=$$((bad + 1)); \
+	  job gcc $(STD) $(STRICT) -c $(B)/header_vk_twice.c -o $(B)/header_vk_twice.o; \
+	  flush; if nm $(B)/header_vk_gcc.o | grep -q ' U vk'; then echo "  FAIL: a link-time Vulkan symbol:"; nm $(B)/header_vk_gcc.o | grep ' U vk'; bad=$$((bad + 1)); \
 	  else echo "  no link-time Vulkan symbol in the Vulkan build"; n=$$((n + 1)); fi; \
 	else echo "  note: <vulkan/vulkan.h> not found: Vulkan variants skipped"; fi; \
 	echo "test-header: $$n passed, $$bad failed"; \
@@ -381,8 +388,28 @@ test:
 	@tools/install-deps.sh test
 	@$(if $(ALLOW_SKIP),,CI=true) $(MAKE) --no-print-directory test-all
 
-test-all:
+# The programs the tests build, built first and two at a time (most are one
+# translation unit of linear_rt.h and its AVX2 walk: 2 to 70 s of one core
+# each), the slowest first; then each test finds its programs built. A build
+# that fails here is tried again by its test, which fails (or skips) under
+# its own name. A program missing from this list is only built later, by its
+# test, one at a time.
+TEST_PROGRAMS = $(addprefix $(FB)/,$(FUZZERS)) \
+  $(if $(filter 1,$(HAVE_VULKAN)),$(B)/test_vulkan_csan) \
+  $(addprefix $(B)/,test_core_csan test_core_san test_core_m32 test_limits_isan32 test_core_isan \
+    test_limits_csan test_limits_m32 test_limits test_limits_isan test_core_san_sse2 test_core \
+    test_core_scalar test_core_sse2 test_paths test_examples $(EXAMPLES) demo bench \
+    test_threads test_threads_tsan test_reference test_reference_san test_reference_csan spv2h static_tu.c) \
+  $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,test_vulkan test_vulkan_threads test_vulkan_threads_tsan)) \
+  $(if $(filter 11,$(HAVE_VULKAN)$(VI_HAVE_GLSLANG)),$(B)/vulkan_inline)
+
+test-programs: $(TEST_PROGRAMS)
+
+test-all: | $(B)
 	@pass=0; fail=0; failed=; start=$$(date +%s); \
+	echo "== build: the tests' programs, two at a time"; \
+	$(MAKE) --no-print-directory -j2 -k -Otarget test-programs || \
+	  echo "== build: not all of them built (above): each test builds its own again, and fails or skips there"; \
 	for t in $(TESTS); do \
 	  echo "== $$t"; \
 	  if $(MAKE) --no-print-directory $$t; then pass=$$((pass + 1)); \
