@@ -799,17 +799,22 @@ float lrt_back_plane(LrtSetup s, uint format, uint raw)
 
 bool lrt_has_back(LrtParams p) { return LRT_BACK_TREES && p.thickness != LRT_THICKNESS_INFINITE; }
 
-bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float ex, out float t)
+// (planes: its depth plane's t and its back plane's, which lrt_face
+// compares with the hit's t instead of reading the texel again)
+bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float ex, out float t, out vec2 planes)
 {
     t = 0.0;
+    planes = vec2(0.0);
     if (tx >= p.width || ty >= p.height) return false; // padding
     float tz = lrt_depth_plane(s, p.format, lrt_depth_raw(p, tx, ty));
+    planes.x = tz;
     if (s.neg.z != 0u) ex = min(tz, ex);
     else en = max(tz, en);
     if (lrt_has_back(p)) { // the back plane: entered going up (v.z < 0), left going down
         uint format;
         uint raw = lrt_texel_back(p, tx, ty, format);
         float tb = lrt_back_plane(s, format, raw);
+        planes.y = tb;
         if (s.neg.z != 0u) en = max(tb, en);
         else ex = min(tb, ex);
     }
@@ -820,18 +825,19 @@ bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float e
 // the face of a hit at t in texel (tx, ty), as linear_rt.h's lrt__face:
 // the plane whose t is the entering t, found by equality (an axis the ray
 // does not move along has no plane there)
-uint lrt_face(LrtParams p, LrtSetup s, uint tx, uint ty, float t)
+uint lrt_face(LrtParams p, LrtSetup s, uint tx, uint ty, float t, vec2 planes)
 {
-    if (s.neg.z == 0u && !s.zero.z && lrt_depth_plane(s, p.format, lrt_depth_raw(p, tx, ty)) == t) return LRT_FACE_TOP;
+    if (s.neg.z == 0u && !s.zero.z && planes.x == t) return LRT_FACE_TOP;
     precise float xe = (float(tx + s.neg.x) - s.o.x) * s.iv.x, ye = (float(ty + s.neg.y) - s.o.y) * s.iv.y;
     if ((!s.zero.x && xe == t) || (!s.zero.y && ye == t)) return LRT_FACE_SIDE;
-    uint format = LRT_FLOAT32, raw = floatBitsToUint(1.0); // without a back: the far plane
-    if (lrt_has_back(p)) raw = lrt_texel_back(p, tx, ty, format);
-    if (s.neg.z != 0u && !s.zero.z && lrt_depth_plane(s, format, raw) == t) return LRT_FACE_BACK;
+    // the back plane (a moving z: lrt_back_plane's t is the depth plane's),
+    // or without a back the far plane
+    float back = lrt_has_back(p) ? planes.y : lrt_depth_plane(s, LRT_FLOAT32, floatBitsToUint(1.0));
+    if (s.neg.z != 0u && !s.zero.z && back == t) return LRT_FACE_BACK;
     return LRT_FACE_INSIDE;
 }
 
-LrtHit lrt_report_hit(LrtParams p, LrtSetup s, float t_scale, float t, float tmin, float tmax, uint tx, uint ty)
+LrtHit lrt_report_hit(LrtParams p, LrtSetup s, float t_scale, float t, float tmin, float tmax, uint tx, uint ty, vec2 planes)
 {
     precise float tt = (t + s.t_base) * t_scale;
     LrtHit h;
@@ -839,7 +845,7 @@ LrtHit lrt_report_hit(LrtParams p, LrtSetup s, float t_scale, float t, float tmi
     h.x = tx;
     h.y = ty;
     h.kind = LRT_HIT;
-    h.face = lrt_face(p, s, tx, ty, t);
+    h.face = lrt_face(p, s, tx, ty, t, planes);
     return h;
 }
 
@@ -1031,8 +1037,9 @@ uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint
 // the walk from the ray's origin (linear_rt.h's lrt__walk_origin, which then
 // goes on down in lrt__walk_down): true with the first texel hit (hx, hy)
 // and its t, false for a miss (lrt_trace_ray reports either)
-bool lrt_walk_origin(LrtParams p, LrtSetup s, out uint hx, out uint hy, out float ht)
+bool lrt_walk_origin(LrtParams p, LrtSetup s, out uint hx, out uint hy, out float ht, out vec2 hplanes)
 {
+    hplanes = vec2(0.0);
     hx = 0u;
     hy = 0u;
     ht = 0.0;
@@ -1062,7 +1069,7 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, out uint hx, out uint hy, out floa
                 float en = s.t_lo, ex = s.t_hi, t;
                 lrt_slab(float(tx), float(tx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
                 lrt_slab(float(ty), float(ty + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
-                if (lrt_test_texel(p, s, tx, ty, en, ex, t)) { hx = tx; hy = ty; ht = t; return true; }
+                if (lrt_test_texel(p, s, tx, ty, en, ex, t, hplanes)) { hx = tx; hy = ty; ht = t; return true; }
             }
         } else if (m != 0u) { // down into the first child met; the others wait in masks
             uint k = uint(findLSB(m)), slot = k ^ flip;
@@ -1136,19 +1143,20 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
     }
     uint nx, ny, hx, hy;
     float ht;
+    vec2 hplanes; // the hit texel's planes (lrt_test_texel)
     bool found;
     if (lrt_start_node(p, s, nx, ny) == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
         float en = s.t_lo, ex = s.t_hi;
         lrt_slab(float(nx), float(nx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
         lrt_slab(float(ny), float(ny + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
-        found = lrt_test_texel(p, s, nx, ny, en, ex, ht);
+        found = lrt_test_texel(p, s, nx, ny, en, ex, ht, hplanes);
         hx = nx;
         hy = ny;
     } else {
-        found = lrt_walk_origin(p, s, hx, hy, ht);
+        found = lrt_walk_origin(p, s, hx, hy, ht, hplanes);
     }
     // one exit: the hit's report (its face) stays out of the walk's loop
-    if (found) return lrt_report_hit(p, s, t_scale, ht, tmin, tmax, hx, hy);
+    if (found) return lrt_report_hit(p, s, t_scale, ht, tmin, tmax, hx, hy, hplanes);
     hit.kind = kind;
     return hit;
 }
