@@ -2022,6 +2022,15 @@ static int lrt__entered_later(const float n[3], const float v[3], const float hi
     return -1;
 }
 
+/* An origin so far from the screen that (plane - o) loses the screen's
+   planes: such a ray restarts where it enters the screen box, in
+   lrt__setup_rare, which lrt__setup_ray sends it to (lrt__setup8 tests the
+   same on 8 lanes). */
+LRT__FORCE_INLINE int lrt__far_origin(const float o[3], uint32_t width, uint32_t height)
+{
+    return (fabsf(o[0]) > 2.0f * (float)width + 16.0f) | (fabsf(o[1]) > 2.0f * (float)height + 16.0f) | (fabsf(o[2]) > 4.0f);
+}
+
 /* The set-up of a ray at the edge of float range (lrt__setup_ray says which:
    a component of o or v below 2^-100, a v_k of 2^16 or more, ...; fuzz 3,
    4, 5). The same steps as lrt__setup_ray, on the ray rescaled to max |v|
@@ -2084,8 +2093,7 @@ static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *ray, uint32_t width, uin
        exactly, the others at the exact crossing rounded once, so the new
        origin is off the exact entry point by a rounding of a coordinate
        inside the screen, far below one float ulp of the old one (docs/MODEL.md). */
-    if (fabsf(s->o[0]) > 2.0f * (float)width + 16.0f || fabsf(s->o[1]) > 2.0f * (float)height + 16.0f ||
-        fabsf(s->o[2]) > 4.0f) {
+    if (lrt__far_origin(s->o, width, height)) {
         float te = tmin, plane = 0.0f, n[3];
         int axis = -1, tries;
         for (k = 0; k < 3; ++k) {
@@ -2198,12 +2206,10 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
         }
     }
 #endif
-    /* A far-away origin loses the screen's planes in (plane - o): such a ray
-       restarts where it enters the screen box, in lrt__setup_rare (the one
-       restart, for both kinds of ray: the kernels' common set-up stays short,
-       which lavapipe pays for on every ray, as it runs every branch) */
-    rare |= (fabsf(ray->origin[0]) > 2.0f * (float)width + 16.0f) | (fabsf(ray->origin[1]) > 2.0f * (float)height + 16.0f) |
-            (fabsf(ray->origin[2]) > 4.0f);
+    /* a far-away origin restarts in lrt__setup_rare too (one restart for both
+       kinds of ray: the kernels' common set-up stays short, which lavapipe
+       pays for on every ray, as it runs every branch) */
+    rare |= lrt__far_origin(ray->origin, width, height);
     if (LRT__UNLIKELY(rare)) { /* through a copy, so that *s stays the caller's own (kept in registers) */
         lrt__ray_setup r;
         float ts = 1.0f;
@@ -3535,6 +3541,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__expansion_sign lrt__expansion_sign_avx2
 #define lrt__expansion_value lrt__expansion_value_avx2
 #define lrt__face lrt__face_avx2
+#define lrt__far_origin lrt__far_origin_avx2
 #define lrt__finite lrt__finite_avx2
 #define lrt__grow lrt__grow_avx2
 #define lrt__grow_prod lrt__grow_prod_avx2
@@ -3611,6 +3618,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__expansion_sign
 #undef lrt__expansion_value
 #undef lrt__face
+#undef lrt__far_origin
 #undef lrt__finite
 #undef lrt__grow
 #undef lrt__grow_prod

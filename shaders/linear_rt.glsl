@@ -606,6 +606,13 @@ int lrt_entered_later(float n3[3], float v3[3], float hi3[3], int axis)
     return -1;
 }
 
+// an origin so far from the screen that (plane - o) loses its planes: the
+// ray restarts on the screen box in lrt_setup_rare (linear_rt.h's lrt__far_origin)
+bool lrt_far_origin(LrtParams p, vec3 o)
+{
+    return abs(o.x) > 2.0 * float(p.width) + 16.0 || abs(o.y) > 2.0 * float(p.height) + 16.0 || abs(o.z) > 4.0;
+}
+
 // The set-up of a ray at the edge of float range, as linear_rt.h's
 // lrt__setup_rare (read its comment): rescaled to max |v| in [1, 2), a
 // component too slow to invert beside the largest kept exact by a scale of
@@ -648,7 +655,7 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
             if (ev[k] < -126) deg |= 1u << uint(k);
         }
     }
-    if (abs(o.x) > 2.0 * float(p.width) + 16.0 || abs(o.y) > 2.0 * float(p.height) + 16.0 || abs(o.z) > 4.0) {
+    if (lrt_far_origin(p, o)) {
         float te = tmin, plane = 0.0, n3[3];
         int axis = -1;
         for (int k = 0; k < 3; ++k) {
@@ -726,8 +733,7 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
         rare = rare || (ao[k] != 0u && !(ao[k] - TINY < 0x7f800000u - TINY));
         rare = rare || (av[k] != 0u && !(av[k] - TINY < HUGE - TINY));
     }
-    // a far-away origin restarts on the screen box in the rare set-up, as in linear_rt.h
-    rare = rare || abs(o.x) > 2.0 * float(p.width) + 16.0 || abs(o.y) > 2.0 * float(p.height) + 16.0 || abs(o.z) > 4.0;
+    rare = rare || lrt_far_origin(p, o);
     if (rare) return lrt_setup_rare(p, o, tmin, v, tmax, s, t_scale, kind);
     t_scale = 1.0;
     s.o = o;
