@@ -404,43 +404,60 @@ float lrt_ldexp(float x, int k)
     return zero;
 }
 
-// adds x to the expansion acc[0..m) (Shewchuk's grow-expansion)
-void lrt_grow(inout float acc[8], inout int m, float x)
+// an expansion: m parts, part j in lo[j] (j < 4) or hi[j - 4], the largest
+// last. Two vectors, not a float[8]: lavapipe keeps a dynamically indexed
+// array in memory it allocates on every dispatch, where a vector's
+// component is a select
+struct LrtExpansion {
+    vec4 lo, hi;
+    int m;
+};
+
+LrtExpansion lrt_expansion() { return LrtExpansion(vec4(0.0), vec4(0.0), 0); }
+float lrt_part(LrtExpansion x, int j) { return j < 4 ? x.lo[j & 3] : x.hi[j & 3]; }
+void lrt_set_part(inout LrtExpansion x, int j, float v)
 {
-    for (int j = 0; j < m; ++j) {
-        float hi, lo;
-        lrt_two_sum(acc[j], x, hi, lo);
-        acc[j] = lo;
-        x = hi;
-    }
-    acc[m++] = x;
+    if (j < 4) x.lo[j & 3] = v;
+    else x.hi[j & 3] = v;
 }
 
-int lrt_expansion_sign(float acc[8], int m)
+// adds v to the expansion (Shewchuk's grow-expansion)
+void lrt_grow(inout LrtExpansion x, float v)
 {
-    for (int i = m - 1; i >= 0; --i)
-        if (acc[i] != 0.0) return acc[i] > 0.0 ? 1 : -1;
+    for (int j = 0; j < x.m; ++j) {
+        float hi, lo;
+        lrt_two_sum(lrt_part(x, j), v, hi, lo);
+        lrt_set_part(x, j, lo);
+        v = hi;
+    }
+    lrt_set_part(x, x.m++, v);
+}
+
+int lrt_expansion_sign(LrtExpansion x)
+{
+    for (int i = x.m - 1; i >= 0; --i)
+        if (lrt_part(x, i) != 0.0) return lrt_part(x, i) > 0.0 ? 1 : -1;
     return 0;
 }
 
 // an expansion's value, the largest part last: faithful
-float lrt_expansion_value(float acc[8], int m)
+float lrt_expansion_value(LrtExpansion x)
 {
     precise float sum = 0.0;
-    for (int i = 0; i < m; ++i) sum += acc[i];
+    for (int i = 0; i < x.m; ++i) sum += lrt_part(x, i);
     return sum;
 }
 
 // appends a b 2^(extra - scale) as an exact pair (the caller keeps the
 // product's exponent within [-73, 122] of the scale)
-void lrt_grow_prod(inout float acc[8], inout int m, float a, float b, int extra, int scale)
+void lrt_grow_prod(inout LrtExpansion x, float a, float b, int extra, int scale)
 {
     if (a == 0.0 || b == 0.0) return;
     float f = lrt_pow2(lrt_ilogb(a) + lrt_ilogb(b) + extra - scale), p, e;
     lrt_two_prod(lrt_signif(a), lrt_signif(b), p, e);
     precise float pf = p * f, ef = e * f;
-    lrt_grow(acc, m, pf);
-    lrt_grow(acc, m, ef);
+    lrt_grow(x, pf);
+    lrt_grow(x, ef);
 }
 
 // the t where the ray's z reaches the depth plane of a raw depth (see
@@ -504,15 +521,14 @@ bool lrt_finite(float f) { return (floatBitsToUint(f) & 0x7f800000u) != 0x7f8000
 
 // The restart of a far-away ray, as linear_rt.h's lrt__crossing_sum:
 // (b1 + b2) + (plane - o_a) v_b / v_a, or (b1 + b2) + t v_b 2^vexp (by_t),
-// as an exact expansion acc[0..m) times 2^scale (times 1 / v_a unless by_t),
+// as an exact expansion acc times 2^scale (times 1 / v_a unless by_t),
 // the largest product in [2^122, 2^124), a group 2^30 below the other left out
 void lrt_crossing_sum(float b1, float b2, float o_a, float v_b, float v_a, float plane, bool by_t, float t, int vexp,
-                      out float acc[8], out int m, out int scale)
+                      out LrtExpansion acc, out int scale)
 {
     float s = t, e = 0.0, va = v_a;
     int lb = -10000, ls = -10000;
-    m = 0;
-    for (int i = 0; i < 8; ++i) acc[i] = 0.0;
+    acc = lrt_expansion();
     if (by_t) va = 1.0;
     else lrt_two_sum(plane, -o_a, s, e);
     if (b1 != 0.0) lb = lrt_ilogb(b1) + lrt_ilogb(va);
@@ -521,12 +537,12 @@ void lrt_crossing_sum(float b1, float b2, float o_a, float v_b, float v_a, float
     scale = top - 122;
     if (top == -10000) return;
     if (lb >= top - 30) {
-        lrt_grow_prod(acc, m, b1, va, 0, scale);
-        lrt_grow_prod(acc, m, b2, va, 0, scale);
+        lrt_grow_prod(acc, b1, va, 0, scale);
+        lrt_grow_prod(acc, b2, va, 0, scale);
     }
     if (ls >= top - 30) {
-        lrt_grow_prod(acc, m, s, v_b, by_t ? vexp : 0, scale);
-        lrt_grow_prod(acc, m, e, v_b, 0, scale);
+        lrt_grow_prod(acc, s, v_b, by_t ? vexp : 0, scale);
+        lrt_grow_prod(acc, e, v_b, 0, scale);
     }
 }
 
@@ -537,43 +553,43 @@ void lrt_crossing_sum(float b1, float b2, float o_a, float v_b, float v_a, float
 float lrt_crossing(float o_b, float o_a, float v_b, float v_a, float plane, bool by_t, float t, int vexp, bool far_z)
 {
     if (v_b == 0.0 || (by_t && t == 0.0)) return o_b;
-    float acc[8], r;
-    int m, scale;
-    lrt_crossing_sum(o_b, 0.0, o_a, v_b, v_a, plane, by_t, t, vexp, acc, m, scale);
-    if (m == 0) return 0.0;
+    LrtExpansion acc;
+    float r;
+    int scale;
+    lrt_crossing_sum(o_b, 0.0, o_a, v_b, v_a, plane, by_t, t, vexp, acc, scale);
+    if (acc.m == 0) return 0.0;
     if (by_t) {
-        r = lrt_ldexp(lrt_expansion_value(acc, m), scale);
+        r = lrt_ldexp(lrt_expansion_value(acc), scale);
     } else {
-        precise float q = lrt_expansion_value(acc, m) / lrt_signif(v_a);
+        precise float q = lrt_expansion_value(acc) / lrt_signif(v_a);
         r = lrt_ldexp(q, scale - lrt_ilogb(v_a));
     }
     if (!far_z || r != 1.0) return r;
     float d1, d2;
     lrt_two_sum(o_b, -1.0, d1, d2);
-    lrt_crossing_sum(d1, d2, o_a, v_b, v_a, plane, by_t, t, vexp, acc, m, scale);
-    int side = lrt_expansion_sign(acc, m) * (!by_t && v_a < 0.0 ? -1 : 1);
+    lrt_crossing_sum(d1, d2, o_a, v_b, v_a, plane, by_t, t, vexp, acc, scale);
+    int side = lrt_expansion_sign(acc) * (!by_t && v_a < 0.0 ? -1 : 1);
     return side > 0 ? uintBitsToFloat(0x3f800001u) : side < 0 ? uintBitsToFloat(0x3f7fffffu) : 1.0;
 }
 
 // the sign of o + t v - c, exactly (t >= 0), as linear_rt.h's lrt__side
 int lrt_side(float o, float v, float t, float c)
 {
-    float d1, d2, acc[8];
-    int m = 0;
-    for (int i = 0; i < 8; ++i) acc[i] = 0.0;
+    float d1, d2;
+    LrtExpansion acc = lrt_expansion();
     lrt_two_sum(c, -o, d1, d2);
     if (v == 0.0 || t == 0.0) return d1 > 0.0 ? -1 : d1 < 0.0 ? 1 : 0;
     if (d1 == 0.0) return v > 0.0 ? 1 : -1;
     int e = lrt_ilogb(t) + lrt_ilogb(v), ed = lrt_ilogb(d1);
     if (e >= ed + 2) return v > 0.0 ? 1 : -1;
     if (e + 3 <= ed) return d1 > 0.0 ? -1 : 1;
-    lrt_grow_prod(acc, m, t, v, 0, e);
-    lrt_grow(acc, m, -lrt_ldexp(d1, -e));
+    lrt_grow_prod(acc, t, v, 0, e);
+    lrt_grow(acc, -lrt_ldexp(d1, -e));
     if (d2 != 0.0 && lrt_ilogb(d2) - e >= -100) {
-        lrt_grow(acc, m, -lrt_ldexp(d2, -e));
-        return lrt_expansion_sign(acc, m);
+        lrt_grow(acc, -lrt_ldexp(d2, -e));
+        return lrt_expansion_sign(acc);
     }
-    int sign = lrt_expansion_sign(acc, m);
+    int sign = lrt_expansion_sign(acc);
     return sign != 0 ? sign : d2 > 0.0 ? -1 : d2 < 0.0 ? 1 : 0;
 }
 
@@ -597,11 +613,11 @@ float lrt_plane_t(float p, float o, float v, int e)
 // the restart's axis, as linear_rt.h's lrt__entered_later: an axis whose
 // crossing at the taken plane is still before its entering plane was
 // entered later (entering planes' t that round to one float); -1: none
-int lrt_entered_later(float n3[3], float v3[3], float hi3[3], int axis)
+int lrt_entered_later(vec3 n, vec3 v, vec3 hi, int axis)
 {
     for (int k = 0; k < 3; ++k) {
-        if (k == axis || v3[k] == 0.0) continue;
-        if ((floatBitsToUint(v3[k]) >> 31) != 0u ? n3[k] > hi3[k] : n3[k] < 0.0) return k;
+        if (k == axis || v[k] == 0.0) continue;
+        if ((floatBitsToUint(v[k]) >> 31) != 0u ? n[k] > hi[k] : n[k] < 0.0) return k;
     }
     return -1;
 }
@@ -620,8 +636,8 @@ bool lrt_far_origin(LrtParams p, vec3 o)
 bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out float t_scale, out uint kind)
 {
     const float FLT_MAX = uintBitsToFloat(0x7f7fffffu), TINY_O = uintBitsToFloat(0x1a000000u); // 2^-77
-    float hi3[3] = float[3](float(p.width), float(p.height), 1.0);
-    float o3[3] = float[3](o.x, o.y, o.z), v3[3] = float[3](v.x, v.y, v.z), sv[3], iv[3];
+    // (vectors, not arrays: see LrtExpansion)
+    vec3 hi3 = vec3(float(p.width), float(p.height), 1.0), o3 = o, v3 = v, sv, iv;
     s.o = o;
     s.v = v;
     s.iv = vec3(0.0);
@@ -642,7 +658,8 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
                ? LRT_MISS_TMAX
                : LRT_MISS_OFF_SCREEN;
     float m = max(max(abs(v.x), abs(v.y)), abs(v.z));
-    int e = m != 0.0 ? max(lrt_ilogb(m), -127) : 0, ev[3] = int[3](0, 0, 0);
+    int e = m != 0.0 ? max(lrt_ilogb(m), -127) : 0;
+    ivec3 ev = ivec3(0);
     uint deg = 0u;
     tmin = lrt_scale_t(tmin, e);
     tmax = lrt_scale_t(tmax, e);
@@ -656,7 +673,8 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
         }
     }
     if (lrt_far_origin(p, o)) {
-        float te = tmin, plane = 0.0, n3[3];
+        float te = tmin, plane = 0.0;
+        vec3 n3;
         int axis = -1;
         for (int k = 0; k < 3; ++k) {
             if (v3[k] == 0.0) continue;
