@@ -95,51 +95,10 @@ uint lrt_bh_log2(uint level) { return (level & 1u) != 0u ? 2u : 1u; }
 uint lrt_span_w_log2(uint level) { return level + ((level + 1u) >> 1); }
 uint lrt_span_h_log2(uint level) { return level + (level >> 1); }
 
-struct LrtLayout {
-    uint count;                        // stored levels; the root level is count
-    uint w[LRT_MAX_LEVELS + 2];        // grid size of each level (0: texels)
-    uint h[LRT_MAX_LEVELS + 2];
-    uint offset[LRT_MAX_LEVELS + 2];   // first node of each stored level
-};
-
-LrtLayout lrt_layout(uint width, uint height)
-{
-    LrtLayout L;
-    uint lv = 0u, total = 0u;
-    L.w[0] = width;
-    L.h[0] = height;
-    for (;;) {
-        L.w[lv + 1u] = (L.w[lv] + (1u << lrt_bw_log2(lv)) - 1u) >> lrt_bw_log2(lv);
-        L.h[lv + 1u] = (L.h[lv] + (1u << lrt_bh_log2(lv)) - 1u) >> lrt_bh_log2(lv);
-        if ((L.w[lv + 1u] == 1u && L.h[lv + 1u] == 1u) || lv + 1u >= uint(LRT_MAX_LEVELS)) break;
-        ++lv;
-    }
-    L.count = lv + 1u;
-    for (lv = 1u; lv <= L.count; ++lv) {
-        L.offset[lv] = total;
-        total += lv == L.count ? 1u : L.w[lv + 1u] * L.h[lv + 1u] * 8u;
-    }
-    return L;
-}
-
 // slot of node (x, y) among its parent's 8 children: y0 x1 x0 (4x2), y1 y0 x0 (2x4)
 uint lrt_child_slot(uint level, uint x, uint y)
 {
     return lrt_bw_log2(level) == 2u ? ((y & 1u) << 2) | (x & 3u) : ((y & 3u) << 1) | (x & 1u);
-}
-
-// index of node (x, y) within its level: its modified Morton code
-uint lrt_node_index(LrtLayout L, uint level, uint x, uint y)
-{
-    if (level >= L.count) return 0u;
-    uint block = (y >> lrt_bh_log2(level)) * L.w[level + 1u] + (x >> lrt_bw_log2(level));
-    return block * 8u + lrt_child_slot(level, x, y);
-}
-
-// the first code of node (x, y) of a stored level, in code units
-uint lrt_node_slot(LrtLayout L, uint level, uint x, uint y)
-{
-    return (L.offset[level] + lrt_node_index(L, level, x, y)) * 8u;
 }
 
 uint lrt_code(uint node_bits, uint slot)

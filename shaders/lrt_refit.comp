@@ -104,10 +104,12 @@ void main()
             bheights[c] = lrt_codes_max(bcodes);
         }
     }
-    LrtLayout L = lrt_layout(p.width, p.height);
-    lrt_store_node(lrt_node_slot(L, 2u, nx, ny), heights);
-    if (back) lrt_store_node(bb + lrt_node_slot(L, 2u, nx, ny), bheights);
-    if (L.count == 2u) return;
+    // (level offsets and grid sizes by arithmetic, as the walk takes them:
+    // a per-level table is an array lavapipe keeps in memory)
+    uint off = lrt_level_slots(p, 1u); // level 2's first node
+    lrt_store_node(lrt_node_code0(p, 2u, off, nx, ny), heights);
+    if (back) lrt_store_node(bb + lrt_node_code0(p, 2u, off, nx, ny), bheights);
+    if (p.level_count == 2u) return;
 
     // climb: count in at the parent; its counter is indexed by the parent's
     // block of children, level lv's first node of that block
@@ -115,10 +117,10 @@ void main()
     x1 >>= 1;
     y0 >>= 2;
     y1 >>= 2;
-    for (uint lv = 2u; lv < L.count; ++lv) {
+    for (uint lv = 2u; lv < p.level_count; ++lv) {
         uint bwl = lrt_bw_log2(lv), bhl = lrt_bh_log2(lv);
         uint px = nx >> bwl, py = ny >> bhl;
-        uint counter = L.offset[lv] + (py * L.w[lv + 1u] + px) * 8u;
+        uint counter = off + (py * lrt_grid_w(p.width, lv + 1u) + px) * 8u;
         // the parent's children inside this level's rectangle: how many arrive
         uint cx0 = max(px << bwl, x0), cx1 = min(((px + 1u) << bwl) - 1u, x1);
         uint cy0 = max(py << bhl, y0), cy1 = min(((py + 1u) << bhl) - 1u, y1);
@@ -132,7 +134,7 @@ void main()
         for (uint s = 0u; s < 8u; ++s) {
             uint cx = (px << bwl) + (bwl == 2u ? (s & 3u) : (s & 1u));
             uint cy = (py << bhl) + (bwl == 2u ? (s >> 2) : (s >> 1));
-            if (cx < L.w[lv] && cy < L.h[lv]) {
+            if (cx < lrt_grid_w(p.width, lv) && cy < lrt_grid_h(p.height, lv)) {
                 codes[s] = lrt_node_max(first_child + s * 8u);
                 bcodes[s] = back ? lrt_node_max(bb + first_child + s * 8u) : 0u;
             } else { // a padding child: height 0, and on a build its node is 0 too
@@ -141,8 +143,9 @@ void main()
                 if (pc.build != 0u && back) lrt_store_zero_node(bb + first_child + s * 8u);
             }
         }
-        lrt_store_node(lrt_node_slot(L, lv + 1u, px, py), codes);
-        if (back) lrt_store_node(bb + lrt_node_slot(L, lv + 1u, px, py), bcodes);
+        off += lrt_level_slots(p, lv); // level lv + 1's first node
+        lrt_store_node(lrt_node_code0(p, lv + 1u, off, px, py), codes);
+        if (back) lrt_store_node(bb + lrt_node_code0(p, lv + 1u, off, px, py), bcodes);
         nx = px;
         ny = py;
         x0 >>= bwl;
