@@ -2207,8 +2207,7 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
     }
 #endif
     /* a far-away origin restarts in lrt__setup_rare too (one restart for both
-       kinds of ray: the kernels' common set-up stays short, which lavapipe
-       pays for on every ray, as it runs every branch) */
+       kinds of ray, and the kernels' common set-up stays short) */
     rare |= lrt__far_origin(ray->origin, width, height);
     if (LRT__UNLIKELY(rare)) { /* through a copy, so that *s stays the caller's own (kept in registers) */
         lrt__ray_setup r;

@@ -363,21 +363,28 @@ float lrt_ldexp(float x, int k)
     return zero;
 }
 
-// an expansion: m parts, part j in lo[j] (j < 4) or hi[j - 4], the largest
-// last. Two vectors, not a float[8]: lavapipe keeps a dynamically indexed
-// array in memory it allocates on every dispatch, where a vector's
-// component is a select
+// The rare set-up's parts and axes are picked by selects among named
+// components: as float arrays indexed per lane, they cost lavapipe on every
+// dispatch whatever rays came (1M primary rays 28.9 ms instead of 22.5; as
+// vectors indexed per lane, secondary rays 4-15% slower than with selects).
+// The walk's pending masks (m[lv >> 2]) stay indexed: selects there measured
+// 0.93-0.99x. docs/MEASUREMENTS.md "What lavapipe pays for".
+float lrt_pick(vec4 v, int k) { return k == 0 ? v.x : k == 1 ? v.y : k == 2 ? v.z : v.w; }
+float lrt_axis(vec3 v, int k) { return k == 0 ? v.x : k == 1 ? v.y : v.z; }
+vec4 lrt_put(vec4 v, int k, float f) { return vec4(k == 0 ? f : v.x, k == 1 ? f : v.y, k == 2 ? f : v.z, k == 3 ? f : v.w); }
+
+// an expansion: m parts, part j in lo (j < 4) or hi (j - 4), the largest last
 struct LrtExpansion {
     vec4 lo, hi;
     int m;
 };
 
 LrtExpansion lrt_expansion() { return LrtExpansion(vec4(0.0), vec4(0.0), 0); }
-float lrt_part(LrtExpansion x, int j) { return j < 4 ? x.lo[j & 3] : x.hi[j & 3]; }
+float lrt_part(LrtExpansion x, int j) { return j < 4 ? lrt_pick(x.lo, j) : lrt_pick(x.hi, j - 4); }
 void lrt_set_part(inout LrtExpansion x, int j, float v)
 {
-    if (j < 4) x.lo[j & 3] = v;
-    else x.hi[j & 3] = v;
+    x.lo = j < 4 ? lrt_put(x.lo, j, v) : x.lo;
+    x.hi = j < 4 ? x.hi : lrt_put(x.hi, j - 4, v);
 }
 
 // adds v to the expansion (Shewchuk's grow-expansion)
@@ -595,7 +602,7 @@ bool lrt_far_origin(LrtParams p, vec3 o)
 bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out float t_scale, out uint kind)
 {
     const float FLT_MAX = uintBitsToFloat(0x7f7fffffu), TINY_O = uintBitsToFloat(0x1a000000u); // 2^-77
-    // (vectors, not arrays: see LrtExpansion)
+    // (vectors, not arrays: see lrt_pick)
     vec3 hi3 = vec3(float(p.width), float(p.height), 1.0), o3 = o, v3 = v, sv, iv;
     s.o = o;
     s.v = v;
@@ -650,14 +657,14 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
             for (int k = 0; k < 3; ++k) {
                 if (axis < 0) n3[k] = lrt_crossing(o3[k], 0.0, v3[k], 1.0, 0.0, true, te, -e, k == 2);
                 else if (k == axis) n3[k] = plane;
-                else n3[k] = lrt_crossing(o3[k], o3[axis], v3[k], v3[axis], plane, false, 0.0, 0, k == 2);
+                else n3[k] = lrt_crossing(o3[k], lrt_axis(o3, axis), v3[k], lrt_axis(v3, axis), plane, false, 0.0, 0, k == 2);
                 if (!lrt_finite(n3[k])) return false;
             }
             int later = axis < 0 ? -1 : lrt_entered_later(n3, v3, hi3, axis);
             if (later < 0) break;
             axis = later; // see lrt_entered_later
-            plane = (floatBitsToUint(v3[later]) >> 31) != 0u ? hi3[later] : 0.0;
-            te = lrt_plane_t(plane, o3[later], v3[later], e);
+            plane = (floatBitsToUint(lrt_axis(v3, later)) >> 31) != 0u ? lrt_axis(hi3, later) : 0.0;
+            te = lrt_plane_t(plane, lrt_axis(o3, later), lrt_axis(v3, later), e);
         }
         o3 = n3;
         s.t_base = te;
