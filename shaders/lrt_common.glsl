@@ -22,7 +22,12 @@ layout(set = 0, binding = LRT_K_VK_BINDING_DEPTH_BUFFER, std430) readonly buffer
 layout(set = 0, binding = LRT_K_VK_BINDING_BACK_BUFFER, std430) readonly buffer LrtBack { uint words[]; } lrt_back;
 #define LRT_BACK_WORD(i) lrt_back.words[i]
 #endif
-layout(set = 0, binding = LRT_K_VK_BINDING_NODES, std430) coherent buffer LrtNodes { uint words[]; } lrt_nodes;
+// the refit reads nodes other invocations wrote (coherent); the trace kernel
+// only reads them (lrt_trace.comp defines readonly: a GPU may cache them)
+#ifndef LRT_NODES_ACCESS
+#define LRT_NODES_ACCESS coherent
+#endif
+layout(set = 0, binding = LRT_K_VK_BINDING_NODES, std430) LRT_NODES_ACCESS buffer LrtNodes { uint words[]; } lrt_nodes;
 #define LRT_NODE_WORD(i) lrt_nodes.words[i]
 
 // back-map trees get pipelines of their own (the host sets this to true for

@@ -2,6 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // lrt_trace.comp - one ray per invocation through the BVH: its closest hit,
 // into hits[ray_first + i].
+#define LRT_NODES_ACCESS readonly // (lrt_common.glsl)
 #include "lrt_common.glsl"
 
 struct LrtRayIn {
