@@ -107,8 +107,9 @@ void main()
     // (level offsets and grid sizes by arithmetic, as the walk takes them:
     // a per-level table is an array lavapipe keeps in memory)
     uint off = lrt_level_slots(p, 1u); // level 2's first node
-    lrt_store_node(lrt_node_code0(p, 2u, off, nx, ny), heights);
-    if (back) lrt_store_node(bb + lrt_node_code0(p, 2u, off, nx, ny), bheights);
+    uint node = lrt_node_code0(p, 2u, off, nx, ny);
+    lrt_store_node(node, heights);
+    if (back) lrt_store_node(bb + node, bheights);
     if (p.level_count == 2u) return;
 
     // climb: count in at the parent; its counter is indexed by the parent's
@@ -144,8 +145,9 @@ void main()
             }
         }
         off += lrt_level_slots(p, lv); // level lv + 1's first node
-        lrt_store_node(lrt_node_code0(p, lv + 1u, off, px, py), codes);
-        if (back) lrt_store_node(bb + lrt_node_code0(p, lv + 1u, off, px, py), bcodes);
+        node = lrt_node_code0(p, lv + 1u, off, px, py);
+        lrt_store_node(node, codes);
+        if (back) lrt_store_node(bb + node, bcodes);
         nx = px;
         ny = py;
         x0 >>= bwl;
