@@ -4058,6 +4058,7 @@ struct lrt_vk_context {
     VkPipelineLayout pipeline_layout;
     VkSampler sampler;
     VkPipeline pipelines[LRT__VK_PIPELINES];
+    uint32_t float_modes; /* LRT__VK_FLOAT_*: what lrt__vk_float_controls adds to the kernels */
 #define LRT__VK_MEMBER(name) PFN_##name p_##name;
     LRT__VK_INSTANCE_FUNCS(LRT__VK_MEMBER)
     LRT__VK_DEVICE_FUNCS(LRT__VK_MEMBER)
@@ -4114,6 +4115,63 @@ static int lrt__vk_has_extension(lrt_vk_context *c, const char *name, const VkAl
     return found;
 }
 
+/* The kernels' floats as the CPU's, where the device can (Vulkan 1.2's
+   float controls): a / b rounded to nearest even, and infinities, NaN and
+   the sign of 0 kept. Vulkan lets a device's a / b be 2.5 ulps off unless
+   the shader asks for RoundingModeRTE; an NVIDIA H200 without it built
+   thickness trees whose back codes differed from the CPU's and answered
+   5% of the test rays with other last bits of t; with it, those agreed bit
+   for bit (docs/MEASUREMENTS.md). glslang has no GLSL for these modes, so
+   the host adds them to each kernel's SPIR-V (1.5: the capabilities are
+   core): an OpCapability each, and an OpExecutionMode each for the entry
+   point, 32-bit floats. */
+enum { LRT__VK_FLOAT_RTE = 1, LRT__VK_FLOAT_KEEP_INF_NAN = 2 };
+enum { LRT__SPV_OP_ENTRY_POINT = 15, LRT__SPV_OP_EXECUTION_MODE = 16, LRT__SPV_OP_CAPABILITY = 17 };
+static const uint32_t lrt__spv_float_modes[2][2] = {{4467u, 4462u},  /* RoundingModeRTE: capability, mode */
+                                                    {4466u, 4461u}}; /* SignedZeroInfNanPreserve */
+
+/* The kernel's words with the modes of float_modes added, in host memory
+   the caller frees; NULL: out of memory, or no entry point in the module. */
+static uint32_t *lrt__vk_float_controls(const VkAllocationCallbacks *cb, const uint32_t *code, size_t words,
+                                        uint32_t float_modes, size_t *out_words)
+{
+    size_t i = 5, after_entry = 0, o, add = 0;
+    uint32_t entry = 0, k, *w;
+    while (i < words) { /* the last OpEntryPoint: execution modes follow it */
+        const uint32_t n = code[i] >> 16;
+        if (n == 0 || n > words - i) return NULL;
+        if ((code[i] & 0xffffu) == LRT__SPV_OP_ENTRY_POINT && n >= 3) {
+            entry = code[i + 2];
+            after_entry = i + n;
+        }
+        i += n;
+    }
+    if (!after_entry) return NULL;
+    for (k = 0; k < 2; ++k)
+        if (float_modes & (1u << k)) add += 6;
+    w = (uint32_t *)lrt__vk_host_alloc(cb, (words + add) * sizeof *w);
+    if (!w) return NULL;
+    memcpy(w, code, 5 * sizeof *w); /* the header; capabilities come first */
+    o = 5;
+    for (k = 0; k < 2; ++k)
+        if (float_modes & (1u << k)) {
+            w[o++] = 2u << 16 | LRT__SPV_OP_CAPABILITY;
+            w[o++] = lrt__spv_float_modes[k][0];
+        }
+    memcpy(w + o, code + 5, (after_entry - 5) * sizeof *w);
+    o += after_entry - 5;
+    for (k = 0; k < 2; ++k)
+        if (float_modes & (1u << k)) {
+            w[o++] = 4u << 16 | LRT__SPV_OP_EXECUTION_MODE;
+            w[o++] = entry;
+            w[o++] = lrt__spv_float_modes[k][1];
+            w[o++] = 32u;
+        }
+    memcpy(w + o, code + after_entry, (words - after_entry) * sizeof *w);
+    *out_words = words + add;
+    return w;
+}
+
 /* Does the physical device support what the kernels need? */
 static int lrt__vk_supports(lrt_vk_context *c, const lrt_vk_requirements *req)
 {
@@ -4122,6 +4180,8 @@ static int lrt__vk_supports(lrt_vk_context *c, const lrt_vk_requirements *req)
     VkPhysicalDeviceVulkan12Features f12;
     VkPhysicalDeviceProperties2 p;
     VkPhysicalDeviceVulkan11Properties p11;
+    VkPhysicalDeviceVulkan12Properties p12;
+    memset(&p12, 0, sizeof p12);
     memset(&f, 0, sizeof f);
     memset(&f11, 0, sizeof f11);
     memset(&f12, 0, sizeof f12);
@@ -4135,8 +4195,18 @@ static int lrt__vk_supports(lrt_vk_context *c, const lrt_vk_requirements *req)
     c->p_vkGetPhysicalDeviceFeatures2(c->physical_device, &f);
     p.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
     p11.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES;
+    p12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES;
     p.pNext = &p11;
+    p11.pNext = &p12;
     c->p_vkGetPhysicalDeviceProperties2(c->physical_device, &p);
+    /* RTE for 32-bit floats alone needs the widths' rounding independent */
+    c->float_modes = 0;
+    if (p12.shaderRoundingModeRTEFloat32 && p12.roundingModeIndependence != VK_SHADER_FLOAT_CONTROLS_INDEPENDENCE_NONE)
+        c->float_modes |= LRT__VK_FLOAT_RTE;
+    /* not on lavapipe: its kernels agree with the CPU bit for bit without
+       it, and with it ran 1M segments at 0.95x (build/demo, 3 alternated runs) */
+    if (p12.shaderSignedZeroInfNanPreserveFloat32 && p12.driverID != VK_DRIVER_ID_MESA_LLVMPIPE)
+        c->float_modes |= LRT__VK_FLOAT_KEEP_INF_NAN;
 #define LRT__NEED(want, have) if ((want) && !(have)) return 0
     LRT__NEED(req->shader_float64, f.features.shaderFloat64);
     LRT__NEED(req->shader_int64, f.features.shaderInt64);
@@ -4236,7 +4306,18 @@ static VkResult lrt__vk_create_objects(lrt_vk_context *c, VkPipelineCache cache)
         mi.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
         mi.codeSize = m.bytes;
         mi.pCode = m.code;
-        if ((vr = c->p_vkCreateShaderModule(c->device, &mi, c->callbacks, &module)) != VK_SUCCESS) return vr;
+        if (c->float_modes) {
+            size_t words = 0;
+            uint32_t *patched = lrt__vk_float_controls(c->callbacks, m.code, m.bytes / 4u, c->float_modes, &words);
+            if (!patched) return VK_ERROR_OUT_OF_HOST_MEMORY;
+            mi.codeSize = words * 4u;
+            mi.pCode = patched;
+            vr = c->p_vkCreateShaderModule(c->device, &mi, c->callbacks, &module);
+            lrt__vk_host_free(c->callbacks, patched);
+        } else {
+            vr = c->p_vkCreateShaderModule(c->device, &mi, c->callbacks, &module);
+        }
+        if (vr != VK_SUCCESS) return vr;
         memset(&ci, 0, sizeof ci);
         ci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
         ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
