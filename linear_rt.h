@@ -973,6 +973,18 @@ static lrt_result lrt__check_back(const lrt_depth *depth, uint32_t thickness, si
                              out_stride);
 }
 
+/* A float depth as the model reads it: NaN and above 1 -> 1; below 0, -0
+   and subnormal -> 0 (docs/MODEL.md: GPUs may flush subnormals, so no tracer
+   may depend on one). The SIMD clamps: min with 1 (minps keeps 1 for NaN),
+   then an AND with (d >= 2^-126). */
+#define LRT__FLT_MIN 1.17549435e-38f /* 2^-126, the least normal float */
+LRT__INLINE float lrt__clamp_depth(float f)
+{
+    if (!(f <= 1.0f)) f = 1.0f; /* NaN too */
+    if (!(f >= LRT__FLT_MIN)) f = 0.0f;
+    return f;
+}
+
 /* Texel (x, y)'s depth as the model states it, as a raw value: the unorm
    integer v (reversed Z flipped in integers), or the bits of the float after
    the flip (in float) and the clamp. The exact texel test takes its depth
@@ -993,8 +1005,7 @@ LRT__FORCE_INLINE uint32_t lrt__map_raw(const lrt_depth *depth, const void *data
         uint32_t bits;
         memcpy(&f, row + 4 * (size_t)x, 4);
         if (reversed) f = 1.0f - f; /* in float: the model's conversion */
-        if (!(f <= 1.0f)) f = 1.0f; /* NaN too */
-        if (!(f > 0.0f)) f = 0.0f;  /* below 0, and -0 */
+        f = lrt__clamp_depth(f);
         memcpy(&bits, &f, 4);
         return bits;
     }
@@ -1076,14 +1087,15 @@ static void lrt__row_heights(const lrt_depth *depth, const unsigned char *row, u
 #if LRT__SSE
         { /* 4 at a time: the same clamps (minps keeps 1 for NaN) and the same
              product in double */
-            const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
+            const __m128 one = _mm_set1_ps(1.0f), least = _mm_set1_ps(LRT__FLT_MIN);
             const __m128d q = _mm_set1_pd((double)qmax);
             const __m128i qi = _mm_set1_epi32((int)qmax);
             for (; n - i >= 4u; i += 4) {
                 __m128 f = _mm_loadu_ps((const float *)(const void *)(row + 4 * (size_t)(x0 + i)));
                 __m128i lo, hi;
                 if (reversed) f = _mm_sub_ps(one, f);
-                f = _mm_max_ps(_mm_min_ps(f, one), zero);
+                f = _mm_min_ps(f, one);
+                f = _mm_and_ps(f, _mm_cmpge_ps(f, least));
                 lo = _mm_cvttpd_epi32(_mm_mul_pd(_mm_cvtps_pd(f), q));
                 hi = _mm_cvttpd_epi32(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), q));
                 _mm_storeu_si128((__m128i *)(void *)(codes + i), _mm_sub_epi32(qi, _mm_unpacklo_epi64(lo, hi)));
@@ -1094,8 +1106,7 @@ static void lrt__row_heights(const lrt_depth *depth, const unsigned char *row, u
             float f;
             memcpy(&f, row + 4 * (size_t)(x0 + i), 4);
             if (reversed) f = 1.0f - f;
-            if (!(f <= 1.0f)) f = 1.0f; /* NaN too */
-            if (f < 0.0f) f = 0.0f;
+            f = lrt__clamp_depth(f);
             /* d * qmax is exact in double, so the floor is too */
             codes[i] = qmax - (uint32_t)((double)f * (double)qmax);
         }
@@ -1210,7 +1221,7 @@ static void lrt__row_back_codes(const lrt_depth *depth, const unsigned char *dro
 #if LRT__SSE
         { /* 4 at a time: the same clamps, the max, the product in double, and
              ceil as trunc + (trunc < x) */
-            const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
+            const __m128 one = _mm_set1_ps(1.0f), least = _mm_set1_ps(LRT__FLT_MIN);
             const __m128d q = _mm_set1_pd((double)qmax);
             for (; n - i >= 4u; i += 4) {
                 __m128 f = _mm_loadu_ps((const float *)(const void *)(drow + 4 * (size_t)(x0 + i)));
@@ -1221,8 +1232,10 @@ static void lrt__row_back_codes(const lrt_depth *depth, const unsigned char *dro
                     f = _mm_sub_ps(one, f);
                     g = _mm_sub_ps(one, g);
                 }
-                f = _mm_max_ps(_mm_min_ps(f, one), zero); /* minps keeps 1 for NaN */
-                g = _mm_max_ps(_mm_min_ps(g, one), zero);
+                f = _mm_min_ps(f, one); /* lrt__clamp_depth */
+                g = _mm_min_ps(g, one);
+                f = _mm_and_ps(f, _mm_cmpge_ps(f, least));
+                g = _mm_and_ps(g, _mm_cmpge_ps(g, least));
                 f = _mm_max_ps(f, g);
                 xl = _mm_mul_pd(_mm_cvtps_pd(f), q);
                 xh = _mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), q);
@@ -1245,8 +1258,8 @@ static void lrt__row_back_codes(const lrt_depth *depth, const unsigned char *dro
                 f = 1.0f - f;
                 g = 1.0f - g;
             }
-            f = !(f <= 1.0f) ? 1.0f : f < 0.0f ? 0.0f : f; /* NaN too */
-            g = !(g <= 1.0f) ? 1.0f : g < 0.0f ? 0.0f : g;
+            f = lrt__clamp_depth(f);
+            g = lrt__clamp_depth(g);
             x = (double)(g > f ? g : f) * (double)qmax; /* exact in double */
             c = (uint32_t)x;
             codes[i] = c + ((double)c < x);
@@ -1973,6 +1986,29 @@ static int lrt__on_screen_at_tmax(const lrt_ray *ray, uint32_t width, uint32_t h
            lrt__side(ray->origin[1], ray->dir[1], ray->tmax, (float)height) <= 0;
 }
 
+/* A subnormal float read as 0 of its sign (docs/MODEL.md: a GPU may flush
+   them, and every tracer must answer alike); in integers, so that no mode
+   of the FPU changes it. */
+LRT__INLINE float lrt__flush_float(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    if ((u & 0x7f800000u) == 0u) u &= 0x80000000u;
+    memcpy(&f, &u, 4);
+    return f;
+}
+
+/* The ray with each subnormal read as 0 of its sign, in *copy. */
+static const lrt_ray *lrt__flush_ray(const lrt_ray *ray, lrt_ray *copy)
+{
+    float f[8];
+    int k;
+    memcpy(f, ray, sizeof f);
+    for (k = 0; k < 8; ++k) f[k] = lrt__flush_float(f[k]);
+    memcpy(copy, f, sizeof f);
+    return copy;
+}
+
 /* t 2^e, a positive t kept positive and every t finite (a scaled tmin or
    tmax that underflowed to 0 made [tmin, tmax] start on the origin: fuzz 3) */
 static float lrt__scale_t(float t, int e)
@@ -2054,10 +2090,12 @@ LRT__FORCE_INLINE int lrt__far_origin(const float o[3], uint32_t width, uint32_t
      below every texel's scaled depth, so their culling stays conservative.
    The kind of a miss is decided exactly: is the caller's ray on the screen
    at tmax (docs/MODEL.md). Returns as lrt__setup_ray. */
-static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *ray, uint32_t width, uint32_t height, lrt__ray_setup *s,
+static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *caller_ray, uint32_t width, uint32_t height, lrt__ray_setup *s,
                                          float *t_scale, uint32_t *kind)
 {
     const float hi[3] = {(float)width, (float)height, 1.0f};
+    lrt_ray flushed;
+    const lrt_ray *ray = lrt__flush_ray(caller_ray, &flushed);
     float m = 0.0f, tmin = ray->tmin, tmax = ray->tmax;
     int e, k, ev[3] = {0, 0, 0};
     uint32_t deg = 0;
@@ -2167,22 +2205,22 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
     *t_scale = 1.0f;
     /* One test on the bits of the 8 floats: each is 0, or its size (the bits
        without the sign) lies in [low, high), where low is 2^-100 for o and
-       v (0 for tmin and tmax) and high is inf, or 2^16 for v. Anything else
-       takes lrt__setup_rare, which validates the ray first: NaN or inf, a
-       component of o or v below 2^-100 but not 0 (a subnormal v_k has no
-       finite 1/v_k; a plane near such an o_k is crossed at a t that may
-       round to 0), a v_k of 2^16 or more (the same with plane - o_k below
-       2^-110); also |v.z| >= 16 from o.z = 0 (a float depth as small as
+       v (2^-126 for tmin and tmax) and high is inf, or 2^16 for v. Anything
+       else takes lrt__setup_rare, which validates the ray first: NaN or inf,
+       a subnormal (read as 0 there, docs/MODEL.md), a component of o or v
+       below 2^-100 but not 0 (a tiny v_k has no finite 1/v_k; a plane near
+       such an o_k is crossed at a t that may round to 0), a v_k of 2^16 or
+       more (the same with plane - o_k below 2^-110); also |v.z| >= 16 from o.z = 0 (a float depth as small as
        2^-146 is met at such a t). The unsigned test x - low < high - low is
        a signed one after both sides are moved by 2^31. */
 #if LRT__SSE
     {
         const __m128i abs_bits = _mm_set1_epi32(0x7fffffff), bias = _mm_set1_epi32((int)0x80000000u);
-        const __m128i low = _mm_set_epi32(0, (int)LRT__RARE_TINY, (int)LRT__RARE_TINY, (int)LRT__RARE_TINY);
-        const __m128i span_o = _mm_set_epi32((int)(0x7f800000u ^ 0x80000000u), (int)((0x7f800000u - LRT__RARE_TINY) ^ 0x80000000u),
+        const __m128i low = _mm_set_epi32(0x00800000, (int)LRT__RARE_TINY, (int)LRT__RARE_TINY, (int)LRT__RARE_TINY);
+        const __m128i span_o = _mm_set_epi32((int)(0x7f000000u ^ 0x80000000u), (int)((0x7f800000u - LRT__RARE_TINY) ^ 0x80000000u),
                                              (int)((0x7f800000u - LRT__RARE_TINY) ^ 0x80000000u),
                                              (int)((0x7f800000u - LRT__RARE_TINY) ^ 0x80000000u));
-        const __m128i span_v = _mm_set_epi32((int)(0x7f800000u ^ 0x80000000u), (int)((LRT__RARE_HUGE - LRT__RARE_TINY) ^ 0x80000000u),
+        const __m128i span_v = _mm_set_epi32((int)(0x7f000000u ^ 0x80000000u), (int)((LRT__RARE_HUGE - LRT__RARE_TINY) ^ 0x80000000u),
                                              (int)((LRT__RARE_HUGE - LRT__RARE_TINY) ^ 0x80000000u),
                                              (int)((LRT__RARE_HUGE - LRT__RARE_TINY) ^ 0x80000000u));
         float f[8];
@@ -2200,7 +2238,7 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
         memcpy(u, ray, sizeof u);
         rare = (ray->origin[2] == 0.0f) & (fabsf(ray->dir[2]) >= 16.0f);
         for (k = 0; k < 8; ++k) {
-            const uint32_t x = u[k] & 0x7fffffffu, low = (k & 3) == 3 ? 0u : LRT__RARE_TINY;
+            const uint32_t x = u[k] & 0x7fffffffu, low = (k & 3) == 3 ? 0x00800000u : LRT__RARE_TINY;
             const uint32_t high = (k & 3) == 3 || k < 3 ? 0x7f800000u : LRT__RARE_HUGE;
             rare |= x != 0u && !(x - low < high - low);
         }
@@ -2638,8 +2676,8 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
     float enter[8];
     uint32_t mask;
     lrt__slabs8(s, &w->lv[1], (float)(nx * 4u), (float)(ny * 2u), 0u, &en, &ex);
-    /* NaN and above 1: 1, then not above 0: 0 (minps / maxps keep the 2nd operand on NaN) */
-    d = _mm256_max_ps(_mm256_min_ps(d, _mm256_set1_ps(1.0f)), _mm256_setzero_ps());
+    d = _mm256_min_ps(d, _mm256_set1_ps(1.0f)); /* lrt__clamp_depth */
+    d = _mm256_and_ps(d, _mm256_cmp_ps(d, _mm256_set1_ps(LRT__FLT_MIN), _CMP_GE_OQ));
     lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(d, s->vo[2]), s->viv[2]), neg_z, &en, &ex);
     if (w->back_codes) { /* the texels' backs the same way (lrt__back_plane) */
         const float *k = w->L->back_k;
@@ -2649,7 +2687,8 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
             const __m128 b0 = _mm_loadu_ps((const float *)(const void *)brow);
             const __m128 b1 = _mm_loadu_ps((const float *)(const void *)(brow + w->back_stride));
             b = _mm256_permutevar8x32_ps(_mm256_insertf128_ps(_mm256_castps128_ps256(b0), b1, 1), s->sg->order[0]);
-            b = _mm256_max_ps(_mm256_min_ps(b, _mm256_set1_ps(1.0f)), _mm256_setzero_ps());
+            b = _mm256_min_ps(b, _mm256_set1_ps(1.0f));
+            b = _mm256_and_ps(b, _mm256_cmp_ps(b, _mm256_set1_ps(LRT__FLT_MIN), _CMP_GE_OQ));
         } else if (w->L->thickness == LRT_THICKNESS_CONSTANT) { /* lrt__model_back, 8 at once */
             const __m256 k0 = _mm256_set1_ps(k[0]), k1 = _mm256_set1_ps(k[1]), u = _mm256_sub_ps(k0, d);
             b = _mm256_add_ps(_mm256_div_ps(k0, u), k1);
@@ -2825,8 +2864,7 @@ LRT__FORCE_INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *
     if (w->plain_float && !s->zk) { /* the common case, straight: lrt__depth_raw, then lrt__depth_plane */
         float d;
         memcpy(&d, (const unsigned char *)w->depth->data + w->stride * ty + 4 * (size_t)tx, 4);
-        if (!(d <= 1.0f)) d = 1.0f; /* NaN too */
-        if (!(d > 0.0f)) d = 0.0f;
+        d = lrt__clamp_depth(d);
         tz = (d - s->o[2]) * s->iv[2];
     } else if (w->exact_codes) { /* the code is the input's own integer, scaled by qmax/vmax (1 or 257) */
         const uint32_t vmax = w->depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
@@ -2869,8 +2907,9 @@ LRT__FORCE_INLINE void lrt__report_hit(const lrt__walk *w, const lrt_ray *ray, c
                                  uint32_t tx, uint32_t ty, lrt_hit *hit)
 {
     hit->face = (uint16_t)lrt__face(w, s, tx, ty, t);
+    const float lo = lrt__flush_float(ray->tmin), hi = lrt__flush_float(ray->tmax); /* as the walk read them */
     t = (t + s->t_base) * t_scale;
-    hit->t = t < ray->tmin ? ray->tmin : t > ray->tmax ? ray->tmax : t;
+    hit->t = t < lo ? lo : t > hi ? hi : t;
     hit->x = tx;
     hit->y = ty;
     hit->kind = LRT_HIT;
@@ -3312,7 +3351,7 @@ static void lrt__setup8(const lrt__walk *w, const lrt_ray *rays, lrt__batch8 *b)
     }
     o[0] = t[0], o[1] = t[1], o[2] = t[2], tmin = t[3], v[0] = t[4], v[1] = t[5], v[2] = t[6], tmax = t[7];
     { /* the bit test of lrt__setup_ray: such lanes go one by one */
-        __m256i ok = _mm256_and_si256(lrt__bits_in(tmin, 0u, 0x7f800000u), lrt__bits_in(tmax, 0u, 0x7f800000u));
+        __m256i ok = _mm256_and_si256(lrt__bits_in(tmin, 0x00800000u, 0x7f000000u), lrt__bits_in(tmax, 0x00800000u, 0x7f000000u));
         for (k = 0; k < 3; ++k) {
             ok = _mm256_and_si256(ok, lrt__bits_in(o[k], LRT__RARE_TINY, 0x7f800000u - LRT__RARE_TINY));
             ok = _mm256_and_si256(ok, lrt__bits_in(v[k], LRT__RARE_TINY, LRT__RARE_HUGE - LRT__RARE_TINY));
@@ -3545,6 +3584,8 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__grow lrt__grow_avx2
 #define lrt__grow_prod lrt__grow_prod_avx2
 #define lrt__ilogb lrt__ilogb_avx2
+#define lrt__flush_float lrt__flush_float_avx2
+#define lrt__flush_ray lrt__flush_ray_avx2
 #define lrt__lanes lrt__lanes_avx2
 #define lrt__level1_hit lrt__level1_hit_avx2
 #define lrt__load_codes lrt__load_codes_avx2
@@ -3638,6 +3679,8 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__ray_setup
 #undef lrt__report_hit
 #undef lrt__scale_t
+#undef lrt__flush_ray
+#undef lrt__flush_float
 #undef lrt__setup8
 #undef lrt__setup_rare
 #undef lrt__setup_ray

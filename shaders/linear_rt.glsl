@@ -118,7 +118,7 @@ uint lrt_clamp_float_bits(float g)
 {
     uint b = floatBitsToUint(g);
     if ((b & 0x7fffffffu) > 0x7f800000u) return 0x3f800000u;   // NaN
-    if ((b >> 31) != 0u || (b & 0x7fffffffu) == 0u) return 0u;  // below 0, -0, 0
+    if ((b >> 31) != 0u || (b & 0x7f800000u) == 0u) return 0u;  // below 0, -0, 0, subnormal
     if (b > 0x3f800000u) return 0x3f800000u;                    // above 1
     return b;
 }
@@ -595,12 +595,25 @@ bool lrt_far_origin(LrtParams p, vec3 o)
     return abs(o.x) > 2.0 * float(p.width) + 16.0 || abs(o.y) > 2.0 * float(p.height) + 16.0 || abs(o.z) > 4.0;
 }
 
+// a subnormal read as 0 of its sign, in integers (linear_rt.h's
+// lrt__flush_ray): the same on a device that flushes them as on one that
+// keeps them
+float lrt_flush(float x)
+{
+    uint b = floatBitsToUint(x);
+    return (b & 0x7f800000u) == 0u ? uintBitsToFloat(b & 0x80000000u) : x;
+}
+
 // The set-up of a ray at the edge of float range, as linear_rt.h's
-// lrt__setup_rare (read its comment): rescaled to max |v| in [1, 2), a
-// component too slow to invert beside the largest kept exact by a scale of
-// its axis, the kind of a miss decided exactly.
+// lrt__setup_rare (read its comment): subnormals read as 0, rescaled to
+// max |v| in [1, 2), a component too slow to invert beside the largest kept
+// exact by a scale of its axis, the kind of a miss decided exactly.
 bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out float t_scale, out uint kind)
 {
+    o = vec3(lrt_flush(o.x), lrt_flush(o.y), lrt_flush(o.z));
+    v = vec3(lrt_flush(v.x), lrt_flush(v.y), lrt_flush(v.z));
+    tmin = lrt_flush(tmin);
+    tmax = lrt_flush(tmax);
     const float FLT_MAX = uintBitsToFloat(0x7f7fffffu), TINY_O = uintBitsToFloat(0x1a000000u); // 2^-77
     // (vectors, not arrays: see lrt_pick)
     vec3 hi3 = vec3(float(p.width), float(p.height), 1.0), o3 = o, v3 = v, sv, iv;
@@ -711,8 +724,9 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
 {
     uvec3 ao = floatBitsToUint(o) & 0x7fffffffu, av = floatBitsToUint(v) & 0x7fffffffu;
     const uint TINY = 0x0d800000u, HUGE = 0x47800000u; // 2^-100, 2^16
-    bool rare = (o.z == 0.0 && abs(v.z) >= 16.0) || (floatBitsToUint(tmin) & 0x7fffffffu) >= 0x7f800000u ||
-                (floatBitsToUint(tmax) & 0x7fffffffu) >= 0x7f800000u;
+    uint at0 = floatBitsToUint(tmin) & 0x7fffffffu, at1 = floatBitsToUint(tmax) & 0x7fffffffu;
+    bool rare = (o.z == 0.0 && abs(v.z) >= 16.0) || (at0 != 0u && !(at0 - 0x00800000u < 0x7f000000u)) ||
+                (at1 != 0u && !(at1 - 0x00800000u < 0x7f000000u)); // inf, NaN or subnormal
     for (int k = 0; k < 3; ++k) {
         rare = rare || (ao[k] != 0u && !(ao[k] - TINY < 0x7f800000u - TINY));
         rare = rare || (av[k] != 0u && !(av[k] - TINY < HUGE - TINY));
@@ -831,7 +845,8 @@ LrtHit lrt_report_hit(LrtParams p, LrtSetup s, float t_scale, float t, float tmi
 {
     precise float tt = (t + s.t_base) * t_scale;
     LrtHit h;
-    h.t = tt < tmin ? tmin : tt > tmax ? tmax : tt;
+    float lo = lrt_flush(tmin), hi = lrt_flush(tmax); // as the walk read them
+    h.t = tt < lo ? lo : tt > hi ? hi : tt;
     h.x = tx;
     h.y = ty;
     h.kind = LRT_HIT;

@@ -371,14 +371,18 @@ static void test_huge(void)
     /* coming in through the near plane from huge negative z */
     r = tr(&m, mkray(4.5, 4.5, -big, 0, 0, big, 0, 2));
     EXPECT_HIT(r, 1.0, 4, 4);
-    /* tiny direction, huge t */
+    /* tiny direction, huge t; a subnormal one reads as 0 (docs/MODEL.md) */
     {
         ref_map m1 = map_const(1, 1, 1e-7);
-        float tiny = nextafterf(0.0f, 1.0f);
+        float tiny = FLT_MIN, sub = nextafterf(0.0f, 1.0f);
         r = tr(&m1, mkray(0.5, 0.5, 0, tiny, 0, tiny, 0, FLT_MAX));
         EXPECT_HIT(r, 1e-7 / (double)tiny, 0, 0);
-        r = tr(&m1, mkray(0.5, 0.5, 0, tiny, 0, tiny, 0, 1e37));
+        r = tr(&m1, mkray(0.5, 0.5, 0, tiny, 0, tiny, 0, 1e30));
         EXPECT_KIND(r, REF_MISS_TMAX);
+        r = tr(&m1, mkray(0.5, 0.5, 0, sub, 0, sub, 0, FLT_MAX));
+        EXPECT_KIND(r, REF_MISS_TMAX);
+        r = tr(&m1, mkray(0.5, 0.5, 0.5, sub, 0, -sub, 0, FLT_MAX));
+        EXPECT_HIT(r, 0.0, 0, 0);
         ref_map_free(&m1);
     }
     ref_map_free(&m);

@@ -359,6 +359,7 @@ static double ref__raw_texel(const unsigned char *p, int format, int reversed)
         if (g != g || g > 1.0f) return 1.0;
         if (g < 0.0f) return 0.0;
         if (g == 0.0f) return 0.0; /* -0 -> +0 */
+        if (g < 1.17549435e-38f) return 0.0; /* subnormal: read as 0 (a GPU may flush it) */
         return (double)g;
     }
 }
@@ -394,7 +395,7 @@ static double *ref__read_raw(const void *data, int w, int h, size_t row_stride, 
    (v/65535), 3 = float32. row_stride in bytes (0 = tightly packed).
    reversed != 0: reversed Z. Integer formats: d = v/max, reversed:
    d = (max - v)/max, in double. float32: f' = reversed ? 1.0f - f (in
-   float32) : f; NaN and values > 1 -> 1, values < 0 -> 0.
+   float32) : f; NaN and values > 1 -> 1, values < 0 and subnormal ones -> 0.
    No back map (b = NULL: infinite thickness).
    Returns 0 on success, -1 on bad arguments or out of memory (m->d = NULL). */
 REF_FUNC int ref_map_from_raw(ref_map *m, const void *data, int w, int h,
@@ -789,9 +790,24 @@ REF_FUNC ref_result ref_trace(const ref_map *m, const double o[3], const double 
     return r;
 }
 
-/* the same for a float32 ray */
-REF_FUNC ref_result ref_trace_ray(const ref_map *m, const ref_ray *ray)
+/* A float32 ray as docs/MODEL.md reads it: a subnormal component (below
+   2^-126 in size) is 0 of its sign, as on a GPU that flushes them. */
+static ref_ray ref__read_ray(const ref_ray *ray)
 {
+    ref_ray r = *ray;
+    float *f[8];
+    int c;
+    f[0] = &r.o[0]; f[1] = &r.o[1]; f[2] = &r.o[2]; f[3] = &r.v[0];
+    f[4] = &r.v[1]; f[5] = &r.v[2]; f[6] = &r.tmin; f[7] = &r.tmax;
+    for (c = 0; c < 8; c++)
+        if (*f[c] != 0.0f && fabsf(*f[c]) < 1.17549435e-38f) *f[c] = *f[c] < 0.0f ? -0.0f : 0.0f;
+    return r;
+}
+
+/* the same for a float32 ray */
+REF_FUNC ref_result ref_trace_ray(const ref_map *m, const ref_ray *caller_ray)
+{
+    const ref_ray read = ref__read_ray(caller_ray), *ray = &read;
     double o[3], v[3];
     int c;
     for (c = 0; c < 3; c++) { o[c] = ray->o[c]; v[c] = ray->v[c]; }
@@ -1086,9 +1102,10 @@ static int ref__plate_match(const ref_map *m, const ref_ray *ray, const double o
    and the exact answer of the ray or of one of its perturbations must be a
    hit. A reported miss must have the exact answer's kind (again for the ray
    or one of its perturbations). */
-REF_FUNC int ref_check(const ref_map *m, const ref_ray *ray, const ref_answer *got,
+REF_FUNC int ref_check(const ref_map *m, const ref_ray *caller_ray, const ref_answer *got,
                        int any_hit, char *why, size_t why_size)
 {
+    const ref_ray read = ref__read_ray(caller_ray), *ray = &read;
     double o[3], v[3];
     ref_result E;
     char msg[512];
