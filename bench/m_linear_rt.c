@@ -286,7 +286,9 @@ static int gpu_build(bench_method *m, const bench_scene *sc, double *ms, char *w
         return 1;
     }
     g->has_bvh = 1;
-    if (vkt_buffer_create(&g->t, bytes, &g->depth)) {
+    /* device-local where it can also be mapped, as the peers' buffers (m_vk_peers.c):
+       a discrete GPU reads host memory over PCIe */
+    if (vkt_buffer_create_in(&g->t, bytes, 1, &g->depth)) {
         snprintf(why, n, "depth buffer");
         return 1;
     }
@@ -319,8 +321,8 @@ static int gpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *r
         memset(&g->rays, 0, sizeof g->rays);
         memset(&g->hits, 0, sizeof g->hits);
         g->ray_cap = 0;
-        if (vkt_buffer_create(&g->t, rs->count * sizeof(lrt_ray), &g->rays) ||
-            vkt_buffer_create(&g->t, rs->count * sizeof(lrt_hit), &g->hits)) {
+        if (vkt_buffer_create_in(&g->t, rs->count * sizeof(lrt_ray), 1, &g->rays) ||
+            vkt_buffer_create_in(&g->t, rs->count * sizeof(lrt_hit), 1, &g->hits)) {
             snprintf(why, n, "ray buffers");
             return 1;
         }
