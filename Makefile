@@ -299,6 +299,7 @@ $(B)/test_vulkan: tests/test_vulkan.c $(LIB) $(SPV_H) $(REF) $(SCENE) $(RAYS) $(
 ifeq ($(HAVE_VULKAN),1)
 test-vulkan: $(B)/test_vulkan
 	$(B)/test_vulkan
+	$(B)/test_vulkan --flushing-device
 else
 test-vulkan:
 	@echo "test-vulkan: skipped: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"; \

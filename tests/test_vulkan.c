@@ -21,6 +21,11 @@
        maxImageDimension2D) on contexts that see lowered ones: past them
        LRT_ERROR_LIMIT_EXCEEDED and nothing recorded, within them the CPU's
        trees and answers (test_device_limits).
+   With --flushing-device first (x86 only), the device is made while the
+   process flushes subnormal floats (MXCSR's FTZ and DAZ), so lavapipe's
+   threads, which inherit that state, run the kernels as a GPU that
+   flushes them does (an NVIDIA H200: this mode gave its very answers),
+   while the CPU path and the reference run as usual.
    No Vulkan loader or device: prints why and exits 0 (skipped), or 1 when
    the environment variable CI is "true". Ends with "N passed, M failed". */
 #ifndef LINEAR_RT_VULKAN
@@ -38,6 +43,10 @@
 #include "support/vk_util.h"
 
 #include <stdio.h>
+#if defined(__SSE2__) || defined(_M_X64)
+#include <xmmintrin.h>
+#define HAVE_MXCSR 1
+#endif
 #include <stdlib.h>
 #include <string.h>
 #include <math.h>
@@ -188,6 +197,7 @@ typedef struct trace_stats {
     size_t rays, differ, wrong, bit_identical, kind_rays[RAY_KIND_COUNT], kind_differ[RAY_KIND_COUNT];
 } trace_stats;
 static trace_stats g_trace_total;
+static int g_flushing; /* --flushing-device */
 
 static int same_answer(const lrt_hit *a, const lrt_hit *b)
 {
@@ -352,6 +362,10 @@ static void test_found_cases(void)
         int kind = RAY_CORNER;
         char what[64];
         snprintf(what, sizeof what, "found case %d", k);
+        if (g_flushing && (k == 13 || k == 19)) { /* docs/MODEL.md: answers that rest on a subnormal t */
+            free_map(&m);
+            continue;
+        }
         memset(&gpu, 0, sizeof gpu);
         CHECK(lrt_bvh_build(&cpu, &m.depth, NULL, NULL) == LRT_SUCCESS, "%s: CPU build", what);
         CHECK(lrt_trace(&cpu, &m.depth, &r, &ch, 1, 0) == LRT_SUCCESS, "%s: CPU trace", what);
@@ -1288,7 +1302,19 @@ int main(int argc, char **argv)
     const char *ci = getenv("CI");
     const int in_ci = ci && strcmp(ci, "true") == 0;
     lrt_result r;
-    check_select(argc, argv);
+#ifdef HAVE_MXCSR
+    const unsigned int mxcsr = _mm_getcsr();
+#endif
+    g_flushing = argc > 1 && strcmp(argv[1], "--flushing-device") == 0;
+    check_select(argc - g_flushing, argv + g_flushing);
+    if (g_flushing) {
+#ifdef HAVE_MXCSR
+        _mm_setcsr(mxcsr | 0x8040u); /* FTZ (bit 15), DAZ (bit 6): inherited by the threads made from here */
+#else
+        printf("test-vulkan --flushing-device: skipped: no MXCSR on this CPU\n0 passed, 0 failed\n");
+        return 0;
+#endif
+    }
     RUN_TEST(test_bad_arguments_no_device);
     r = lrt_vk_device_create(&g_dev, LRT_VK_DEVICE_VALIDATION | LRT_VK_DEVICE_SYNC_VALIDATION);
     if (r == LRT_ERROR_NO_VULKAN_LOADER || r == LRT_ERROR_NO_VULKAN_DEVICE || r == LRT_ERROR_MISSING_VULKAN_FEATURE) {
@@ -1308,6 +1334,10 @@ int main(int argc, char **argv)
            VK_API_VERSION_PATCH(g_dev.properties.apiVersion));
     g_limits = g_dev.properties.limits;
     r = lrt_vk_context_create(&g_dev.desc, &g_ctx);
+#ifdef HAVE_MXCSR
+    _mm_setcsr(mxcsr); /* the CPU path and the reference as usual */
+#endif
+    if (g_flushing) printf("the device's threads flush subnormal floats (x86 FTZ and DAZ), as some GPUs do\n");
     CHECK(r == LRT_SUCCESS, "lrt_vk_context_create: %s", lrt_result_string(r));
     if (r == LRT_SUCCESS && vkt_init(&g_t, &g_dev) == 0) {
         RUN_TEST(test_smoke);
