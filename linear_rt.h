@@ -2301,7 +2301,7 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
 typedef struct lrt__walk_level {
     size_t offset;                     /* first node slot of the level */
     size_t children;                   /* first code of the level below: node (x, y)'s children are at children + (y * width + x) * 64 */
-    uint32_t width;                    /* nodes per row: the block row of the level below */
+    uint32_t width, height;            /* the level's grid: nodes per row (the block row of the level below), rows */
     uint32_t span_w_log2, span_h_log2; /* texels per node of this level */
     float child_span_w, child_span_h;  /* texels per child, as float */
 } lrt__walk_level;
@@ -2400,6 +2400,7 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
         v->offset = L->levels[i].offset;
         v->children = L->levels[i - 1].offset * 8u;
         v->width = L->levels[i].width;
+        v->height = L->levels[i].height;
         v->span_w_log2 = L->levels[i].span_w_log2;
         v->span_h_log2 = L->levels[i].span_h_log2;
         v->child_span_w = (float)(1u << L->levels[i - 1].span_w_log2);
@@ -3088,7 +3089,11 @@ LRT__FORCE_INLINE uint32_t lrt__visit(const lrt__walk *w, const lrt__ray_setup *
         mask = lrt__test_children(w, s, *lv, *nx, *ny, *slot0, enter, exit, tall, wide, neg_z);
     }
 #endif
-    mask &= filter;
+    /* a padding node (past the level's grid) has no children in memory: a
+       ray whose culling is loose there (an axis it does not move along, on
+       the map's far edge) must not go down into it (fuzz_core: a read past
+       the nodes) */
+    mask &= filter & (0u - (uint32_t)((*nx < w->lv[*lv].width) & (*ny < w->lv[*lv].height)));
     if (mask) lrt__descend(w, tall, children, mask, s->sg->flip[tall], lv, nx, ny, slot0, stack, sp);
     return mask;
 }

@@ -1066,6 +1066,9 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, out uint hx, out uint hy, out floa
         uint nxl = px >> lrt_span_w_log2(lv), nyl = py >> lrt_span_h_log2(lv);
         uint flip = lrt_bw_log2(lv - 1u) == 1u ? flip_tall : flip_wide;
         uint m = lrt_test_children(p, s, lv, off, nxl, nyl, flip, decode_scale, qmaxf, back_base, back_scale) & eligible;
+        // a padding node (past its level's grid) has no children in memory:
+        // never down into one (linear_rt.h's lrt__visit)
+        if (lv >= 2u && (nxl >= lrt_grid_w(p.width, lv) || nyl >= lrt_grid_h(p.height, lv))) m = 0u;
         if (lv == 1u) { // texels: the exact test, in visiting order
             while (m != 0u) {
                 uint k = uint(findLSB(m)), slot = k ^ flip;
