@@ -3093,7 +3093,7 @@ LRT__FORCE_INLINE uint32_t lrt__visit(const lrt__walk *w, const lrt__ray_setup *
        ray whose culling is loose there (an axis it does not move along, on
        the map's far edge) must not go down into it (fuzz_core: a read past
        the nodes) */
-    mask &= filter & (0u - (uint32_t)((*nx < w->lv[*lv].width) & (*ny < w->lv[*lv].height)));
+    mask &= filter & (uint32_t)-(int32_t)((*nx < w->lv[*lv].width) & (*ny < w->lv[*lv].height));
     if (mask) lrt__descend(w, tall, children, mask, s->sg->flip[tall], lv, nx, ny, slot0, stack, sp);
     return mask;
 }
