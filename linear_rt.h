@@ -165,8 +165,10 @@
    row stride, as 8-bit unorm (v/255), 16-bit unorm (v/65535) or 32-bit float,
    standard (0 near) or reversed Z (LRT_DEPTH_REVERSED_Z: d = 1 - v, in the
    input's own arithmetic: (max - v)/max for integers, 1.0f - f for floats).
-   The only repair made to input: a float depth that is NaN or above 1 becomes
-   1, below 0 becomes 0 (after the reversed-Z flip, so NaN is always far).
+   The only repairs made to input: a float depth that is NaN or above 1
+   becomes 1, below 0 or subnormal becomes 0 (after the reversed-Z flip, so
+   NaN is always far); a subnormal ray component reads as 0 of its sign
+   (GPUs may flush subnormals: docs/MODEL.md).
    Data needs no alignment (it is read with memcpy).
 
    THE TREE (see the sections of the implementation, which follow the data)
