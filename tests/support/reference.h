@@ -949,8 +949,12 @@ static float ref__ulps(float x, int k)
 }
 
 /* Is there a ray among the given one's perturbations (3^6 combinations of
-   {-8,0,+8} ulps on o and v, then of {-1,0,+1}) whose exact answer matches
-   `got`? any_hit: only the kind has to match. */
+   {-8,0,+8} ulps on o and v, then of {-1,0,+1}, then one component alone
+   moved by 2 to 7 ulps either way) whose exact answer matches `got`?
+   any_hit: only the kind has to match. The single moves: a ray along a
+   row of texel corners, its answer a corner that v moved by a real 5.6 to
+   7.9 ulps reaches first, while 8 ulps reach an earlier one
+   (tests/fuzz/crashes-found/README.md, entry 17). */
 static int ref__perturbed_match(const ref_map *m, const ref_ray *ray, const double o[3],
                                 const double v[3], const ref_answer *got, int any_hit)
 {
@@ -971,6 +975,28 @@ static int ref__perturbed_match(const ref_map *m, const ref_ray *ray, const doub
                 if (q < 3) po[q] = f; else pv[q - 3] = f;
             }
             if (!ok) continue;
+            E = ref_trace(m, po, pv, ray->tmin, ray->tmax);
+            if (any_hit) {
+                if (E.kind == got->kind) return 1;
+            } else if (ref__match(m, o, v, ray->tmin, po, pv, &E, got, NULL, 0)) {
+                return 1;
+            }
+        }
+    }
+    for (q = 0; q < 6; q++) {
+        int k;
+        for (k = -7; k <= 7; k++) {
+            double po[3], pv[3];
+            ref_result E;
+            float f = q < 3 ? ray->o[q] : ray->v[q - 3];
+            if (k >= -1 && k <= 1) continue;
+            f = ref__ulps(f, k);
+            if (!ref__finite(f)) continue;
+            for (s = 0; s < 3; s++) {
+                po[s] = ray->o[s];
+                pv[s] = ray->v[s];
+            }
+            if (q < 3) po[q] = f; else pv[q - 3] = f;
             E = ref_trace(m, po, pv, ray->tmin, ray->tmax);
             if (any_hit) {
                 if (E.kind == got->kind) return 1;
@@ -1088,7 +1114,8 @@ static int ref__plate_match(const ref_map *m, const ref_ray *ray, const double o
 
    Exact mode (any_hit == 0): right when it matches the exact answer of the
    ray, or of one of its perturbations (each component of o and v moved by
-   {-8,0,+8} ulps, then by {-1,0,+1}; tmin, tmax unchanged). Matching: same
+   {-8,0,+8} ulps, then by {-1,0,+1}, then one alone by 2..7 either way;
+   tmin, tmax unchanged). Matching: same
    kind; for a hit, each component c of p = o + t v (double, from the float
    ray and the reported t) within tol_c = 1e-5 * (1 + |o_c| + |t v_c|) of the
    exact hit point, and the reported texel's box containing the exact hit
