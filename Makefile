@@ -160,21 +160,21 @@ $(B)/test_core_sse2: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B
 	$(CC) $(STD) $(WARN) $(CFLAGS) -DLINEAR_RT_NO_AVX $< -o $@ $(LDLIBS)
 
 # and the paths against each other, bit for bit, in one program
-$(B)/paths_scalar.o: tests/paths_tu.c $(LIB) | deps $(B)
+$(B)/paths_scalar.o: tests/paths_tu.c tests/support/build_trace.h $(LIB) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) -DLINEAR_RT_NO_SIMD -DPATHS_FN=paths_trace_scalar -c $< -o $@
 
-$(B)/paths_avx2.o: tests/paths_tu.c $(LIB) | deps $(B)
+$(B)/paths_avx2.o: tests/paths_tu.c tests/support/build_trace.h $(LIB) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) -mavx2 -mfma -DPATHS_FN=paths_trace_avx2 -c $< -o $@
 
-$(B)/paths_sse2.o: tests/paths_tu.c $(LIB) | deps $(B)
+$(B)/paths_sse2.o: tests/paths_tu.c tests/support/build_trace.h $(LIB) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) -DLINEAR_RT_NO_AVX -DPATHS_FN=paths_trace_sse2 -c $< -o $@
 
 # gnu99: gcc fuses a * b + c wherever it may, also in the AVX2 + FMA pass
-$(B)/paths_contract.o: tests/paths_tu.c $(LIB) | deps $(B)
+$(B)/paths_contract.o: tests/paths_tu.c tests/support/build_trace.h $(LIB) | deps $(B)
 	$(CC) -std=gnu99 -ffp-contract=fast $(WARN) $(CFLAGS) -DPATHS_FN=paths_trace_contract -c $< -o $@
 
 PATHS_OBJ := $(B)/paths_scalar.o $(B)/paths_sse2.o $(B)/paths_avx2.o $(B)/paths_contract.o
-$(B)/test_paths: tests/test_paths.c $(PATHS_OBJ) $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
+$(B)/test_paths: tests/test_paths.c tests/support/build_trace.h $(PATHS_OBJ) $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) $< $(PATHS_OBJ) -o $@ $(LDLIBS)
 
 test-core-paths: $(B)/test_core_scalar $(B)/test_core_sse2 $(B)/test_paths

@@ -986,6 +986,13 @@ LRT__INLINE float lrt__clamp_depth(float f)
     if (!(f >= LRT__FLT_MIN)) f = 0.0f;
     return f;
 }
+#if LRT__SSE
+LRT__FORCE_INLINE __m128 lrt__clamp_depth4(__m128 f) /* lrt__clamp_depth, 4 at once */
+{
+    f = _mm_min_ps(f, _mm_set1_ps(1.0f));
+    return _mm_and_ps(f, _mm_cmpge_ps(f, _mm_set1_ps(LRT__FLT_MIN)));
+}
+#endif
 
 /* Texel (x, y)'s depth as the model states it, as a raw value: the unorm
    integer v (reversed Z flipped in integers), or the bits of the float after
@@ -1089,15 +1096,14 @@ static void lrt__row_heights(const lrt_depth *depth, const unsigned char *row, u
 #if LRT__SSE
         { /* 4 at a time: the same clamps (minps keeps 1 for NaN) and the same
              product in double */
-            const __m128 one = _mm_set1_ps(1.0f), least = _mm_set1_ps(LRT__FLT_MIN);
+            const __m128 one = _mm_set1_ps(1.0f);
             const __m128d q = _mm_set1_pd((double)qmax);
             const __m128i qi = _mm_set1_epi32((int)qmax);
             for (; n - i >= 4u; i += 4) {
                 __m128 f = _mm_loadu_ps((const float *)(const void *)(row + 4 * (size_t)(x0 + i)));
                 __m128i lo, hi;
                 if (reversed) f = _mm_sub_ps(one, f);
-                f = _mm_min_ps(f, one);
-                f = _mm_and_ps(f, _mm_cmpge_ps(f, least));
+                f = lrt__clamp_depth4(f);
                 lo = _mm_cvttpd_epi32(_mm_mul_pd(_mm_cvtps_pd(f), q));
                 hi = _mm_cvttpd_epi32(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), q));
                 _mm_storeu_si128((__m128i *)(void *)(codes + i), _mm_sub_epi32(qi, _mm_unpacklo_epi64(lo, hi)));
@@ -1223,7 +1229,7 @@ static void lrt__row_back_codes(const lrt_depth *depth, const unsigned char *dro
 #if LRT__SSE
         { /* 4 at a time: the same clamps, the max, the product in double, and
              ceil as trunc + (trunc < x) */
-            const __m128 one = _mm_set1_ps(1.0f), least = _mm_set1_ps(LRT__FLT_MIN);
+            const __m128 one = _mm_set1_ps(1.0f);
             const __m128d q = _mm_set1_pd((double)qmax);
             for (; n - i >= 4u; i += 4) {
                 __m128 f = _mm_loadu_ps((const float *)(const void *)(drow + 4 * (size_t)(x0 + i)));
@@ -1234,11 +1240,7 @@ static void lrt__row_back_codes(const lrt_depth *depth, const unsigned char *dro
                     f = _mm_sub_ps(one, f);
                     g = _mm_sub_ps(one, g);
                 }
-                f = _mm_min_ps(f, one); /* lrt__clamp_depth */
-                g = _mm_min_ps(g, one);
-                f = _mm_and_ps(f, _mm_cmpge_ps(f, least));
-                g = _mm_and_ps(g, _mm_cmpge_ps(g, least));
-                f = _mm_max_ps(f, g);
+                f = _mm_max_ps(lrt__clamp_depth4(f), lrt__clamp_depth4(g));
                 xl = _mm_mul_pd(_mm_cvtps_pd(f), q);
                 xh = _mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), q);
                 cl = _mm_cvttpd_epi32(xl); /* 2 lanes each, in the low half */
@@ -2660,6 +2662,12 @@ LRT__FORCE_INLINE void lrt__box8(const lrt__walk *w, const lrt__ray_setup *s, co
     }
 }
 
+LRT__FORCE_INLINE __m256 lrt__clamp_depth8(__m256 d) /* lrt__clamp_depth, 8 at once */
+{
+    d = _mm256_min_ps(d, _mm256_set1_ps(1.0f));
+    return _mm256_and_ps(d, _mm256_cmp_ps(d, _mm256_set1_ps(LRT__FLT_MIN), _CMP_GE_OQ));
+}
+
 /* Level-1 node (nx, ny) of plain float depth, wholly inside the map:
    lrt__test_texel of its 8 texels at once (the same floats: the clamps,
    (d - o.z) / v.z, lrt__widen), no branch per texel and no codes. The
@@ -2679,8 +2687,7 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
     float enter[8];
     uint32_t mask;
     lrt__slabs8(s, &w->lv[1], (float)(nx * 4u), (float)(ny * 2u), 0u, &en, &ex);
-    d = _mm256_min_ps(d, _mm256_set1_ps(1.0f)); /* lrt__clamp_depth */
-    d = _mm256_and_ps(d, _mm256_cmp_ps(d, _mm256_set1_ps(LRT__FLT_MIN), _CMP_GE_OQ));
+    d = lrt__clamp_depth8(d);
     lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(d, s->vo[2]), s->viv[2]), neg_z, &en, &ex);
     if (w->back_codes) { /* the texels' backs the same way (lrt__back_plane) */
         const float *k = w->L->back_k;
@@ -2690,8 +2697,7 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
             const __m128 b0 = _mm_loadu_ps((const float *)(const void *)brow);
             const __m128 b1 = _mm_loadu_ps((const float *)(const void *)(brow + w->back_stride));
             b = _mm256_permutevar8x32_ps(_mm256_insertf128_ps(_mm256_castps128_ps256(b0), b1, 1), s->sg->order[0]);
-            b = _mm256_min_ps(b, _mm256_set1_ps(1.0f));
-            b = _mm256_and_ps(b, _mm256_cmp_ps(b, _mm256_set1_ps(LRT__FLT_MIN), _CMP_GE_OQ));
+            b = lrt__clamp_depth8(b);
         } else if (w->L->thickness == LRT_THICKNESS_CONSTANT) { /* lrt__model_back, 8 at once */
             const __m256 k0 = _mm256_set1_ps(k[0]), k1 = _mm256_set1_ps(k[1]), u = _mm256_sub_ps(k0, d);
             b = _mm256_add_ps(_mm256_div_ps(k0, u), k1);
@@ -3623,6 +3629,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__start_node lrt__start_node_avx2
 #define lrt__test_children lrt__test_children_avx2
 #define lrt__test_texel lrt__test_texel_avx2
+#define lrt__clamp_depth8 lrt__clamp_depth8_avx2
 #define lrt__texels8 lrt__texels8_avx2
 #define lrt__trace8 lrt__trace8_avx2
 #define lrt__trace_from lrt__trace_from_avx2
@@ -3703,6 +3710,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__test_children
 #undef lrt__test_texel
 #undef lrt__texels8
+#undef lrt__clamp_depth8
 #undef lrt__trace8
 #undef lrt__trace_from
 #undef lrt__trace_one

@@ -6,15 +6,11 @@
 #define LINEAR_RT_STATIC
 #define LINEAR_RT_IMPLEMENTATION
 #include "../linear_rt.h"
+#include "support/build_trace.h"
 
 /* builds a BVH over depth and traces rays with this unit's copy; an lrt_result */
 int PATHS_FN(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
 int PATHS_FN(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags)
 {
-    lrt_bvh bvh;
-    lrt_result r;
-    if ((r = lrt_bvh_build(&bvh, depth, opt, NULL)) != LRT_SUCCESS) return (int)r;
-    r = lrt_trace(&bvh, depth, rays, hits, n, flags);
-    lrt_bvh_destroy(&bvh);
-    return (int)r;
+    return build_and_trace(depth, opt, rays, hits, n, flags);
 }

@@ -18,6 +18,7 @@
 #include "../examples/scene.h"
 #include "support/rays.h"
 #include "support/check.h"
+#include "support/build_trace.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -60,20 +61,10 @@ static int trace_flushed(paths_fn fn, const lrt_depth *depth, const lrt_build_op
     _mm_setcsr(csr);
     return r;
 }
-static int paths_trace_own(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n,
-                           uint32_t flags)
-{
-    lrt_bvh bvh;
-    lrt_result r;
-    if ((r = lrt_bvh_build(&bvh, depth, opt, NULL)) != LRT_SUCCESS) return (int)r;
-    r = lrt_trace(&bvh, depth, rays, hits, n, flags);
-    lrt_bvh_destroy(&bvh);
-    return (int)r;
-}
 static int flushed_own(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n,
                        uint32_t flags)
 {
-    return trace_flushed(paths_trace_own, depth, opt, rays, hits, n, flags);
+    return trace_flushed(build_and_trace, depth, opt, rays, hits, n, flags);
 }
 static int flushed_scalar(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n,
                           uint32_t flags)
