@@ -16,7 +16,9 @@
      >>vulkan-api  declarations of the Vulkan path (LINEAR_RT_VULKAN)
      >>impl        the implementation: config macros and the ISA prelude (every
                    SIMD decision: LRT__SSE, LRT__AVX_BUILT, LRT__AVX_AT_RUN_TIME),
-                   then by the data's path:
+                   then by the data's path; every SIMD function sits in an
+                   "ISA block:" (AVX2 | SSE2 | scalar versions under one name),
+                   so the functions around them have no #if of their own:
      >>depth         1. depth in: validation, one texel's raw value, the backs
      >>heights       2. heights: depth to rounded-up codes, back codes
      >>layout        3. level geometry and the modified Morton mapping
@@ -1082,6 +1084,32 @@ LRT__INLINE uint32_t lrt__model_back_bits(const lrt_layout *L, lrt_format format
       the box a node promises is never smaller than the true one.
    ========================================================================== */
 
+/* ---- ISA block: a row's float depths to height codes, 4 at a time (SSE2 |
+   scalar: none): the same clamps (minps keeps 1 for NaN) and the same
+   product in double as lrt__row_heights' loop; returns how many it did ---- */
+#if LRT__SSE
+static uint32_t lrt__float_heights4(const unsigned char *row, uint32_t x0, uint32_t n, int reversed, uint32_t qmax,
+                                    uint32_t *codes)
+{
+    uint32_t i = 0;
+    const __m128 one = _mm_set1_ps(1.0f);
+    const __m128d q = _mm_set1_pd((double)qmax);
+    const __m128i qi = _mm_set1_epi32((int)qmax);
+    for (; n - i >= 4u; i += 4) {
+        __m128 f = _mm_loadu_ps((const float *)(const void *)(row + 4 * (size_t)(x0 + i)));
+        __m128i lo, hi;
+        if (reversed) f = _mm_sub_ps(one, f);
+        f = lrt__clamp_depth4(f);
+        lo = _mm_cvttpd_epi32(_mm_mul_pd(_mm_cvtps_pd(f), q));
+        hi = _mm_cvttpd_epi32(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), q));
+        _mm_storeu_si128((__m128i *)(void *)(codes + i), _mm_sub_epi32(qi, _mm_unpacklo_epi64(lo, hi)));
+    }
+    return i;
+}
+#else
+#define lrt__float_heights4(row, x0, n, reversed, qmax, codes) 0u /* the loop does them all */
+#endif
+
 /* Height codes of texels [x0, x0+n) of one row: qmax - floor(depth * qmax).
    Integer inputs stay in integers, so 8-bit depth in 8- or 16-bit nodes and
    16-bit depth in 16-bit nodes are exact. One loop per format keeps the
@@ -1092,25 +1120,7 @@ static void lrt__row_heights(const lrt_depth *depth, const unsigned char *row, u
     const int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
     uint32_t i;
     if (depth->format == LRT_FORMAT_FLOAT32) {
-        i = 0;
-#if LRT__SSE
-        { /* 4 at a time: the same clamps (minps keeps 1 for NaN) and the same
-             product in double */
-            const __m128 one = _mm_set1_ps(1.0f);
-            const __m128d q = _mm_set1_pd((double)qmax);
-            const __m128i qi = _mm_set1_epi32((int)qmax);
-            for (; n - i >= 4u; i += 4) {
-                __m128 f = _mm_loadu_ps((const float *)(const void *)(row + 4 * (size_t)(x0 + i)));
-                __m128i lo, hi;
-                if (reversed) f = _mm_sub_ps(one, f);
-                f = lrt__clamp_depth4(f);
-                lo = _mm_cvttpd_epi32(_mm_mul_pd(_mm_cvtps_pd(f), q));
-                hi = _mm_cvttpd_epi32(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), q));
-                _mm_storeu_si128((__m128i *)(void *)(codes + i), _mm_sub_epi32(qi, _mm_unpacklo_epi64(lo, hi)));
-            }
-        }
-#endif
-        for (; i < n; ++i) {
+        for (i = lrt__float_heights4(row, x0, n, reversed, qmax, codes); i < n; ++i) {
             float f;
             memcpy(&f, row + 4 * (size_t)(x0 + i), 4);
             if (reversed) f = 1.0f - f;
@@ -1215,6 +1225,42 @@ LINEAR_RT_DEF size_t lrt_layout_node_index(const lrt_layout *layout, uint32_t le
       a rebuild byte for byte.
    ========================================================================== */
 
+/* ---- ISA block: a row's float depths and backs to back codes, 4 at a time
+   (SSE2 | scalar: none): the same clamps, the max, the product in double,
+   and ceil as trunc + (trunc < x), as lrt__row_back_codes' loop; returns how
+   many it did ---- */
+#if LRT__SSE
+static uint32_t lrt__float_back_codes4(const unsigned char *drow, const unsigned char *brow, uint32_t x0, uint32_t n,
+                                       int reversed, uint32_t qmax, uint32_t *codes)
+{
+    uint32_t i = 0;
+    const __m128 one = _mm_set1_ps(1.0f);
+    const __m128d q = _mm_set1_pd((double)qmax);
+    for (; n - i >= 4u; i += 4) {
+        __m128 f = _mm_loadu_ps((const float *)(const void *)(drow + 4 * (size_t)(x0 + i)));
+        __m128 g = _mm_loadu_ps((const float *)(const void *)(brow + 4 * (size_t)(x0 + i)));
+        __m128d xl, xh;
+        __m128i cl, ch;
+        if (reversed) {
+            f = _mm_sub_ps(one, f);
+            g = _mm_sub_ps(one, g);
+        }
+        f = _mm_max_ps(lrt__clamp_depth4(f), lrt__clamp_depth4(g));
+        xl = _mm_mul_pd(_mm_cvtps_pd(f), q);
+        xh = _mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), q);
+        cl = _mm_cvttpd_epi32(xl); /* 2 lanes each, in the low half */
+        ch = _mm_cvttpd_epi32(xh);
+        /* + 1 where the truncation is below x: the compare's all-ones lanes are -1 */
+        cl = _mm_sub_epi32(cl, _mm_shuffle_epi32(_mm_castpd_si128(_mm_cmplt_pd(_mm_cvtepi32_pd(cl), xl)), _MM_SHUFFLE(3, 3, 2, 0)));
+        ch = _mm_sub_epi32(ch, _mm_shuffle_epi32(_mm_castpd_si128(_mm_cmplt_pd(_mm_cvtepi32_pd(ch), xh)), _MM_SHUFFLE(3, 3, 2, 0)));
+        _mm_storeu_si128((__m128i *)(void *)(codes + i), _mm_unpacklo_epi64(cl, ch));
+    }
+    return i;
+}
+#else
+#define lrt__float_back_codes4(drow, brow, x0, n, reversed, qmax, codes) 0u /* the loop does them all */
+#endif
+
 /* Back codes of texels [x0, x0+n) of one row: ceil(b * qmax) of each
    texel's back depth b = max(depth, back), rounded UP so that a node's back
    is never shallower than a texel's under it (lrt__back_raw's values, one
@@ -1225,34 +1271,7 @@ static void lrt__row_back_codes(const lrt_depth *depth, const unsigned char *dro
     const int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
     uint32_t i;
     if (depth->format == LRT_FORMAT_FLOAT32) {
-        i = 0;
-#if LRT__SSE
-        { /* 4 at a time: the same clamps, the max, the product in double, and
-             ceil as trunc + (trunc < x) */
-            const __m128 one = _mm_set1_ps(1.0f);
-            const __m128d q = _mm_set1_pd((double)qmax);
-            for (; n - i >= 4u; i += 4) {
-                __m128 f = _mm_loadu_ps((const float *)(const void *)(drow + 4 * (size_t)(x0 + i)));
-                __m128 g = _mm_loadu_ps((const float *)(const void *)(brow + 4 * (size_t)(x0 + i)));
-                __m128d xl, xh;
-                __m128i cl, ch;
-                if (reversed) {
-                    f = _mm_sub_ps(one, f);
-                    g = _mm_sub_ps(one, g);
-                }
-                f = _mm_max_ps(lrt__clamp_depth4(f), lrt__clamp_depth4(g));
-                xl = _mm_mul_pd(_mm_cvtps_pd(f), q);
-                xh = _mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(f, f)), q);
-                cl = _mm_cvttpd_epi32(xl); /* 2 lanes each, in the low half */
-                ch = _mm_cvttpd_epi32(xh);
-                /* + 1 where the truncation is below x: the compare's all-ones lanes are -1 */
-                cl = _mm_sub_epi32(cl, _mm_shuffle_epi32(_mm_castpd_si128(_mm_cmplt_pd(_mm_cvtepi32_pd(cl), xl)), _MM_SHUFFLE(3, 3, 2, 0)));
-                ch = _mm_sub_epi32(ch, _mm_shuffle_epi32(_mm_castpd_si128(_mm_cmplt_pd(_mm_cvtepi32_pd(ch), xh)), _MM_SHUFFLE(3, 3, 2, 0)));
-                _mm_storeu_si128((__m128i *)(void *)(codes + i), _mm_unpacklo_epi64(cl, ch));
-            }
-        }
-#endif
-        for (; i < n; ++i) {
+        for (i = lrt__float_back_codes4(drow, brow, x0, n, reversed, qmax, codes); i < n; ++i) {
             float f, g;
             double x;
             uint32_t c;
@@ -1314,6 +1333,43 @@ static void lrt__row_model_back_codes(const lrt_layout *L, const lrt_depth *dept
     }
 }
 
+/* ---- ISA block: a level-1 node's 4 + 4 codes (two texel rows) stored at
+   code index `node` (SSE2: packed; the signed packs see them moved by 2^15
+   when 16-bit | scalar) ---- */
+#if LRT__SSE
+LRT__FORCE_INLINE void lrt__store_node4x2(void *nodes, size_t node, uint32_t node_bits, const uint32_t *c0, const uint32_t *c1)
+{
+    const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)c0);
+    const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)c1);
+    if (node_bits == 8) {
+        const __m128i p = _mm_packs_epi32(a, b);
+        _mm_storel_epi64((__m128i *)(void *)((uint8_t *)nodes + node), _mm_packus_epi16(p, p));
+    } else {
+        const __m128i h = _mm_set1_epi32(32768);
+        const __m128i p = _mm_packs_epi32(_mm_sub_epi32(a, h), _mm_sub_epi32(b, h));
+        _mm_storeu_si128((__m128i *)(void *)((uint16_t *)nodes + node), _mm_xor_si128(p, _mm_set1_epi16((short)0x8000)));
+    }
+}
+#else
+LRT__FORCE_INLINE void lrt__store_node4x2(void *nodes, size_t node, uint32_t node_bits, const uint32_t *c0, const uint32_t *c1)
+{
+    uint32_t s;
+    if (node_bits == 8) {
+        uint8_t *out = (uint8_t *)nodes + node;
+        for (s = 0; s < 4; ++s) {
+            out[s] = (uint8_t)c0[s];
+            out[4 + s] = (uint8_t)c1[s];
+        }
+    } else {
+        uint16_t *out = (uint16_t *)nodes + node;
+        for (s = 0; s < 4; ++s) {
+            out[s] = (uint16_t)c0[s];
+            out[4 + s] = (uint16_t)c1[s];
+        }
+    }
+}
+#endif
+
 /* Refit level-1 nodes [nx0,nx1] x [ny0,ny1] from the texels, two texel rows
    at a time: their heights, or (back) their back codes, which a back-map
    tree keeps node_count * 8 codes after them. Texels outside the map get
@@ -1350,34 +1406,7 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
                 /* level 1 groups 2x4 (lrt_layout_node_index): node nx is 8 slots after nx - 2 */
                 size_t node = codes_at + (base + row + (size_t)(nx >> 1) * 8u + (nx & 1u)) * 8u;
                 const uint32_t *c0 = codes[0] + (size_t)(nx - chunk) * 4u, *c1 = codes[1] + (size_t)(nx - chunk) * 4u;
-#if LRT__SSE
-                { /* the node's 4 + 4 codes, packed (the signed packs see them moved by 2^15 when 16-bit) */
-                    const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)c0);
-                    const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)c1);
-                    if (L->node_bits == 8) {
-                        const __m128i p = _mm_packs_epi32(a, b);
-                        _mm_storel_epi64((__m128i *)(void *)((uint8_t *)bvh->nodes + node), _mm_packus_epi16(p, p));
-                    } else {
-                        const __m128i h = _mm_set1_epi32(32768);
-                        const __m128i p = _mm_packs_epi32(_mm_sub_epi32(a, h), _mm_sub_epi32(b, h));
-                        _mm_storeu_si128((__m128i *)(void *)((uint16_t *)bvh->nodes + node), _mm_xor_si128(p, _mm_set1_epi16((short)0x8000)));
-                    }
-                }
-#else
-                if (L->node_bits == 8) {
-                    uint8_t *out = (uint8_t *)bvh->nodes + node;
-                    for (s = 0; s < 4; ++s) {
-                        out[s] = (uint8_t)c0[s];
-                        out[4 + s] = (uint8_t)c1[s];
-                    }
-                } else {
-                    uint16_t *out = (uint16_t *)bvh->nodes + node;
-                    for (s = 0; s < 4; ++s) {
-                        out[s] = (uint16_t)c0[s];
-                        out[4 + s] = (uint16_t)c1[s];
-                    }
-                }
-#endif
+                lrt__store_node4x2(bvh->nodes, node, L->node_bits, c0, c1);
             }
         }
     }
@@ -2199,6 +2228,86 @@ static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *caller_ray, uint32_t wid
     return s->t_lo <= s->t_hi;
 }
 
+/* ---- ISA block: a direction, its inverse and its sign bits (SSE2 | scalar) -
+   (the SSE2 one divides once for all three) */
+#if LRT__SSE
+LRT__FORCE_INLINE void lrt__set_direction(lrt__ray_setup *s, const float v[3])
+{
+    int k;
+    const __m128 vv = _mm_set_ps(1.0f, v[2], v[1], v[0]);
+    const __m128 iv = _mm_div_ps(_mm_set1_ps(1.0f), vv); /* one division for three */
+    const int signs = _mm_movemask_ps(vv);
+    float ivs[4];
+    _mm_storeu_ps(ivs, iv);
+    for (k = 0; k < 3; ++k) {
+        s->v[k] = v[k];
+        s->iv[k] = ivs[k];
+    }
+    s->neg_x = (uint32_t)signs & 1u;
+    s->neg_y = ((uint32_t)signs >> 1) & 1u;
+    s->neg_z = ((uint32_t)signs >> 2) & 1u;
+}
+#else
+LRT__FORCE_INLINE void lrt__set_direction(lrt__ray_setup *s, const float v[3])
+{
+    int k;
+    for (k = 0; k < 3; ++k) {
+        s->v[k] = v[k];
+        s->iv[k] = 1.0f / v[k];
+    }
+    s->neg_x = lrt__sign_bit(v[0]);
+    s->neg_y = lrt__sign_bit(v[1]);
+    s->neg_z = lrt__sign_bit(v[2]);
+}
+#endif
+
+/* ---- ISA block: a ray's rare test on its bits (SSE2 | scalar) ------------
+   One test on the bits of the 8 floats: each is 0, or its size (the bits
+   without the sign) lies in [low, high), where low is 2^-100 for o and
+   v (2^-126 for tmin and tmax) and high is inf, or 2^16 for v. Anything
+   else takes lrt__setup_rare, which validates the ray first: NaN or inf,
+   a subnormal (read as 0 there, docs/MODEL.md), a component of o or v
+   below 2^-100 but not 0 (a tiny v_k has no finite 1/v_k; a plane near
+   such an o_k is crossed at a t that may round to 0), a v_k of 2^16 or
+   more (the same with plane - o_k below 2^-110); also |v.z| >= 16 from o.z = 0 (a float depth as small as
+   2^-146 is met at such a t). The unsigned test x - low < high - low is
+   a signed one after both sides are moved by 2^31. */
+#if LRT__SSE
+LRT__FORCE_INLINE int lrt__rare_bits(const lrt_ray *ray)
+{
+    const __m128i abs_bits = _mm_set1_epi32(0x7fffffff), bias = _mm_set1_epi32((int)0x80000000u);
+    const __m128i low = _mm_set_epi32(0x00800000, (int)LRT__RARE_TINY, (int)LRT__RARE_TINY, (int)LRT__RARE_TINY);
+    const __m128i span_o = _mm_set_epi32((int)(0x7f000000u ^ 0x80000000u), (int)((0x7f800000u - LRT__RARE_TINY) ^ 0x80000000u),
+                                         (int)((0x7f800000u - LRT__RARE_TINY) ^ 0x80000000u),
+                                         (int)((0x7f800000u - LRT__RARE_TINY) ^ 0x80000000u));
+    const __m128i span_v = _mm_set_epi32((int)(0x7f000000u ^ 0x80000000u), (int)((LRT__RARE_HUGE - LRT__RARE_TINY) ^ 0x80000000u),
+                                         (int)((LRT__RARE_HUGE - LRT__RARE_TINY) ^ 0x80000000u),
+                                         (int)((LRT__RARE_HUGE - LRT__RARE_TINY) ^ 0x80000000u));
+    float f[8];
+    __m128i a, b;
+    memcpy(f, ray, sizeof f); /* the ray is 8 floats: origin, tmin, dir, tmax; one copy: no partial-store stall */
+    a = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)f), abs_bits);
+    b = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)(f + 4)), abs_bits);
+    a = _mm_or_si128(_mm_cmpeq_epi32(a, _mm_setzero_si128()), _mm_cmplt_epi32(_mm_xor_si128(_mm_sub_epi32(a, low), bias), span_o));
+    b = _mm_or_si128(_mm_cmpeq_epi32(b, _mm_setzero_si128()), _mm_cmplt_epi32(_mm_xor_si128(_mm_sub_epi32(b, low), bias), span_v));
+    return (_mm_movemask_ps(_mm_castsi128_ps(_mm_and_si128(a, b))) != 15) | ((f[2] == 0.0f) & (fabsf(f[6]) >= 16.0f));
+}
+#else
+LRT__FORCE_INLINE int lrt__rare_bits(const lrt_ray *ray)
+{
+    uint32_t u[8];
+    int k, rare;
+    memcpy(u, ray, sizeof u);
+    rare = (ray->origin[2] == 0.0f) & (fabsf(ray->dir[2]) >= 16.0f);
+    for (k = 0; k < 8; ++k) {
+        const uint32_t x = u[k] & 0x7fffffffu, low = (k & 3) == 3 ? 0x00800000u : LRT__RARE_TINY;
+        const uint32_t high = (k & 3) == 3 || k < 3 ? 0x7f800000u : LRT__RARE_HUGE;
+        rare |= x != 0u && !(x - low < high - low);
+    }
+    return rare;
+}
+#endif
+
 /* Validates and clips one ray; returns 0 with *kind set when nothing is left
    to walk. Directions at the edge of float range take lrt__setup_rare. */
 LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t height, lrt__ray_setup *s, float *t_scale,
@@ -2207,47 +2316,7 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
     float v[3], tmin = ray->tmin, tmax = ray->tmax;
     int k, rare;
     *t_scale = 1.0f;
-    /* One test on the bits of the 8 floats: each is 0, or its size (the bits
-       without the sign) lies in [low, high), where low is 2^-100 for o and
-       v (2^-126 for tmin and tmax) and high is inf, or 2^16 for v. Anything
-       else takes lrt__setup_rare, which validates the ray first: NaN or inf,
-       a subnormal (read as 0 there, docs/MODEL.md), a component of o or v
-       below 2^-100 but not 0 (a tiny v_k has no finite 1/v_k; a plane near
-       such an o_k is crossed at a t that may round to 0), a v_k of 2^16 or
-       more (the same with plane - o_k below 2^-110); also |v.z| >= 16 from o.z = 0 (a float depth as small as
-       2^-146 is met at such a t). The unsigned test x - low < high - low is
-       a signed one after both sides are moved by 2^31. */
-#if LRT__SSE
-    {
-        const __m128i abs_bits = _mm_set1_epi32(0x7fffffff), bias = _mm_set1_epi32((int)0x80000000u);
-        const __m128i low = _mm_set_epi32(0x00800000, (int)LRT__RARE_TINY, (int)LRT__RARE_TINY, (int)LRT__RARE_TINY);
-        const __m128i span_o = _mm_set_epi32((int)(0x7f000000u ^ 0x80000000u), (int)((0x7f800000u - LRT__RARE_TINY) ^ 0x80000000u),
-                                             (int)((0x7f800000u - LRT__RARE_TINY) ^ 0x80000000u),
-                                             (int)((0x7f800000u - LRT__RARE_TINY) ^ 0x80000000u));
-        const __m128i span_v = _mm_set_epi32((int)(0x7f000000u ^ 0x80000000u), (int)((LRT__RARE_HUGE - LRT__RARE_TINY) ^ 0x80000000u),
-                                             (int)((LRT__RARE_HUGE - LRT__RARE_TINY) ^ 0x80000000u),
-                                             (int)((LRT__RARE_HUGE - LRT__RARE_TINY) ^ 0x80000000u));
-        float f[8];
-        __m128i a, b;
-        memcpy(f, ray, sizeof f); /* the ray is 8 floats: origin, tmin, dir, tmax; one copy: no partial-store stall */
-        a = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)f), abs_bits);
-        b = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)(f + 4)), abs_bits);
-        a = _mm_or_si128(_mm_cmpeq_epi32(a, _mm_setzero_si128()), _mm_cmplt_epi32(_mm_xor_si128(_mm_sub_epi32(a, low), bias), span_o));
-        b = _mm_or_si128(_mm_cmpeq_epi32(b, _mm_setzero_si128()), _mm_cmplt_epi32(_mm_xor_si128(_mm_sub_epi32(b, low), bias), span_v));
-        rare = (_mm_movemask_ps(_mm_castsi128_ps(_mm_and_si128(a, b))) != 15) | ((f[2] == 0.0f) & (fabsf(f[6]) >= 16.0f));
-    }
-#else
-    {
-        uint32_t u[8];
-        memcpy(u, ray, sizeof u);
-        rare = (ray->origin[2] == 0.0f) & (fabsf(ray->dir[2]) >= 16.0f);
-        for (k = 0; k < 8; ++k) {
-            const uint32_t x = u[k] & 0x7fffffffu, low = (k & 3) == 3 ? 0x00800000u : LRT__RARE_TINY;
-            const uint32_t high = (k & 3) == 3 || k < 3 ? 0x7f800000u : LRT__RARE_HUGE;
-            rare |= x != 0u && !(x - low < high - low);
-        }
-    }
-#endif
+    rare = lrt__rare_bits(ray);
     /* a far-away origin restarts in lrt__setup_rare too (one restart for both
        kinds of ray, and the kernels' common set-up stays short) */
     rare |= lrt__far_origin(ray->origin, width, height);
@@ -2270,30 +2339,7 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
         v[k] = ray->dir[k];
     }
     s->zk = 0;
-#if LRT__SSE
-    {
-        const __m128 vv = _mm_set_ps(1.0f, v[2], v[1], v[0]);
-        const __m128 iv = _mm_div_ps(_mm_set1_ps(1.0f), vv); /* one division for three */
-        const int signs = _mm_movemask_ps(vv);
-        float ivs[4];
-        _mm_storeu_ps(ivs, iv);
-        for (k = 0; k < 3; ++k) {
-            s->v[k] = v[k];
-            s->iv[k] = ivs[k];
-        }
-        s->neg_x = (uint32_t)signs & 1u;
-        s->neg_y = ((uint32_t)signs >> 1) & 1u;
-        s->neg_z = ((uint32_t)signs >> 2) & 1u;
-    }
-#else
-    for (k = 0; k < 3; ++k) {
-        s->v[k] = v[k];
-        s->iv[k] = 1.0f / v[k];
-    }
-    s->neg_x = lrt__sign_bit(v[0]);
-    s->neg_y = lrt__sign_bit(v[1]);
-    s->neg_z = lrt__sign_bit(v[2]);
-#endif
+    lrt__set_direction(s, v);
     s->t_base = 0.0f;
     *kind = lrt__clip(s, width, height, tmin, tmax);
     return s->t_lo <= s->t_hi;
@@ -2330,48 +2376,60 @@ typedef struct lrt__walk {
     lrt__signs signs[4];        /* by neg_x | neg_y << 1 */
 } lrt__walk;
 
+/* ---- ISA block: the node test's sign constants (AVX2 | SSE2 | scalar) ---- */
+#if LRT__AVX
+static void lrt__signs_lanes_init(lrt__signs *g, uint32_t neg_x, uint32_t neg_y)
+{
+    const __m256i k = _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0);
+    uint32_t tall, lane;
+    g->order[0] = _mm256_xor_si256(k, _mm256_set1_epi32((int)g->flip[0]));
+    g->order[1] = _mm256_xor_si256(k, _mm256_set1_epi32((int)g->flip[1]));
+    for (tall = 0; tall < 2u; ++tall) {
+        float xe[8], xx[8], ye[8], yx[8];
+        for (lane = 0; lane < 8u; ++lane) {
+            /* a wide node's slot k is column k&3, row k>>2; a tall one's column k&1, row k>>1 */
+            const uint32_t slot = lane ^ g->flip[tall];
+            const uint32_t c = tall ? slot & 1u : slot & 3u, r = tall ? slot >> 1 : slot >> 2;
+            xe[lane] = (float)(c + neg_x);
+            xx[lane] = (float)(c + 1u - neg_x);
+            ye[lane] = (float)(r + neg_y);
+            yx[lane] = (float)(r + 1u - neg_y);
+        }
+        g->kx_enter[tall] = _mm256_loadu_ps(xe);
+        g->kx_exit[tall] = _mm256_loadu_ps(xx);
+        g->ky_enter[tall] = _mm256_loadu_ps(ye);
+        g->ky_exit[tall] = _mm256_loadu_ps(yx);
+    }
+}
+#elif LRT__SSE
+static void lrt__signs_lanes_init(lrt__signs *g, uint32_t neg_x, uint32_t neg_y)
+{
+    const __m128 k0123 = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f), k1234 = _mm_set_ps(4.0f, 3.0f, 2.0f, 1.0f);
+    const __m128 nx = _mm_set1_ps((float)neg_x), ny = _mm_set1_ps((float)neg_y);
+    /* plane k of column (row) c: enters at c + neg, leaves at c + 1 - neg */
+    g->k_enter[0] = _mm_add_ps(k0123, nx);
+    g->k_exit[0] = _mm_sub_ps(k1234, nx);
+    g->k_enter[1] = _mm_add_ps(k0123, ny);
+    g->k_exit[1] = _mm_sub_ps(k1234, ny);
+    g->k_rows2 = _mm_set_ps(2.0f - (float)neg_y, 1.0f + (float)neg_y, 1.0f - (float)neg_y, (float)neg_y);
+    g->k_cols2 = _mm_set_ps(2.0f - (float)neg_x, 1.0f - (float)neg_x, 1.0f + (float)neg_x, (float)neg_x);
+}
+#else
+static void lrt__signs_lanes_init(lrt__signs *g, uint32_t neg_x, uint32_t neg_y)
+{
+    (void)g;
+    (void)neg_x;
+    (void)neg_y;
+}
+#endif
+
 /* The sign constants of the node test for neg_x, neg_y: flip bits of each
    axis that runs backwards, so bit k of a mask is slot k ^ flip. */
 static void lrt__signs_init(lrt__signs *g, uint32_t neg_x, uint32_t neg_y)
 {
     g->flip[0] = (neg_x ? 3u : 0u) | (neg_y ? 4u : 0u);
     g->flip[1] = (neg_x ? 1u : 0u) | (neg_y ? 6u : 0u);
-#if LRT__AVX
-    {
-        const __m256i k = _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0);
-        uint32_t tall, lane;
-        g->order[0] = _mm256_xor_si256(k, _mm256_set1_epi32((int)g->flip[0]));
-        g->order[1] = _mm256_xor_si256(k, _mm256_set1_epi32((int)g->flip[1]));
-        for (tall = 0; tall < 2u; ++tall) {
-            float xe[8], xx[8], ye[8], yx[8];
-            for (lane = 0; lane < 8u; ++lane) {
-                /* a wide node's slot k is column k&3, row k>>2; a tall one's column k&1, row k>>1 */
-                const uint32_t slot = lane ^ g->flip[tall];
-                const uint32_t c = tall ? slot & 1u : slot & 3u, r = tall ? slot >> 1 : slot >> 2;
-                xe[lane] = (float)(c + neg_x);
-                xx[lane] = (float)(c + 1u - neg_x);
-                ye[lane] = (float)(r + neg_y);
-                yx[lane] = (float)(r + 1u - neg_y);
-            }
-            g->kx_enter[tall] = _mm256_loadu_ps(xe);
-            g->kx_exit[tall] = _mm256_loadu_ps(xx);
-            g->ky_enter[tall] = _mm256_loadu_ps(ye);
-            g->ky_exit[tall] = _mm256_loadu_ps(yx);
-        }
-    }
-#elif LRT__SSE
-    {
-        const __m128 k0123 = _mm_set_ps(3.0f, 2.0f, 1.0f, 0.0f), k1234 = _mm_set_ps(4.0f, 3.0f, 2.0f, 1.0f);
-        const __m128 nx = _mm_set1_ps((float)neg_x), ny = _mm_set1_ps((float)neg_y);
-        /* plane k of column (row) c: enters at c + neg, leaves at c + 1 - neg */
-        g->k_enter[0] = _mm_add_ps(k0123, nx);
-        g->k_exit[0] = _mm_sub_ps(k1234, nx);
-        g->k_enter[1] = _mm_add_ps(k0123, ny);
-        g->k_exit[1] = _mm_sub_ps(k1234, ny);
-        g->k_rows2 = _mm_set_ps(2.0f - (float)neg_y, 1.0f + (float)neg_y, 1.0f - (float)neg_y, (float)neg_y);
-        g->k_cols2 = _mm_set_ps(2.0f - (float)neg_x, 1.0f - (float)neg_x, 1.0f + (float)neg_x, (float)neg_x);
-    }
-#endif
+    lrt__signs_lanes_init(g, neg_x, neg_y);
 }
 
 static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *depth, size_t stride)
@@ -2464,6 +2522,55 @@ LRT__FORCE_INLINE uint32_t lrt__start_level(const lrt__walk *w, const uint32_t i
     return lv;
 }
 
+/* ---- ISA block: the texel columns and rows a clipped segment can touch,
+   widened by a margin far above float rounding (SSE2: x and y side by side,
+   the same floats as the scalar loop) ---- */
+#if LRT__SSE
+LRT__FORCE_INLINE void lrt__texel_range(const lrt__walk *w, const lrt__ray_setup *s, uint32_t i0[2], uint32_t i1[2])
+{
+    const lrt_layout *L = w->L;
+    const __m128 o = _mm_set_ps(0.0f, 0.0f, s->o[1], s->o[0]), v = _mm_set_ps(0.0f, 0.0f, s->v[1], s->v[0]);
+    const __m128 lim = _mm_set_ps(0.0f, 0.0f, (float)(L->height - 1u), (float)(L->width - 1u));
+    const __m128 a = _mm_add_ps(o, _mm_mul_ps(_mm_set1_ps(s->t_lo), v));
+    const __m128 b = _mm_add_ps(o, _mm_mul_ps(_mm_set1_ps(s->t_hi), v));
+    const __m128 abs_bits = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    const __m128 size = _mm_add_ps(_mm_add_ps(_mm_and_ps(o, abs_bits), _mm_and_ps(_mm_sub_ps(a, o), abs_bits)),
+                                   _mm_and_ps(_mm_sub_ps(b, o), abs_bits));
+    const __m128 mg = _mm_add_ps(_mm_set1_ps(1e-3f), _mm_mul_ps(_mm_set1_ps(1e-5f), size));
+    /* min_ps(p, q) is p < q ? p : q, max_ps(p, q) is p > q ? p : q: the
+       selects below, NaN included */
+    __m128 lo = _mm_sub_ps(_mm_min_ps(a, b), mg), hi = _mm_add_ps(_mm_max_ps(b, a), mg);
+    __m128i l, h;
+    lo = _mm_min_ps(_mm_max_ps(lo, _mm_setzero_ps()), lim);
+    hi = _mm_max_ps(_mm_min_ps(hi, lim), _mm_setzero_ps());
+    l = _mm_cvttps_epi32(lo);
+    h = _mm_cvttps_epi32(hi);
+    i0[0] = (uint32_t)_mm_cvtsi128_si32(l);
+    i1[0] = (uint32_t)_mm_cvtsi128_si32(h);
+    i0[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(l, _MM_SHUFFLE(1, 1, 1, 1)));
+    i1[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(h, _MM_SHUFFLE(1, 1, 1, 1)));
+}
+#else
+LRT__FORCE_INLINE void lrt__texel_range(const lrt__walk *w, const lrt__ray_setup *s, uint32_t i0[2], uint32_t i1[2])
+{
+    const lrt_layout *L = w->L;
+    int k;
+    for (k = 0; k < 2; ++k) {
+        const float lim = (float)((k ? L->height : L->width) - 1u);
+        float a = s->o[k] + s->t_lo * s->v[k], b = s->o[k] + s->t_hi * s->v[k];
+        float mg = 1e-3f + 1e-5f * (fabsf(s->o[k]) + fabsf(a - s->o[k]) + fabsf(b - s->o[k]));
+        float lo = (a < b ? a : b) - mg, hi = (a < b ? b : a) + mg;
+        /* clamp, then convert; a NaN (from overflow) clamps to the whole map */
+        lo = lo > 0.0f ? lo : 0.0f;
+        lo = lo < lim ? lo : lim;
+        hi = hi < lim ? hi : lim;
+        hi = hi > 0.0f ? hi : 0.0f;
+        i0[k] = (uint32_t)(int32_t)lo;
+        i1[k] = (uint32_t)(int32_t)hi;
+    }
+}
+#endif
+
 /* Lowest level whose single node holds every texel the clipped segment can
    touch: the walk starts there instead of at the root, and a segment inside
    one texel (a camera ray, say) is level 0: one exact box test. The texel
@@ -2472,7 +2579,6 @@ LRT__FORCE_INLINE uint32_t lrt__start_level(const lrt__walk *w, const uint32_t i
 LRT__FORCE_INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_setup *s, uint32_t *sx, uint32_t *sy,
                                            uint32_t *px, uint32_t *py)
 {
-    const lrt_layout *L = w->L;
     uint32_t i0[2], i1[2];
     if (s->v[0] == 0.0f && s->v[1] == 0.0f && (float)(int32_t)s->o[0] != s->o[0] && (float)(int32_t)s->o[1] != s->o[1]) {
         /* a camera ray inside one texel's column (the clip put o on the
@@ -2481,47 +2587,7 @@ LRT__FORCE_INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_se
         *sy = *py = (uint32_t)(int32_t)s->o[1];
         return 0;
     }
-#if LRT__SSE
-    { /* x and y side by side: the same floats as the loop below */
-        const __m128 o = _mm_set_ps(0.0f, 0.0f, s->o[1], s->o[0]), v = _mm_set_ps(0.0f, 0.0f, s->v[1], s->v[0]);
-        const __m128 lim = _mm_set_ps(0.0f, 0.0f, (float)(L->height - 1u), (float)(L->width - 1u));
-        const __m128 a = _mm_add_ps(o, _mm_mul_ps(_mm_set1_ps(s->t_lo), v));
-        const __m128 b = _mm_add_ps(o, _mm_mul_ps(_mm_set1_ps(s->t_hi), v));
-        const __m128 abs_bits = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-        const __m128 size = _mm_add_ps(_mm_add_ps(_mm_and_ps(o, abs_bits), _mm_and_ps(_mm_sub_ps(a, o), abs_bits)),
-                                       _mm_and_ps(_mm_sub_ps(b, o), abs_bits));
-        const __m128 mg = _mm_add_ps(_mm_set1_ps(1e-3f), _mm_mul_ps(_mm_set1_ps(1e-5f), size));
-        /* min_ps(p, q) is p < q ? p : q, max_ps(p, q) is p > q ? p : q: the
-           selects below, NaN included */
-        __m128 lo = _mm_sub_ps(_mm_min_ps(a, b), mg), hi = _mm_add_ps(_mm_max_ps(b, a), mg);
-        __m128i l, h;
-        lo = _mm_min_ps(_mm_max_ps(lo, _mm_setzero_ps()), lim);
-        hi = _mm_max_ps(_mm_min_ps(hi, lim), _mm_setzero_ps());
-        l = _mm_cvttps_epi32(lo);
-        h = _mm_cvttps_epi32(hi);
-        i0[0] = (uint32_t)_mm_cvtsi128_si32(l);
-        i1[0] = (uint32_t)_mm_cvtsi128_si32(h);
-        i0[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(l, _MM_SHUFFLE(1, 1, 1, 1)));
-        i1[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(h, _MM_SHUFFLE(1, 1, 1, 1)));
-    }
-#else
-    {
-        int k;
-        for (k = 0; k < 2; ++k) {
-            const float lim = (float)((k ? L->height : L->width) - 1u);
-            float a = s->o[k] + s->t_lo * s->v[k], b = s->o[k] + s->t_hi * s->v[k];
-            float mg = 1e-3f + 1e-5f * (fabsf(s->o[k]) + fabsf(a - s->o[k]) + fabsf(b - s->o[k]));
-            float lo = (a < b ? a : b) - mg, hi = (a < b ? b : a) + mg;
-            /* clamp, then convert; a NaN (from overflow) clamps to the whole map */
-            lo = lo > 0.0f ? lo : 0.0f;
-            lo = lo < lim ? lo : lim;
-            hi = hi < lim ? hi : lim;
-            hi = hi > 0.0f ? hi : 0.0f;
-            i0[k] = (uint32_t)(int32_t)lo;
-            i1[k] = (uint32_t)(int32_t)hi;
-        }
-    }
-#endif
+    lrt__texel_range(w, s, i0, i1);
     return lrt__start_level(w, i0, i1, s->neg_x, s->neg_y, sx, sy, px, py);
 }
 
@@ -2573,41 +2639,20 @@ LRT__FORCE_INLINE __m128i lrt__load_codes(const lrt__walk *w, size_t slot0, uint
     return _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)((const uint8_t *)w->nodes + slot0)),
                              _mm_setzero_si128());
 }
-
-#if !LRT__AVX /* AVX takes all 8 children in one register (lrt__test_children) */
-/* The x and y slabs of a node's 8 children: entering and leaving t of
-   slots 0..3 in [0], of slots 4..7 in [1]. Every plane is x0 + k * span
-   with k a small integer (exact): the ray's direction signs, set once per
-   ray (lrt__walk_setup), pick which k enters and which leaves, so no
-   per-node selects. */
-LRT__FORCE_INLINE void lrt__child_slabs(const lrt__ray_setup *s, const lrt__walk_level *v, float x0, float y0,
-                                        uint32_t tall, __m128 xe[2], __m128 xx[2], __m128 ye[2], __m128 yx[2])
-{
-    const __m128 X0 = _mm_set1_ps(x0), Y0 = _mm_set1_ps(y0);
-    const __m128 sw = _mm_set1_ps(v->child_span_w), sh = _mm_set1_ps(v->child_span_h);
-    if (!tall) { /* 4 columns, 2 rows */
-        const __m128 r = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->sg->k_rows2, sh)), s->vo[1]), s->viv[1]);
-        xe[0] = xe[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->sg->k_enter[0], sw)), s->vo[0]), s->viv[0]);
-        xx[0] = xx[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->sg->k_exit[0], sw)), s->vo[0]), s->viv[0]);
-        ye[0] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(0, 0, 0, 0)); /* r: row 0 enter, exit, row 1 enter, exit */
-        yx[0] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(1, 1, 1, 1));
-        ye[1] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(2, 2, 2, 2));
-        yx[1] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(3, 3, 3, 3));
-    } else {     /* 2 columns, 4 rows; lanes alternate columns 0, 1 */
-        const __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->sg->k_cols2, sw)), s->vo[0]), s->viv[0]);
-        const __m128 re = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->sg->k_enter[1], sh)), s->vo[1]), s->viv[1]);
-        const __m128 rx = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->sg->k_exit[1], sh)), s->vo[1]), s->viv[1]);
-        xe[0] = xe[1] = _mm_shuffle_ps(c, c, _MM_SHUFFLE(1, 0, 1, 0)); /* c: column 0, 1 enter, column 0, 1 exit */
-        xx[0] = xx[1] = _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 2, 3, 2));
-        ye[0] = _mm_unpacklo_ps(re, re);
-        ye[1] = _mm_unpackhi_ps(re, re);
-        yx[0] = _mm_unpacklo_ps(rx, rx);
-        yx[1] = _mm_unpackhi_ps(rx, rx);
-    }
-}
-#endif
 #endif
 
+/* ---- ISA block: the node tests (AVX2 | SSE2 | scalar) ----------------------
+   lrt__test_children in each; AVX2 also has lrt__cull_children (levels
+   above 1) and lrt__texels8 (level 1 of plain float depth).
+   lrt__test_children: the children of node (nx, ny) at level lv whose
+   boxes the ray meets, as a bit mask in visiting order (bit k is slot
+   k ^ flip, lrt__order_mask); enter[k] / exit[k] bound the ray inside the x and y slabs of the child of
+   lane k (LRT__LANE): the texel test adds the texel's own z planes, so no
+   node's rounded bound ever moves a hit's t (or its face).
+   Slot k of a wide (4x2) node is column k&3, row k>>2; of a tall (2x4) node
+   column k&1, row k>>1. Each plane's t is computed once, the same way at
+   every level, which keeps the culling monotone. tall is a constant where
+   this is inlined, so each shape gets its own straight code. */
 #if LRT__AVX
 /* lrt__widen in 8 lanes, as written there: the product, then the sum */
 LRT__FORCE_INLINE __m256 lrt__widen8(__m256 ex)
@@ -2717,106 +2762,23 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
     *t = enter[mask];
     return mask ^ s->sg->flip[0];
 }
-#endif
 
-/* Children of node (nx, ny) at level lv whose boxes the ray meets, as a bit
-   mask in visiting order (bit k is slot k ^ flip, lrt__order_mask);
-   enter[k] / exit[k] bound the ray inside the x and y slabs of the child of
-   lane k (LRT__LANE): the texel test adds the texel's own z planes, so no
-   node's rounded bound ever moves a hit's t (or its face).
-   Slot k of a wide (4x2) node is column k&3, row k>>2; of a tall (2x4) node
-   column k&1, row k>>1. Each plane's t is computed once, the same way at
-   every level, which keeps the culling monotone. tall is a constant where
-   this is inlined, so each shape gets its own straight code. */
 LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
                                    size_t slot0, float enter[8], float exit[8], uint32_t tall, uint32_t wide, uint32_t neg_z)
 {
     const lrt__walk_level *v = &w->lv[lv];
     const float x0 = (float)(nx << v->span_w_log2), y0 = (float)(ny << v->span_h_log2);
     uint32_t mask = 0;
-#if LRT__SSE
     /* qmax - code in integers, then one conversion: exact, one step shorter */
     const __m128i c16 = lrt__load_codes(w, slot0, wide);
-#endif
-#if LRT__AVX
-    {
-        __m256 en, ex, en_xy, ex_xy;
-        lrt__box8(w, s, v, x0, y0, c16, slot0, tall, wide, neg_z, &en, &ex, &en_xy, &ex_xy);
-        _mm256_storeu_ps(enter, en_xy);
-        _mm256_storeu_ps(exit, ex_xy);
-        mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
-    }
-#elif LRT__SSE
-    {
-        const __m128i zero = _mm_setzero_si128(), qmax = _mm_set1_epi32((int)w->qmax);
-        __m128 xe[2], xx[2], ye[2], yx[2];
-        uint32_t k;
-        const __m128 dz[2] = {_mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpacklo_epi16(c16, zero))),
-                              _mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpackhi_epi16(c16, zero)))};
-        lrt__child_slabs(s, v, x0, y0, tall, xe, xx, ye, yx);
-        for (k = 0; k < 2; ++k) {
-            const __m128 tz = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(dz[k], _mm_set1_ps(w->decode_scale)), s->vo[2]), s->viv[2]);
-            __m128 en = _mm_max_ps(xe[k], s->vt_lo), ex = _mm_min_ps(xx[k], s->vt_hi); /* maxps/minps keep the 2nd operand on NaN */
-            en = _mm_max_ps(ye[k], en);
-            ex = _mm_min_ps(yx[k], ex);
-            _mm_storeu_ps(enter + 4 * (size_t)k, en); /* the slabs alone: the texel test adds its own planes */
-            _mm_storeu_ps(exit + 4 * (size_t)k, ex);
-            if (neg_z) ex = _mm_min_ps(tz, ex); /* the z plane leaves (v.z < 0) or enters */
-            else en = _mm_max_ps(tz, en);
-            if (w->back_codes && !s->zk) { /* the back plane; not for a z scaled by 2^zk: unscaled codes would cut it */
-                const __m128i b16 = lrt__load_codes(w, w->back_codes + slot0, wide);
-                const __m128 bz = _mm_cvtepi32_ps(k ? _mm_unpackhi_epi16(b16, zero) : _mm_unpacklo_epi16(b16, zero));
-                const __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(bz, _mm_set1_ps(w->back_scale)), s->vo[2]), s->viv[2]);
-                if (neg_z) en = _mm_max_ps(tb, en);
-                else ex = _mm_min_ps(tb, ex);
-            }
-            { /* lrt__widen: ex + |ex| 2^-21 where that stays finite, else ex */
-                const __m128 grown = _mm_add_ps(ex, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), ex), _mm_set1_ps(LRT__WIDEN_EXIT)));
-                const __m128 ok = _mm_cmple_ps(grown, _mm_set1_ps(3.40282347e38f));
-                const __m128 widened = _mm_or_ps(_mm_and_ps(ok, grown), _mm_andnot_ps(ok, ex));
-                mask |= (uint32_t)_mm_movemask_ps(_mm_cmple_ps(en, widened)) << (4 * k);
-            }
-        }
-    }
-#else
-    {
-        const uint32_t bw = tall ? 2u : 4u, bh = tall ? 4u : 2u;
-        uint32_t k;
-        float dz[8], bz[8], px[5], py[5];
-        for (k = 0; k < 8; ++k) {
-            dz[k] = (float)((int)w->qmax - (int)lrt__code(w, slot0 + k, wide));
-            bz[k] = w->back_codes ? (float)lrt__code(w, w->back_codes + slot0 + k, wide) * w->back_scale : 0.0f;
-        }
-        for (k = 0; k <= bw; ++k) px[k] = ((x0 + (float)k * v->child_span_w) - s->o[0]) * s->iv[0];
-        for (k = 0; k <= bh; ++k) py[k] = ((y0 + (float)k * v->child_span_h) - s->o[1]) * s->iv[1];
-        for (k = 0; k < 8; ++k) {
-            uint32_t c = tall ? (k & 1u) : (k & 3u), r = tall ? (k >> 1) : (k >> 2);
-            float tz = (dz[k] * w->decode_scale - s->o[2]) * s->iv[2];
-            float en = s->t_lo, ex = s->t_hi;
-            en = LRT__MAX_KEEP(px[c + s->neg_x], en);
-            en = LRT__MAX_KEEP(py[r + s->neg_y], en);
-            ex = LRT__MIN_KEEP(px[c + 1 - s->neg_x], ex);
-            ex = LRT__MIN_KEEP(py[r + 1 - s->neg_y], ex);
-            enter[k] = en; /* the slabs alone: the texel test adds its own planes */
-            exit[k] = ex;
-            if (neg_z) ex = LRT__MIN_KEEP(tz, ex);
-            else en = LRT__MAX_KEEP(tz, en);
-            if (w->back_codes && !s->zk) { /* the back plane; not for a z scaled by 2^zk: unscaled codes would cut it */
-                const float tb = (bz[k] - s->o[2]) * s->iv[2];
-                if (neg_z) en = LRT__MAX_KEEP(tb, en);
-                else ex = LRT__MIN_KEEP(tb, ex);
-            }
-            mask |= (uint32_t)(en <= lrt__widen(ex)) << k;
-        }
-    }
-#endif
-#if !LRT__AVX
-    mask = lrt__order_mask(mask, s->sg->flip[tall]);
-#endif
+    __m256 en, ex, en_xy, ex_xy;
+    lrt__box8(w, s, v, x0, y0, c16, slot0, tall, wide, neg_z, &en, &ex, &en_xy, &ex_xy);
+    _mm256_storeu_ps(enter, en_xy);
+    _mm256_storeu_ps(exit, ex_xy);
+    mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
     return mask;
 }
 
-#if LRT__AVX
 /* The test of lrt__test_children above level 1, where only a mask is
    needed: each plane's t in one fused step with the margins of
    lrt__cull_axis, the z plane straight from the codes, no widening (the
@@ -2845,6 +2807,124 @@ LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray
         else ex = _mm256_min_ps(tb, ex);
     }
     return (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, ex, _CMP_LE_OQ));
+}
+#elif LRT__SSE
+/* The x and y slabs of a node's 8 children: entering and leaving t of
+   slots 0..3 in [0], of slots 4..7 in [1]. Every plane is x0 + k * span
+   with k a small integer (exact): the ray's direction signs, set once per
+   ray (lrt__walk_setup), pick which k enters and which leaves, so no
+   per-node selects. */
+LRT__FORCE_INLINE void lrt__child_slabs(const lrt__ray_setup *s, const lrt__walk_level *v, float x0, float y0,
+                                        uint32_t tall, __m128 xe[2], __m128 xx[2], __m128 ye[2], __m128 yx[2])
+{
+    const __m128 X0 = _mm_set1_ps(x0), Y0 = _mm_set1_ps(y0);
+    const __m128 sw = _mm_set1_ps(v->child_span_w), sh = _mm_set1_ps(v->child_span_h);
+    if (!tall) { /* 4 columns, 2 rows */
+        const __m128 r = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->sg->k_rows2, sh)), s->vo[1]), s->viv[1]);
+        xe[0] = xe[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->sg->k_enter[0], sw)), s->vo[0]), s->viv[0]);
+        xx[0] = xx[1] = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->sg->k_exit[0], sw)), s->vo[0]), s->viv[0]);
+        ye[0] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(0, 0, 0, 0)); /* r: row 0 enter, exit, row 1 enter, exit */
+        yx[0] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(1, 1, 1, 1));
+        ye[1] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(2, 2, 2, 2));
+        yx[1] = _mm_shuffle_ps(r, r, _MM_SHUFFLE(3, 3, 3, 3));
+    } else {     /* 2 columns, 4 rows; lanes alternate columns 0, 1 */
+        const __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(X0, _mm_mul_ps(s->sg->k_cols2, sw)), s->vo[0]), s->viv[0]);
+        const __m128 re = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->sg->k_enter[1], sh)), s->vo[1]), s->viv[1]);
+        const __m128 rx = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(Y0, _mm_mul_ps(s->sg->k_exit[1], sh)), s->vo[1]), s->viv[1]);
+        xe[0] = xe[1] = _mm_shuffle_ps(c, c, _MM_SHUFFLE(1, 0, 1, 0)); /* c: column 0, 1 enter, column 0, 1 exit */
+        xx[0] = xx[1] = _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 2, 3, 2));
+        ye[0] = _mm_unpacklo_ps(re, re);
+        ye[1] = _mm_unpackhi_ps(re, re);
+        yx[0] = _mm_unpacklo_ps(rx, rx);
+        yx[1] = _mm_unpackhi_ps(rx, rx);
+    }
+}
+
+LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
+                                   size_t slot0, float enter[8], float exit[8], uint32_t tall, uint32_t wide, uint32_t neg_z)
+{
+    const lrt__walk_level *v = &w->lv[lv];
+    const float x0 = (float)(nx << v->span_w_log2), y0 = (float)(ny << v->span_h_log2);
+    uint32_t mask = 0;
+    /* qmax - code in integers, then one conversion: exact, one step shorter */
+    const __m128i c16 = lrt__load_codes(w, slot0, wide);
+    const __m128i zero = _mm_setzero_si128(), qmax = _mm_set1_epi32((int)w->qmax);
+    __m128 xe[2], xx[2], ye[2], yx[2];
+    uint32_t k;
+    const __m128 dz[2] = {_mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpacklo_epi16(c16, zero))),
+                          _mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpackhi_epi16(c16, zero)))};
+    lrt__child_slabs(s, v, x0, y0, tall, xe, xx, ye, yx);
+    for (k = 0; k < 2; ++k) {
+        const __m128 tz = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(dz[k], _mm_set1_ps(w->decode_scale)), s->vo[2]), s->viv[2]);
+        __m128 en = _mm_max_ps(xe[k], s->vt_lo), ex = _mm_min_ps(xx[k], s->vt_hi); /* maxps/minps keep the 2nd operand on NaN */
+        en = _mm_max_ps(ye[k], en);
+        ex = _mm_min_ps(yx[k], ex);
+        _mm_storeu_ps(enter + 4 * (size_t)k, en); /* the slabs alone: the texel test adds its own planes */
+        _mm_storeu_ps(exit + 4 * (size_t)k, ex);
+        if (neg_z) ex = _mm_min_ps(tz, ex); /* the z plane leaves (v.z < 0) or enters */
+        else en = _mm_max_ps(tz, en);
+        if (w->back_codes && !s->zk) { /* the back plane; not for a z scaled by 2^zk: unscaled codes would cut it */
+            const __m128i b16 = lrt__load_codes(w, w->back_codes + slot0, wide);
+            const __m128 bz = _mm_cvtepi32_ps(k ? _mm_unpackhi_epi16(b16, zero) : _mm_unpacklo_epi16(b16, zero));
+            const __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(bz, _mm_set1_ps(w->back_scale)), s->vo[2]), s->viv[2]);
+            if (neg_z) en = _mm_max_ps(tb, en);
+            else ex = _mm_min_ps(tb, ex);
+        }
+        { /* lrt__widen: ex + |ex| 2^-21 where that stays finite, else ex */
+            const __m128 grown = _mm_add_ps(ex, _mm_mul_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), ex), _mm_set1_ps(LRT__WIDEN_EXIT)));
+            const __m128 ok = _mm_cmple_ps(grown, _mm_set1_ps(3.40282347e38f));
+            const __m128 widened = _mm_or_ps(_mm_and_ps(ok, grown), _mm_andnot_ps(ok, ex));
+            mask |= (uint32_t)_mm_movemask_ps(_mm_cmple_ps(en, widened)) << (4 * k);
+        }
+    }
+    return lrt__order_mask(mask, s->sg->flip[tall]);
+}
+#else
+LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
+                                   size_t slot0, float enter[8], float exit[8], uint32_t tall, uint32_t wide, uint32_t neg_z)
+{
+    const lrt__walk_level *v = &w->lv[lv];
+    const float x0 = (float)(nx << v->span_w_log2), y0 = (float)(ny << v->span_h_log2);
+    uint32_t mask = 0;
+    const uint32_t bw = tall ? 2u : 4u, bh = tall ? 4u : 2u;
+    uint32_t k;
+    float dz[8], bz[8], px[5], py[5];
+    for (k = 0; k < 8; ++k) {
+        dz[k] = (float)((int)w->qmax - (int)lrt__code(w, slot0 + k, wide));
+        bz[k] = w->back_codes ? (float)lrt__code(w, w->back_codes + slot0 + k, wide) * w->back_scale : 0.0f;
+    }
+    for (k = 0; k <= bw; ++k) px[k] = ((x0 + (float)k * v->child_span_w) - s->o[0]) * s->iv[0];
+    for (k = 0; k <= bh; ++k) py[k] = ((y0 + (float)k * v->child_span_h) - s->o[1]) * s->iv[1];
+    for (k = 0; k < 8; ++k) {
+        uint32_t c = tall ? (k & 1u) : (k & 3u), r = tall ? (k >> 1) : (k >> 2);
+        float tz = (dz[k] * w->decode_scale - s->o[2]) * s->iv[2];
+        float en = s->t_lo, ex = s->t_hi;
+        en = LRT__MAX_KEEP(px[c + s->neg_x], en);
+        en = LRT__MAX_KEEP(py[r + s->neg_y], en);
+        ex = LRT__MIN_KEEP(px[c + 1 - s->neg_x], ex);
+        ex = LRT__MIN_KEEP(py[r + 1 - s->neg_y], ex);
+        enter[k] = en; /* the slabs alone: the texel test adds its own planes */
+        exit[k] = ex;
+        if (neg_z) ex = LRT__MIN_KEEP(tz, ex);
+        else en = LRT__MAX_KEEP(tz, en);
+        if (w->back_codes && !s->zk) { /* the back plane; not for a z scaled by 2^zk: unscaled codes would cut it */
+            const float tb = (bz[k] - s->o[2]) * s->iv[2];
+            if (neg_z) en = LRT__MAX_KEEP(tb, en);
+            else ex = LRT__MIN_KEEP(tb, ex);
+        }
+        mask |= (uint32_t)(en <= lrt__widen(ex)) << k;
+    }
+    return lrt__order_mask(mask, s->sg->flip[tall]);
+}
+#endif
+#if !LRT__AVX
+/* Above level 1 only the mask is needed: the SSE2 and scalar paths take the
+   whole test (AVX2 has a faster one, above). */
+LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx,
+                                              uint32_t ny, size_t slot0, uint32_t tall, uint32_t wide, uint32_t neg_z)
+{
+    float enter[8], exit[8];
+    return lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, tall, wide, neg_z);
 }
 #endif
 
@@ -2974,40 +3054,67 @@ static void lrt__cull_constants(const lrt__walk *w, const lrt__ray_setup *s, flo
 }
 #endif
 
+/* ---- ISA block: a ray's constants in lanes, once per ray (AVX2 | SSE2 |
+   scalar): o, 1/v and the clipped t in every lane; AVX2 adds
+   lrt__cull_children's planes ---- */
+#if LRT__SSE
+LRT__FORCE_INLINE void lrt__broadcast_ray(lrt__ray_setup *s)
+{
+    int axis;
+    for (axis = 0; axis < 3; ++axis) {
+        s->vo[axis] = LRT__BROADCAST(s->o[axis]);
+        s->viv[axis] = LRT__BROADCAST(s->iv[axis]);
+    }
+    s->vt_lo = LRT__BROADCAST(s->t_lo);
+    s->vt_hi = LRT__BROADCAST(s->t_hi);
+}
+#endif
+#if LRT__AVX
+LRT__FORCE_INLINE void lrt__ray_lanes(const lrt__walk *w, lrt__ray_setup *s, const float *cull, size_t stride)
+{
+    float own[LRT__CULL_COUNT];
+    int axis;
+    if (!cull) { /* a ray set up alone (lrt__setup8 made a batch's) */
+        lrt__cull_constants(w, s, own);
+        cull = own;
+        stride = 1;
+    }
+    lrt__broadcast_ray(s);
+    for (axis = 0; axis < 2; ++axis) {
+        s->cull_iv[axis] = LRT__BROADCAST(cull[(LRT__CULL_IV_X + axis) * stride]);
+        s->cull_enter[axis] = LRT__BROADCAST(cull[(LRT__CULL_ENTER_X + axis) * stride]);
+        s->cull_exit[axis] = LRT__BROADCAST(cull[(LRT__CULL_EXIT_X + axis) * stride]);
+    }
+    s->cull_za = LRT__BROADCAST(cull[LRT__CULL_ZA * stride]);
+    s->cull_zb = LRT__BROADCAST(cull[LRT__CULL_ZB * stride]);
+    s->cull_hi = LRT__BROADCAST(cull[LRT__CULL_HI * stride]);
+    s->cull_ba = LRT__BROADCAST(cull[LRT__CULL_BA * stride]);
+    s->cull_bb = LRT__BROADCAST(cull[LRT__CULL_BB * stride]);
+}
+#elif LRT__SSE
+LRT__FORCE_INLINE void lrt__ray_lanes(const lrt__walk *w, lrt__ray_setup *s, const float *cull, size_t stride)
+{
+    (void)w;
+    (void)cull;
+    (void)stride;
+    lrt__broadcast_ray(s);
+}
+#else
+LRT__FORCE_INLINE void lrt__ray_lanes(const lrt__walk *w, lrt__ray_setup *s, const float *cull, size_t stride)
+{
+    (void)w;
+    (void)s;
+    (void)cull;
+    (void)stride;
+}
+#endif
+
 /* Per-ray constants of every node test, set once a ray is walked; cull:
-   lrt__cull_constants, stride floats apart (AVX2 only). */
+   lrt__cull_constants, stride floats apart, or NULL (AVX2 only). */
 LRT__FORCE_INLINE void lrt__walk_setup(const lrt__walk *w, lrt__ray_setup *s, const float *cull, size_t stride)
 {
     s->sg = &w->signs[s->neg_x | (s->neg_y << 1)];
-#if LRT__SSE
-    {
-        int axis;
-        for (axis = 0; axis < 3; ++axis) {
-            s->vo[axis] = LRT__BROADCAST(s->o[axis]);
-            s->viv[axis] = LRT__BROADCAST(s->iv[axis]);
-        }
-        s->vt_lo = LRT__BROADCAST(s->t_lo);
-        s->vt_hi = LRT__BROADCAST(s->t_hi);
-    }
-#endif
-#if LRT__AVX
-    {
-        int axis;
-        for (axis = 0; axis < 2; ++axis) {
-            s->cull_iv[axis] = LRT__BROADCAST(cull[(LRT__CULL_IV_X + axis) * stride]);
-            s->cull_enter[axis] = LRT__BROADCAST(cull[(LRT__CULL_ENTER_X + axis) * stride]);
-            s->cull_exit[axis] = LRT__BROADCAST(cull[(LRT__CULL_EXIT_X + axis) * stride]);
-        }
-        s->cull_za = LRT__BROADCAST(cull[LRT__CULL_ZA * stride]);
-        s->cull_zb = LRT__BROADCAST(cull[LRT__CULL_ZB * stride]);
-        s->cull_hi = LRT__BROADCAST(cull[LRT__CULL_HI * stride]);
-        s->cull_ba = LRT__BROADCAST(cull[LRT__CULL_BA * stride]);
-        s->cull_bb = LRT__BROADCAST(cull[LRT__CULL_BB * stride]);
-    }
-#else
-    (void)cull;
-    (void)stride;
-#endif
+    lrt__ray_lanes(w, s, cull, stride);
 }
 
 /* The walk is a chain of dependent loads, so it starts loads ahead of
@@ -3089,14 +3196,7 @@ LRT__FORCE_INLINE uint32_t lrt__visit(const lrt__walk *w, const lrt__ray_setup *
     const size_t children = lrt__children_slot(w, *lv, *nx, *ny);
     uint32_t mask;
     lrt__prefetch_children(w, children, wide);
-#if LRT__AVX
     mask = lrt__cull_children(w, s, *lv, *nx, *ny, *slot0, tall, wide, neg_z);
-#else
-    {
-        float enter[8], exit[8];
-        mask = lrt__test_children(w, s, *lv, *nx, *ny, *slot0, enter, exit, tall, wide, neg_z);
-    }
-#endif
     /* a padding node (past the level's grid) has no children in memory: a
        ray whose culling is loose there (an axis it does not move along, on
        the map's far edge) must not go down into it (fuzz_core: a read past
@@ -3107,22 +3207,15 @@ LRT__FORCE_INLINE uint32_t lrt__visit(const lrt__walk *w, const lrt__ray_setup *
 }
 
 /* Level-1 node (nx, ny): the first texel under it that the ray hits, in
-   visiting order (returns 0 if none). wide and neg_z are constants where
-   this is inlined. */
-LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *s, uint32_t nx, uint32_t ny, size_t slot0,
+   visiting order (returns 0 if none), by its codes, then the exact test of
+   each texel they let through. wide and neg_z are constants where this is
+   inlined. */
+LRT__FORCE_INLINE int lrt__level1_codes_hit(const lrt__walk *w, const lrt__ray_setup *s, uint32_t nx, uint32_t ny, size_t slot0,
                                       uint32_t wide, uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t)
 {
     const uint32_t flip = s->sg->flip[0];
     float enter[8], exit[8];
     uint32_t mask;
-#if LRT__AVX
-    if (nx < w->texels8_w && ny < w->texels8_h && !s->zk) {
-        const uint32_t slot = lrt__texels8(w, s, nx, ny, neg_z, t);
-        *tx = nx * 4u + (slot & 3u);
-        *ty = ny * 2u + (slot >> 2);
-        return slot < 8u;
-    }
-#endif
     mask = lrt__test_children(w, s, 1u, nx, ny, slot0, enter, exit, 0u, wide, neg_z);
     while (mask) { /* texels: the exact test, front to back */
         const uint32_t vis = lrt__lowest_bit(mask), slot = vis ^ flip, lane = LRT__LANE(vis, slot);
@@ -3133,6 +3226,29 @@ LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *
     }
     return 0;
 }
+
+/* ---- ISA block: a level-1 node's first texel hit (AVX2 | SSE2 and scalar):
+   AVX2 reads a node of plain float depth inside the map straight from the
+   depth (lrt__texels8), 8 texels at once, with no codes ---- */
+#if LRT__AVX
+LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *s, uint32_t nx, uint32_t ny, size_t slot0,
+                                      uint32_t wide, uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t)
+{
+    if (nx < w->texels8_w && ny < w->texels8_h && !s->zk) {
+        const uint32_t slot = lrt__texels8(w, s, nx, ny, neg_z, t);
+        *tx = nx * 4u + (slot & 3u);
+        *ty = ny * 2u + (slot >> 2);
+        return slot < 8u;
+    }
+    return lrt__level1_codes_hit(w, s, nx, ny, slot0, wide, neg_z, tx, ty, t);
+}
+#else
+LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *s, uint32_t nx, uint32_t ny, size_t slot0,
+                                      uint32_t wide, uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t)
+{
+    return lrt__level1_codes_hit(w, s, nx, ny, slot0, wide, neg_z, tx, ty, t);
+}
+#endif
 
 /* The walk from node (nx, ny) of level lv >= 1 down to the first texel hit
    (returns 1 once it is reported), of that node's children only those in
@@ -3263,19 +3379,7 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
         hit->kind = (uint16_t)kind;
         return;
     }
-#if LRT__AVX
-    {
-        float own[LRT__CULL_COUNT];
-        if (!cull) {
-            lrt__cull_constants(w, s, own);
-            cull = own;
-            stride = 1;
-        }
-        lrt__walk_setup(w, s, cull, stride);
-    }
-#else
     lrt__walk_setup(w, s, cull, stride);
-#endif
     /* the walk, with the sign of v.z a constant of its node tests */
     if (!(s->neg_z ? lrt__walk_origin(w, ray, hit, s, t_scale, lv, nx, ny, px, py, wide, 1u)
                    : lrt__walk_origin(w, ray, hit, s, t_scale, lv, nx, ny, px, py, wide, 0u)))
@@ -3509,6 +3613,16 @@ LRT__FORCE_INLINE void lrt__trace8(const lrt__walk *w, const lrt_ray *rays, lrt_
         lrt__trace_from(w, &rays[j], hit, &s, 1.0f, b.kind[j], lv, nx, ny, px, py, &b.cull[0][j], 8, wide);
     }
 }
+
+/* Rays first..end in batches of 8 (returns the first ray left over). */
+LRT__FORCE_INLINE size_t lrt__trace_batches(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits, size_t first, size_t end,
+                                            uint32_t wide)
+{
+    for (; end - first >= 8u; first += 8) lrt__trace8(w, rays + first, hits + first, wide);
+    return first;
+}
+#else
+#define lrt__trace_batches(w, rays, hits, first, end, wide) (first) /* none: every ray alone (lrt__trace_one) */
 #endif
 
 /* One walk per node width (wide: a constant where this is inlined), so the
@@ -3516,10 +3630,7 @@ LRT__FORCE_INLINE void lrt__trace8(const lrt__walk *w, const lrt_ray *rays, lrt_
 LRT__FORCE_INLINE void lrt__trace_rays(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits, size_t first, size_t end,
                                        uint32_t wide)
 {
-    size_t i = first;
-#if LRT__AVX
-    for (; end - i >= 8u; i += 8) lrt__trace8(w, rays + i, hits + i, wide);
-#endif
+    size_t i = lrt__trace_batches(w, rays, hits, first, end, wide);
     for (; i < end; ++i) lrt__trace_one(w, &rays[i], &hits[i], wide);
 }
 
@@ -3536,6 +3647,9 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 /* the macros whose text differs between the passes */
 #undef LRT__BROADCAST
 #undef LRT__LANE
+#if !LRT__AVX
+#undef lrt__trace_batches
+#endif
 #ifdef LRT__EXACT_MADD8
 #undef LRT__EXACT_MADD8
 #endif
@@ -3575,6 +3689,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__bit_length lrt__bit_length_avx2
 #define lrt__bits_in lrt__bits_in_avx2
 #define lrt__box8 lrt__box8_avx2
+#define lrt__broadcast_ray lrt__broadcast_ray_avx2
 #define lrt__child_slabs lrt__child_slabs_avx2
 #define lrt__children_slot lrt__children_slot_avx2
 #define lrt__clip lrt__clip_avx2
@@ -3600,6 +3715,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__flush_float lrt__flush_float_avx2
 #define lrt__flush_ray lrt__flush_ray_avx2
 #define lrt__lanes lrt__lanes_avx2
+#define lrt__level1_codes_hit lrt__level1_codes_hit_avx2
 #define lrt__level1_hit lrt__level1_hit_avx2
 #define lrt__load_codes lrt__load_codes_avx2
 #define lrt__lowest_bit lrt__lowest_bit_avx2
@@ -3612,9 +3728,12 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__pow2 lrt__pow2_avx2
 #define lrt__prefetch_children lrt__prefetch_children_avx2
 #define lrt__prefetch_rows lrt__prefetch_rows_avx2
+#define lrt__rare_bits lrt__rare_bits_avx2
+#define lrt__ray_lanes lrt__ray_lanes_avx2
 #define lrt__ray_setup lrt__ray_setup_avx2
 #define lrt__report_hit lrt__report_hit_avx2
 #define lrt__scale_t lrt__scale_t_avx2
+#define lrt__set_direction lrt__set_direction_avx2
 #define lrt__setup8 lrt__setup8_avx2
 #define lrt__setup_rare lrt__setup_rare_avx2
 #define lrt__setup_ray lrt__setup_ray_avx2
@@ -3623,6 +3742,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__signif lrt__signif_avx2
 #define lrt__signs lrt__signs_avx2
 #define lrt__signs_init lrt__signs_init_avx2
+#define lrt__signs_lanes_init lrt__signs_lanes_init_avx2
 #define lrt__slab lrt__slab_avx2
 #define lrt__slabs8 lrt__slabs8_avx2
 #define lrt__start_level lrt__start_level_avx2
@@ -3630,8 +3750,10 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__test_children lrt__test_children_avx2
 #define lrt__test_texel lrt__test_texel_avx2
 #define lrt__clamp_depth8 lrt__clamp_depth8_avx2
+#define lrt__texel_range lrt__texel_range_avx2
 #define lrt__texels8 lrt__texels8_avx2
 #define lrt__trace8 lrt__trace8_avx2
+#define lrt__trace_batches lrt__trace_batches_avx2
 #define lrt__trace_from lrt__trace_from_avx2
 #define lrt__trace_one lrt__trace_one_avx2
 #define lrt__trace_rays lrt__trace_rays_avx2
@@ -3655,6 +3777,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__bit_length
 #undef lrt__bits_in
 #undef lrt__box8
+#undef lrt__broadcast_ray
 #undef lrt__child_slabs
 #undef lrt__children_slot
 #undef lrt__clip
@@ -3678,6 +3801,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__grow_prod
 #undef lrt__ilogb
 #undef lrt__lanes
+#undef lrt__level1_codes_hit
 #undef lrt__level1_hit
 #undef lrt__load_codes
 #undef lrt__lowest_bit
@@ -3690,11 +3814,14 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__pow2
 #undef lrt__prefetch_children
 #undef lrt__prefetch_rows
+#undef lrt__rare_bits
+#undef lrt__ray_lanes
 #undef lrt__ray_setup
 #undef lrt__report_hit
 #undef lrt__scale_t
 #undef lrt__flush_ray
 #undef lrt__flush_float
+#undef lrt__set_direction
 #undef lrt__setup8
 #undef lrt__setup_rare
 #undef lrt__setup_ray
@@ -3703,15 +3830,18 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__signif
 #undef lrt__signs
 #undef lrt__signs_init
+#undef lrt__signs_lanes_init
 #undef lrt__slab
 #undef lrt__slabs8
 #undef lrt__start_level
 #undef lrt__start_node
 #undef lrt__test_children
 #undef lrt__test_texel
+#undef lrt__texel_range
 #undef lrt__texels8
 #undef lrt__clamp_depth8
 #undef lrt__trace8
+#undef lrt__trace_batches
 #undef lrt__trace_from
 #undef lrt__trace_one
 #undef lrt__trace_rays
