@@ -948,12 +948,75 @@ static float ref__ulps(float x, int k)
     return x;
 }
 
+/* The ray with component q (o.x..o.z, v.x..v.z) moved by x ulps (a real
+   number; between whole ulps the value is interpolated in double). */
+static void ref__moved_ray(const ref_ray *ray, int q, double x, double po[3], double pv[3])
+{
+    const float f = q < 3 ? ray->o[q] : ray->v[q - 3];
+    const int k = (int)floor(fabs(x)), dir = x < 0.0 ? -1 : 1;
+    const double lo = ref__ulps(f, dir * k), hi = ref__ulps(f, dir * (k + 1));
+    int i;
+    for (i = 0; i < 3; i++) {
+        po[i] = ray->o[i];
+        pv[i] = ray->v[i];
+    }
+    *(q < 3 ? &po[q] : &pv[q - 3]) = lo + (fabs(x) - (double)k) * (hi - lo);
+}
+
+/* the t of a hit, or beyond every t for a miss: along a move of one
+   component the first hit comes earlier or later as the ray turns */
+static double ref__first_t(const ref_result *E) { return E->kind == REF_HIT ? E->t : HUGE_VAL; }
+
+/* One component alone moved by a real amount up to 8 ulps (docs/MODEL.md):
+   where the answers of two neighbouring whole-ulp moves lie on either side
+   of got's t, bisect the move between them (the answer moves along the
+   ray with it). A ray along a row of texel corners, v.x = v.y: each corner
+   is passed at the same distance, and the corner that a real move of
+   about 5.5 to 5.97 ulps reaches first lies between those that 5 and 6
+   ulps reach (tests/fuzz/crashes-found/README.md, entry 18). */
+static int ref__bisected_match(const ref_map *m, const ref_ray *ray, const double o[3], const double v[3],
+                               const ref_answer *got)
+{
+    double po[3], pv[3];
+    int q, dir, k, it;
+    if (got->kind != REF_HIT) return 0;
+    for (q = 0; q < 6; q++) {
+        for (dir = -1; dir <= 1; dir += 2) {
+            ref_result E0;
+            double t0, t1;
+            ref__moved_ray(ray, q, 0.0, po, pv);
+            E0 = ref_trace(m, po, pv, ray->tmin, ray->tmax);
+            t0 = ref__first_t(&E0);
+            for (k = 0; k < 8; k++, t0 = t1) {
+                double a = k, b = k + 1.0; /* |move| in ulps: the answer at a lies on t0's side of got's t */
+                ref_result E;
+                ref__moved_ray(ray, q, dir * b, po, pv);
+                E = ref_trace(m, po, pv, ray->tmin, ray->tmax);
+                t1 = ref__first_t(&E);
+                if ((t0 > got->t) == (t1 > got->t)) continue;
+                for (it = 0; it < 40; it++) {
+                    const double mid = 0.5 * (a + b);
+                    ref__moved_ray(ray, q, dir * mid, po, pv);
+                    E = ref_trace(m, po, pv, ray->tmin, ray->tmax);
+                    if (E.kind == REF_HIT && E.x == got->x && E.y == got->y &&
+                        ref__match(m, o, v, ray->tmin, po, pv, &E, got, NULL, 0))
+                        return 1;
+                    if ((ref__first_t(&E) > got->t) == (t0 > got->t)) a = mid;
+                    else b = mid;
+                }
+            }
+        }
+    }
+    return 0;
+}
+
 /* Is there a ray among the given one's perturbations (3^6 combinations of
    {-8,0,+8} ulps on o and v, then of {-1,0,+1}, then one component alone
-   moved by 2 to 7 ulps either way) whose exact answer matches `got`?
-   any_hit: only the kind has to match. The single moves: a ray along a
-   row of texel corners, its answer a corner that v moved by a real 5.6 to
-   7.9 ulps reaches first, while 8 ulps reach an earlier one
+   moved by 2 to 7 ulps either way, then by a real amount,
+   ref__bisected_match) whose exact answer matches `got`? any_hit: only
+   the kind has to match. The single moves: a ray along a row of texel
+   corners, its answer a corner that v moved by a real 5.6 to 7.9 ulps
+   reaches first, while 8 ulps reach an earlier one
    (tests/fuzz/crashes-found/README.md, entry 17). */
 static int ref__perturbed_match(const ref_map *m, const ref_ray *ray, const double o[3],
                                 const double v[3], const ref_answer *got, int any_hit)
@@ -1005,7 +1068,7 @@ static int ref__perturbed_match(const ref_map *m, const ref_ray *ray, const doub
             }
         }
     }
-    return 0;
+    return !any_hit && ref__bisected_match(m, ray, o, v, got);
 }
 
 /* how far 8 float32 ulps move x, as a double: up (dir > 0), down (dir < 0)
@@ -1114,8 +1177,9 @@ static int ref__plate_match(const ref_map *m, const ref_ray *ray, const double o
 
    Exact mode (any_hit == 0): right when it matches the exact answer of the
    ray, or of one of its perturbations (each component of o and v moved by
-   {-8,0,+8} ulps, then by {-1,0,+1}, then one alone by 2..7 either way;
-   tmin, tmax unchanged). Matching: same
+   {-8,0,+8} ulps, then by {-1,0,+1}, then one alone by 2..7 either way,
+   then one alone by a real amount, ref__bisected_match; tmin, tmax
+   unchanged). Matching: same
    kind; for a hit, each component c of p = o + t v (double, from the float
    ray and the reported t) within tol_c = 1e-5 * (1 + |o_c| + |t v_c|) of the
    exact hit point, and the reported texel's box containing the exact hit
