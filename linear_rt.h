@@ -2186,7 +2186,10 @@ static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *caller_ray, uint32_t wid
                 else n[k] = lrt__crossing(s->o[k], s->o[axis], ray->dir[k], ray->dir[axis], plane, 0, 0.0f, 0, k == 2);
                 if (!lrt__finite(n[k])) return 0; /* beyond the float range there */
             }
-            if (axis < 0 || (k = lrt__entered_later(n, ray->dir, hi, axis)) < 0) break;
+            /* the last try keeps its axis: n and te must be the same
+               crossing's (crashes-found 19: a third switch left n at one
+               axis's plane and te at another's) */
+            if (axis < 0 || tries == 2 || (k = lrt__entered_later(n, ray->dir, hi, axis)) < 0) break;
             axis = k; /* see lrt__entered_later */
             plane = lrt__sign_bit(ray->dir[k]) ? hi[k] : 0.0f;
             te = lrt__plane_t(plane, s->o[k], ray->dir[k], e);

@@ -673,7 +673,8 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
                 else n3[k] = lrt_crossing(o3[k], lrt_axis(o3, axis), v3[k], lrt_axis(v3, axis), plane, false, 0.0, 0, k == 2);
                 if (!lrt_finite(n3[k])) return false;
             }
-            int later = axis < 0 ? -1 : lrt_entered_later(n3, v3, hi3, axis);
+            // the last try keeps its axis: n3 and te the same crossing's (linear_rt.h)
+            int later = axis < 0 || tries == 2 ? -1 : lrt_entered_later(n3, v3, hi3, axis);
             if (later < 0) break;
             axis = later; // see lrt_entered_later
             plane = (floatBitsToUint(lrt_axis(v3, later)) >> 31) != 0u ? lrt_axis(hi3, later) : 0.0;

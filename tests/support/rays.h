@@ -262,6 +262,11 @@ RAYS_MAYBE_UNUSED static int found_case(int k, test_map *m, lrt_ray *r)
            0 at x = 1.5e-5 instead of at the corner, inside texel (0,0) for a t of 0.2 (a hit; exact: off-screen) */
         {489, 270, 1, 1, {-1, -1}, {-1, -1}, {0, 0}, {1.92934496e+26f, -2.5353012e+30f, -2.5353012e+30f},
          {-1.92934496e+26f, 2.5353012e+30f, 2.5353012e+30f}, 0, 2},
+        /* (fuzz_core, crashes-found 19) a far-away ray whose restart switched axes three times (z, whose crossing put
+           y a float above the screen; y; x) and kept x's crossing as its origin with z's t: a hit in the right texel
+           at t = 1.7e-13 for 1.03e-13 */
+        {2, 3, 2, 32639, {-1, -1}, {-1, -1}, {0, 0}, {2.25f, 3, -7.31282984e+12f}, {-7.31282984e+12f, -5.5f, 7.0847792e+25f},
+         0, 7.0847792e+25f},
     };
     size_t n, i, bpp;
     int q;
