@@ -2770,16 +2770,12 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
                                    size_t slot0, float enter[8], float exit[8], uint32_t tall, uint32_t wide, uint32_t neg_z)
 {
     const lrt__walk_level *v = &w->lv[lv];
-    const float x0 = (float)(nx << v->span_w_log2), y0 = (float)(ny << v->span_h_log2);
-    uint32_t mask = 0;
-    /* qmax - code in integers, then one conversion: exact, one step shorter */
-    const __m128i c16 = lrt__load_codes(w, slot0, wide);
     __m256 en, ex, en_xy, ex_xy;
-    lrt__box8(w, s, v, x0, y0, c16, slot0, tall, wide, neg_z, &en, &ex, &en_xy, &ex_xy);
+    lrt__box8(w, s, v, (float)(nx << v->span_w_log2), (float)(ny << v->span_h_log2), lrt__load_codes(w, slot0, wide), slot0,
+              tall, wide, neg_z, &en, &ex, &en_xy, &ex_xy);
     _mm256_storeu_ps(enter, en_xy);
     _mm256_storeu_ps(exit, ex_xy);
-    mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
-    return mask;
+    return (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
 }
 
 /* The test of lrt__test_children above level 1, where only a mask is
