@@ -88,9 +88,10 @@
    threads may record with one context at once. The GPU tree is the CPU's
    node array byte for byte (lrt_vk_bvh.layout is an lrt_layout), and the
    kernels answer what the CPU answers (docs/MODEL.md: same kind and texel, t
-   within float rounding): the CPU walks down from the top, the kernels
-   walk up and down from each ray's origin with no stack, and both find the
-   first texel hit in the same visiting order.
+   within float rounding): the CPU and the kernels run one walk, with no
+   stack (lrt__walk_origin and lrt_walk_origin, >>walk), which finds the
+   first texel hit in visiting order: the kernels start it at each ray's
+   origin, the CPU there or at the lowest node holding the segment.
    Host-side helper for tools, tests and examples (not for engines, which
    have a device): #define LINEAR_RT_VULKAN_DEVICE_HELPER as well and
    lrt_vk_device_create loads the Vulkan loader at run time (dlopen: link
@@ -1656,11 +1657,11 @@ typedef char lrt__hit_is_16_bytes[sizeof(lrt_hit) == 16 && sizeof(lrt_ray) == 32
       only per-child work is the z plane of its height. Children are visited
       front to back (row-major order with the axes flipped by the ray's
       direction signs is front to back for any straight line), so the first
-      texel hit found is the closest and the walk stops there. The walk
-      starts at the lowest node holding the whole segment and goes down
-      (lrt__walk_down), or, for a long ray that starts on the surface, at
-      the level-1 node where it starts and climbs (lrt__walk_origin, the
-      kernels' walk): the same order, the same first hit.
+      texel hit found is the closest and the walk stops there. One walk
+      (lrt__walk_origin, the kernels' lrt_walk_origin step for step) starts
+      at the lowest node holding the whole segment and goes down, or, for a
+      long ray that starts on the surface, at the level-1 node where it
+      starts and climbs: the same order, the same first hit.
       Every t of a plane is (plane - o) * (1/v): monotone in the plane, so a
       child's interval never exceeds its parent's and culling never loses a
       hit the final texel test would find. A 0 direction component gives
@@ -2719,7 +2720,7 @@ LRT__FORCE_INLINE __m256 lrt__clamp_depth8(__m256 d) /* lrt__clamp_depth, 8 at o
 /* Level-1 node (nx, ny) of plain float depth, wholly inside the map:
    lrt__test_texel of its 8 texels at once (the same floats: the clamps,
    (d - o.z) / v.z, lrt__widen), no branch per texel and no codes. The
-   texel loop of lrt__walk_down tests a texel only if its box with the
+   texel loop of lrt__level1_codes_hit tests a texel only if its box with the
    node's code passes too, but that box holds whenever the texel does: the
    decoded plane is never deeper than the depth (lrt__walk_init), rounding
    keeps that order, so its t bounds the ray no tighter. Returns the slot
@@ -3151,60 +3152,6 @@ LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, size_t childre
     LRT__PREFETCH(codes + 64);
 }
 
-/* A node whose children are not all visited yet: the walk goes into its
-   first child at once and keeps the others here, as a mask in front-to-back
-   bit order, so a ray that stops early never spends anything on the rest. */
-typedef struct lrt__pending {
-    size_t children;   /* lrt__children_slot of the node */
-    uint32_t x, y;     /* the node */
-    uint32_t lv_bits;  /* level << 8 | children still to visit, in visiting order */
-} lrt__pending;
-
-/* at most one pending node per level: a pending node's subtree only pushes
-   nodes of lower levels */
-#define LRT__STACK (LINEAR_RT_MAX_LEVELS + 1u)
-
-/* Into the first child met of node (nx, ny) of level lv >= 2; the others
-   wait on the stack. tall and wide are constants where this is inlined. */
-LRT__FORCE_INLINE void lrt__descend(const lrt__walk *w, uint32_t tall, size_t children, uint32_t mask, uint32_t flip,
-                                    uint32_t *lv, uint32_t *nx, uint32_t *ny, size_t *slot0, lrt__pending *stack,
-                                    uint32_t *sp)
-{
-    const uint32_t first = lrt__lowest_bit(mask) ^ flip, rest = mask & (mask - 1u);
-    const uint32_t bw_log2 = tall ? 1u : 2u;
-    /* written whether or not it stays: no branch on a random bit */
-    stack[*sp].children = children;
-    stack[*sp].x = *nx;
-    stack[*sp].y = *ny;
-    stack[*sp].lv_bits = (*lv << 8) | rest;
-    *sp += rest != 0u;
-    *nx = (*nx << bw_log2) + (first & ((1u << bw_log2) - 1u));
-    *ny = (*ny << (3u - bw_log2)) + (first >> bw_log2);
-    *slot0 = children + (size_t)first * 8u;
-    if (!tall && *lv == w->row_prefetch_level) lrt__prefetch_rows(w, *nx, *ny); /* level 3 is wide */
-    *lv -= 1u;
-}
-
-/* A node above level 1: its test, then into its first child met, if any
-   (returns the mask of those met). tall, wide and neg_z are constants where
-   this is inlined. */
-LRT__FORCE_INLINE uint32_t lrt__visit(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tall, uint32_t wide, uint32_t neg_z,
-                                      uint32_t filter, uint32_t *lv, uint32_t *nx, uint32_t *ny, size_t *slot0,
-                                      lrt__pending *stack, uint32_t *sp)
-{
-    const size_t children = lrt__children_slot(w, *lv, *nx, *ny);
-    uint32_t mask;
-    lrt__prefetch_children(w, children, wide);
-    mask = lrt__cull_children(w, s, *lv, *nx, *ny, *slot0, tall, wide, neg_z);
-    /* a padding node (past the level's grid) has no children in memory: a
-       ray whose culling is loose there (an axis it does not move along, on
-       the map's far edge) must not go down into it (fuzz_core: a read past
-       the nodes) */
-    mask &= filter & (uint32_t)-(int32_t)((*nx < w->lv[*lv].width) & (*ny < w->lv[*lv].height));
-    if (mask) lrt__descend(w, tall, children, mask, s->sg->flip[tall], lv, nx, ny, slot0, stack, sp);
-    return mask;
-}
-
 /* Level-1 node (nx, ny): the first texel under it that the ray hits, in
    visiting order (returns 0 if none), by its codes, then the exact test of
    each texel they let through. wide and neg_z are constants where this is
@@ -3249,50 +3196,6 @@ LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *
 }
 #endif
 
-/* The walk from node (nx, ny) of level lv >= 1 down to the first texel hit
-   (returns 1 once it is reported), of that node's children only those in
-   filter (bits in visiting order; a level-1 node takes 0xff); wide and neg_z (s->neg_z) are constants
-   where this is inlined. */
-LRT__FORCE_INLINE int lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
-                                     float t_scale, uint32_t lv, uint32_t nx, uint32_t ny, uint32_t filter, uint32_t wide,
-                                     uint32_t neg_z)
-{
-    size_t slot0 = lrt__node_slot(w, lv, nx, ny);
-    uint32_t sp = 0;
-    lrt__pending stack[LRT__STACK];
-    for (;;) {
-        /* three copies of the node test: tall nodes, wide ones above the
-           texels, and level 1, the only one that needs the children's t */
-        if (lv != 1u) {
-            const uint32_t met = (lv & 1u) ? lrt__visit(w, s, 0u, wide, neg_z, filter, &lv, &nx, &ny, &slot0, stack, &sp)
-                                           : lrt__visit(w, s, 1u, wide, neg_z, filter, &lv, &nx, &ny, &slot0, stack, &sp);
-            filter = 0xffu; /* the first node's alone */
-            if (met) continue;
-        } else {
-            uint32_t tx, ty;
-            float t;
-            if (lrt__level1_hit(w, s, nx, ny, slot0, wide, neg_z, &tx, &ty, &t)) {
-                lrt__report_hit(w, ray, s, t_scale, t, tx, ty, hit);
-                return 1;
-            }
-        }
-        if (sp == 0) break;
-        { /* the next child of the last pending node */
-            lrt__pending *p = &stack[sp - 1];
-            const uint32_t plv = p->lv_bits >> 8, ptall = (plv & 1u) ^ 1u, bw_log2 = ptall ? 1u : 2u;
-            const uint32_t slot = lrt__lowest_bit(p->lv_bits & 0xffu) ^ s->sg->flip[ptall];
-            nx = (p->x << bw_log2) + (slot & ((1u << bw_log2) - 1u));
-            ny = (p->y << (3u - bw_log2)) + (slot >> bw_log2);
-            slot0 = p->children + (size_t)slot * 8u;
-            lv = plv - 1;
-            if (plv == w->row_prefetch_level) lrt__prefetch_rows(w, nx, ny);
-            p->lv_bits &= p->lv_bits - 1u;
-            sp -= (p->lv_bits & 0xffu) == 0u;
-        }
-    }
-    return 0;
-}
-
 /* Which walk: from the origin (lrt__walk_origin below) for a ray that starts
    on the surface (at most 1/64 in front of the depth of the texel it starts
    in, or behind it) and goes far (its start node at level 4 or above, and
@@ -3318,44 +3221,132 @@ LRT__FORCE_INLINE int lrt__from_origin(const lrt__walk *w, const lrt__ray_setup 
     return s->o[2] >= lrt__raw_to_float(w->depth->format, lrt__depth_raw(w->depth, w->stride, px, py)) - LRT__ORIGIN_SURFACE;
 }
 
-/* The walk of a set-up ray whose start node is (nx, ny) of level top >= 1.
-   From the origin (the walk of shaders/linear_rt.glsl's lrt_trace_ray):
-   the level-1 node of texel (px, py), where the segment starts, then each
-   ancestor up to the start node, of whose children only those after the
-   one just walked (in visiting order) can still be met. Otherwise the
-   start node at once. One lrt__walk_down serves both (one copy of it
-   inlined). Returns 1 once a hit is reported. wide and neg_z are constants
-   where this is inlined. */
+/* Child `slot` of node (nx, ny) of level lv: its node at level lv - 1 (the
+   kernels' lrt_child). Levels lv odd group their children 4x2, even 2x4. */
+LRT__FORCE_INLINE void lrt__child(uint32_t lv, uint32_t slot, uint32_t *nx, uint32_t *ny)
+{
+    const uint32_t bw_log2 = (lv & 1u) ? 2u : 1u;
+    *nx = (*nx << bw_log2) + (slot & ((1u << bw_log2) - 1u));
+    *ny = (*ny << (3u - bw_log2)) + (slot >> bw_log2);
+}
+
+/* The walk (shaders/linear_rt.glsl's lrt_walk_origin, the same steps under
+   the same names): from the level-1 node of texel (px, py), where the
+   segment starts, if lrt__from_origin says so, else from the start node
+   (nx, ny) of level top >= 1, which holds the whole segment. A step tests
+   the current node's children; at level 1 the texels the codes let through
+   get their exact test, in visiting order; above it the walk goes down into
+   the first child met, and the others wait in masks[lv] (one byte a level:
+   the state is a few registers and these bytes, no stack of nodes). A node
+   done, the walk takes the next pending sibling, or climbs; a parent never
+   tested (the walk began below it) has only the children after the one
+   just walked left to test, unless the segment ends inside that one.
+   Returns 1 once a hit is reported. wide and neg_z are constants where this
+   is inlined, and so is tall in each of the three copies of the node test
+   (tall nodes, wide ones above the texels, level 1). */
 LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
                                        float t_scale, uint32_t top, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py,
                                        uint32_t wide, uint32_t neg_z)
 {
-    uint32_t lv = top, filter = 0xffu;
+    uint32_t lv = top, eligible = 0xffu, tested = 0u; /* tested: bit lv set when masks[lv] holds level lv's pending children */
+    uint8_t masks[LINEAR_RT_MAX_LEVELS + 2];
+    size_t slot0;
     if (lrt__from_origin(w, s, top, px, py)) {
         lv = 1u;
         nx = px >> 2;
         ny = py >> 1;
     }
+    slot0 = lrt__node_slot(w, lv, nx, ny);
     for (;;) {
-        uint32_t tall, bw_log2, sw, sh, k;
-        float fx, fy;
-        if (lrt__walk_down(w, ray, hit, s, t_scale, lv, nx, ny, filter, wide, neg_z)) return 1;
-        if (lv >= top) return 0;
-        tall = ((lv + 1u) & 1u) ^ 1u; /* the parent's block */
-        bw_log2 = tall ? 1u : 2u;
-        sw = w->lv[lv].span_w_log2;
-        sh = w->lv[lv].span_h_log2;
-        fx = (float)((s->neg_x ? nx : nx + 1u) << sw);
-        fy = (float)((s->neg_y ? ny : ny + 1u) << sh);
-        /* the segment ends inside this node: nothing after it */
-        if (LRT__MIN_KEEP((fx - s->o[0]) * s->iv[0], (fy - s->o[1]) * s->iv[1]) > lrt__widen(s->t_hi)) return 0;
-        k = (((ny & ((1u << (3u - bw_log2)) - 1u)) << bw_log2) | (nx & ((1u << bw_log2) - 1u))) ^ s->sg->flip[tall];
-        filter = ~((2u << k) - 1u) & 0xffu;
-        nx >>= bw_log2;
-        ny >>= 3u - bw_log2;
-        ++lv;
+        if (lv == 1u) { /* texels: the exact test, in visiting order */
+            uint32_t tx, ty;
+            float t;
+            if (lrt__level1_hit(w, s, nx, ny, slot0, wide, neg_z, &tx, &ty, &t)) {
+                lrt__report_hit(w, ray, s, t_scale, t, tx, ty, hit);
+                return 1;
+            }
+        } else {
+            const uint32_t tall = (lv & 1u) ^ 1u;
+            const size_t children = lrt__children_slot(w, lv, nx, ny);
+            uint32_t m;
+            lrt__prefetch_children(w, children, wide);
+            m = tall ? lrt__cull_children(w, s, lv, nx, ny, slot0, 1u, wide, neg_z)
+                     : lrt__cull_children(w, s, lv, nx, ny, slot0, 0u, wide, neg_z);
+            /* a padding node (past its level's grid) has no children in
+               memory: a ray whose culling is loose there (an axis it does
+               not move along, on the map's far edge) must not go down into
+               it (fuzz_core: a read past the nodes) */
+            m &= eligible & (uint32_t)-(int32_t)((nx < w->lv[lv].width) & (ny < w->lv[lv].height));
+            if (m) { /* down into the first child met; the others wait in masks */
+                const uint32_t slot = lrt__lowest_bit(m) ^ s->sg->flip[tall];
+                masks[lv] = (uint8_t)(m & (m - 1u));
+                tested |= 1u << lv;
+                lrt__child(lv, slot, &nx, &ny);
+                slot0 = children + (size_t)slot * 8u;
+                if (lv == w->row_prefetch_level) lrt__prefetch_rows(w, nx, ny); /* level 3 is wide */
+                lv -= 1u;
+                eligible = 0xffu;
+                continue;
+            }
+        }
+        /* this node is done: its next pending sibling, or up */
+        for (;;) {
+            const uint32_t up = lv + 1u, tall = (up & 1u) ^ 1u, bw_log2 = tall ? 1u : 2u; /* the parent's block */
+            const uint32_t ux = nx >> bw_log2, uy = ny >> (3u - bw_log2);
+            uint32_t k, sw, sh;
+            float fx, fy;
+            if (lv >= top) return 0; /* the start node, which holds the segment, is done */
+            if (tested & (1u << up)) {
+                const uint32_t pend = masks[up];
+                if (pend) { /* the next sibling */
+                    const uint32_t slot = lrt__lowest_bit(pend) ^ s->sg->flip[tall];
+                    masks[up] = (uint8_t)(pend & (pend - 1u));
+                    nx = ux;
+                    ny = uy;
+                    lrt__child(up, slot, &nx, &ny);
+                    slot0 = lrt__children_slot(w, up, ux, uy) + (size_t)slot * 8u;
+                    if (up == w->row_prefetch_level) lrt__prefetch_rows(w, nx, ny);
+                    eligible = 0xffu;
+                    break;
+                }
+                tested &= ~(1u << up);
+                lv = up; /* the parent is done too */
+                nx = ux;
+                ny = uy;
+                continue;
+            }
+            /* the parent's children were never tested (the walk began below
+               it): unless the segment ends inside this node, take those after it */
+            sw = w->lv[lv].span_w_log2;
+            sh = w->lv[lv].span_h_log2;
+            fx = (float)((s->neg_x ? nx : nx + 1u) << sw);
+            fy = (float)((s->neg_y ? ny : ny + 1u) << sh);
+            if (LRT__MIN_KEEP((fx - s->o[0]) * s->iv[0], (fy - s->o[1]) * s->iv[1]) > lrt__widen(s->t_hi)) return 0;
+            k = lrt__child_slot(&w->L->levels[lv], nx, ny) ^ s->sg->flip[tall];
+            eligible = ~((2u << k) - 1u) & 0xffu;
+            lv = up;
+            nx = ux;
+            ny = uy;
+            slot0 = lrt__node_slot(w, lv, nx, ny);
+            break;
+        }
     }
 }
+
+/* The walk's four copies (node width, sign of v.z), each a function of its
+   own: inlined where the rays are set up, the walk's registers cost the
+   camera rays, which never walk, 7-10% (build/bench --only "linear_rt cpu"
+   --threads 1 --size 512, two alternated runs). */
+#define LRT__WALK_COPY(name, wide, neg_z)                                                                                   \
+    static LRT__NOINLINE int name(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,            \
+                                  float t_scale, uint32_t top, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py)         \
+    {                                                                                                                       \
+        return lrt__walk_origin(w, ray, hit, s, t_scale, top, nx, ny, px, py, wide, neg_z);                                \
+    }
+LRT__WALK_COPY(lrt__walk16_up, 1u, 0u)
+LRT__WALK_COPY(lrt__walk16_down, 1u, 1u)
+LRT__WALK_COPY(lrt__walk8_up, 0u, 0u)
+LRT__WALK_COPY(lrt__walk8_down, 0u, 1u)
 
 /* The trace of a set-up ray from node (nx, ny) of level lv (lrt__start_node);
    cull: lrt__cull_constants, stride floats apart, where AVX2 builds them
@@ -3379,9 +3370,11 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
         return;
     }
     lrt__walk_setup(w, s, cull, stride);
-    /* the walk, with the sign of v.z a constant of its node tests */
-    if (!(s->neg_z ? lrt__walk_origin(w, ray, hit, s, t_scale, lv, nx, ny, px, py, wide, 1u)
-                   : lrt__walk_origin(w, ray, hit, s, t_scale, lv, nx, ny, px, py, wide, 0u)))
+    /* the walk, with the node width and the sign of v.z constants of its node tests */
+    if (!(wide ? (s->neg_z ? lrt__walk16_down(w, ray, hit, s, t_scale, lv, nx, ny, px, py)
+                           : lrt__walk16_up(w, ray, hit, s, t_scale, lv, nx, ny, px, py))
+               : (s->neg_z ? lrt__walk8_down(w, ray, hit, s, t_scale, lv, nx, ny, px, py)
+                           : lrt__walk8_up(w, ray, hit, s, t_scale, lv, nx, ny, px, py))))
         hit->kind = (uint16_t)kind;
 }
 
@@ -3701,7 +3694,6 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__cull_constants lrt__cull_constants_avx2
 #define lrt__depth_plane lrt__depth_plane_avx2
 #define lrt__depth_plane_scaled lrt__depth_plane_scaled_avx2
-#define lrt__descend lrt__descend_avx2
 #define lrt__entered_later lrt__entered_later_avx2
 #define lrt__expansion_sign lrt__expansion_sign_avx2
 #define lrt__expansion_value lrt__expansion_value_avx2
@@ -3722,7 +3714,6 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__node_slot lrt__node_slot_avx2
 #define lrt__on_screen_at_tmax lrt__on_screen_at_tmax_avx2
 #define lrt__order_mask lrt__order_mask_avx2
-#define lrt__pending lrt__pending_avx2
 #define lrt__plane_t lrt__plane_t_avx2
 #define lrt__pow2 lrt__pow2_avx2
 #define lrt__prefetch_children lrt__prefetch_children_avx2
@@ -3759,12 +3750,15 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__trace_walk lrt__trace_walk_avx2
 #define lrt__two_prod lrt__two_prod_avx2
 #define lrt__two_sum lrt__two_sum_avx2
-#define lrt__visit lrt__visit_avx2
 #define lrt__walk lrt__walk_avx2
-#define lrt__walk_down lrt__walk_down_avx2
 #define lrt__walk_init lrt__walk_init_avx2
 #define lrt__walk_level lrt__walk_level_avx2
 #define lrt__walk_origin lrt__walk_origin_avx2
+#define lrt__child lrt__child_avx2
+#define lrt__walk16_up lrt__walk16_up_avx2
+#define lrt__walk16_down lrt__walk16_down_avx2
+#define lrt__walk8_up lrt__walk8_up_avx2
+#define lrt__walk8_down lrt__walk8_down_avx2
 #define lrt__from_origin lrt__from_origin_avx2
 #define lrt__walk_setup lrt__walk_setup_avx2
 #define lrt__widen lrt__widen_avx2
@@ -3789,7 +3783,6 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__cull_constants
 #undef lrt__depth_plane
 #undef lrt__depth_plane_scaled
-#undef lrt__descend
 #undef lrt__entered_later
 #undef lrt__expansion_sign
 #undef lrt__expansion_value
@@ -3808,7 +3801,6 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__node_slot
 #undef lrt__on_screen_at_tmax
 #undef lrt__order_mask
-#undef lrt__pending
 #undef lrt__plane_t
 #undef lrt__pow2
 #undef lrt__prefetch_children
@@ -3847,12 +3839,15 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__trace_walk
 #undef lrt__two_prod
 #undef lrt__two_sum
-#undef lrt__visit
 #undef lrt__walk
-#undef lrt__walk_down
 #undef lrt__walk_init
 #undef lrt__walk_level
 #undef lrt__walk_origin
+#undef lrt__child
+#undef lrt__walk16_up
+#undef lrt__walk16_down
+#undef lrt__walk8_up
+#undef lrt__walk8_down
 #undef lrt__from_origin
 #undef lrt__walk_setup
 #undef lrt__widen

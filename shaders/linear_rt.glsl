@@ -921,13 +921,12 @@ int lrt_first_texel(float o, float v, float iv, uint neg, bool zero, float t_lo,
     return c;
 }
 
-// the texel at the corner of child `slot` of node (nx, ny) of level lv:
-// a position inside that child (level lv - 1)
-uvec2 lrt_child_corner(uint lv, uint nx, uint ny, uint slot)
+// child `slot` of node (nx, ny) of level lv: its node (x, y) at level lv - 1
+// (linear_rt.h's lrt__child)
+uvec2 lrt_child(uint lv, uint nx, uint ny, uint slot)
 {
-    uint cl = lv - 1u, bwl = lrt_bw_log2(cl), bhl = 3u - bwl;
-    uint cx = (nx << bwl) + (slot & ((1u << bwl) - 1u)), cy = (ny << bhl) + (slot >> bwl);
-    return uvec2(cx << lrt_span_w_log2(cl), cy << lrt_span_h_log2(cl));
+    uint bwl = lrt_bw_log2(lv - 1u);
+    return uvec2((nx << bwl) + (slot & ((1u << bwl) - 1u)), (ny << (3u - bwl)) + (slot >> bwl));
 }
 
 uint lrt_mask_get(uvec4 m, uint lv) { return (m[lv >> 2] >> ((lv & 3u) * 8u)) & 0xffu; }
@@ -1040,10 +1039,18 @@ uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint
     return mask;
 }
 
-// the walk from the ray's origin (linear_rt.h's lrt__walk_origin, which then
-// goes on down in lrt__walk_down): true with the first texel hit (hx, hy)
-// and its t, false for a miss (lrt_trace_ray reports either)
-bool lrt_walk_origin(LrtParams p, LrtSetup s, out uint hx, out uint hy, out float ht, out vec2 hplanes)
+// The walk (linear_rt.h's lrt__walk_origin, the same steps under the same
+// names): from the level-1 node of the texel where the segment starts, up to
+// the start node of level top, which holds the whole segment. A step tests
+// the current node's children; at level 1 the texels the codes let through
+// get their exact test, in visiting order; above it the walk goes down into
+// the first child met, and the others wait in masks (8 bits a level: the
+// state is a few registers, no stack). A node done, the walk takes the next
+// pending sibling, or climbs; a parent never tested (the walk began below
+// it) has only the children after the one just walked left to test, unless
+// the segment ends inside that one. True with the first texel hit (hx, hy)
+// and its t, false for a miss (lrt_trace_ray reports either).
+bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy, out float ht, out vec2 hplanes)
 {
     hplanes = vec2(0.0);
     hx = 0u;
@@ -1057,36 +1064,40 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, out uint hx, out uint hy, out floa
     uint back_base = lrt_has_back(p) ? lrt_back_codes(p) : 0u;
     uint flip_wide = (s.neg.x != 0u ? 3u : 0u) | (s.neg.y != 0u ? 4u : 0u); // children in 4x2 blocks
     uint flip_tall = (s.neg.x != 0u ? 1u : 0u) | (s.neg.y != 0u ? 6u : 0u); // in 2x4 blocks
-    // the position: a texel of the current node (of level lv)
+    // the texel where the segment starts, and its level-1 node
     uint px = uint(lrt_first_texel(s.o.x, s.v.x, s.iv.x, s.neg.x, s.zero.x, s.t_lo, int(p.width)));
     uint py = uint(lrt_first_texel(s.o.y, s.v.y, s.iv.y, s.neg.y, s.zero.y, s.t_lo, int(p.height)));
-    uint lv = 1u, off = 0u; // the level, and its first node
+    uint lv = 1u, nx = px >> 2, ny = py >> 1, off = 0u; // the node, and its level's first node
     uint eligible = 0xffu, tested = 0u; // tested: bit lv set when masks holds level lv's pending children
     uvec4 masks = uvec4(0u);
     for (;;) {
-        uint nxl = px >> lrt_span_w_log2(lv), nyl = py >> lrt_span_h_log2(lv);
         uint flip = lrt_bw_log2(lv - 1u) == 1u ? flip_tall : flip_wide;
-        uint m = lrt_test_children(p, s, lv, off, nxl, nyl, flip, decode_scale, qmaxf, back_base, back_scale) & eligible;
+        uint m = lrt_test_children(p, s, lv, off, nx, ny, flip, decode_scale, qmaxf, back_base, back_scale) & eligible;
         // a padding node (past its level's grid) has no children in memory:
-        // never down into one (linear_rt.h's lrt__visit)
-        if (lv >= 2u && (nxl >= lrt_grid_w(p.width, lv) || nyl >= lrt_grid_h(p.height, lv))) m = 0u;
+        // never down into one (fuzz_core: a read past the nodes)
+        if (lv >= 2u && (nx >= lrt_grid_w(p.width, lv) || ny >= lrt_grid_h(p.height, lv))) m = 0u;
         if (lv == 1u) { // texels: the exact test, in visiting order
             while (m != 0u) {
-                uint k = uint(findLSB(m)), slot = k ^ flip;
+                uint slot = uint(findLSB(m)) ^ flip;
                 m &= m - 1u;
-                uint tx = nxl * 4u + (slot & 3u), ty = nyl * 2u + (slot >> 2);
+                uint tx = nx * 4u + (slot & 3u), ty = ny * 2u + (slot >> 2);
                 float en = s.t_lo, ex = s.t_hi, t;
                 lrt_slab(float(tx), float(tx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
                 lrt_slab(float(ty), float(ty + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
-                if (lrt_test_texel(p, s, tx, ty, en, ex, t, hplanes)) { hx = tx; hy = ty; ht = t; return true; }
+                if (lrt_test_texel(p, s, tx, ty, en, ex, t, hplanes)) {
+                    hx = tx;
+                    hy = ty;
+                    ht = t;
+                    return true;
+                }
             }
         } else if (m != 0u) { // down into the first child met; the others wait in masks
-            uint k = uint(findLSB(m)), slot = k ^ flip;
+            uint slot = uint(findLSB(m)) ^ flip;
             masks = lrt_mask_set(masks, lv, m & (m - 1u));
             tested |= 1u << lv;
-            uvec2 c = lrt_child_corner(lv, nxl, nyl, slot);
-            px = c.x;
-            py = c.y;
+            uvec2 c = lrt_child(lv, nx, ny, slot);
+            nx = c.x;
+            ny = c.y;
             lv -= 1u;
             off -= lrt_level_slots(p, lv);
             eligible = 0xffu;
@@ -1094,43 +1105,44 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, out uint hx, out uint hy, out floa
         }
         // this node is done: its next pending sibling, or up
         for (;;) {
-            if (lv >= p.level_count) return false; // the root is done
-            uint up = lv + 1u;
+            uint up = lv + 1u, bwl = lrt_bw_log2(lv), ufl = bwl == 1u ? flip_tall : flip_wide; // the parent's block
+            uint ux = nx >> bwl, uy = ny >> (3u - bwl);
+            if (lv >= top) return false; // the start node, which holds the segment, is done
             if ((tested & (1u << up)) != 0u) {
                 uint pend = lrt_mask_get(masks, up);
                 if (pend != 0u) { // the next sibling
-                    uint ufl = lrt_bw_log2(lv) == 1u ? flip_tall : flip_wide;
-                    uint k = uint(findLSB(pend)), slot = k ^ ufl;
+                    uint slot = uint(findLSB(pend)) ^ ufl;
                     masks = lrt_mask_set(masks, up, pend & (pend - 1u));
-                    uvec2 c = lrt_child_corner(up, px >> lrt_span_w_log2(up), py >> lrt_span_h_log2(up), slot);
-                    px = c.x;
-                    py = c.y;
+                    uvec2 c = lrt_child(up, ux, uy, slot);
+                    nx = c.x;
+                    ny = c.y;
                     eligible = 0xffu;
                     break;
                 }
                 tested &= ~(1u << up);
                 off += lrt_level_slots(p, lv);
                 lv = up; // the parent is done too
+                nx = ux;
+                ny = uy;
                 continue;
             }
             // the parent's children were never tested (the walk began below
-            // it): unless the ray ends inside this node, take those after it
-            {
-                uint sw = lrt_span_w_log2(lv), sh = lrt_span_h_log2(lv);
-                uint cx = px >> sw, cy = py >> sh;
-                // (an axis the ray does not move along: never left, unless the
-                // ray lies on the far edge, where the next node is touched too)
-                float fx = float((s.neg.x != 0u ? cx : cx + 1u) << sw), fy = float((s.neg.y != 0u ? cy : cy + 1u) << sh);
-                float ex_x = fx == s.o.x ? -LRT_INF : LRT_INF, ex_y = fy == s.o.y ? -LRT_INF : LRT_INF;
-                if (!s.zero.x) { precise float e = (fx - s.o.x) * s.iv.x; ex_x = e; }
-                if (!s.zero.y) { precise float e = (fy - s.o.y) * s.iv.y; ex_y = e; }
-                if (min(ex_x, ex_y) > lrt_widen(s.t_hi)) return false;
-                uint k = lrt_child_slot(lv, cx, cy) ^ (lrt_bw_log2(lv) == 1u ? flip_tall : flip_wide);
-                eligible = ~((2u << k) - 1u) & 0xffu;
-                off += lrt_level_slots(p, lv);
-                lv = up;
-                break;
-            }
+            // it): unless the segment ends inside this node, take those after it
+            // (an axis the ray does not move along: never left, unless the
+            // ray lies on the far edge, where the next node is touched too)
+            uint sw = lrt_span_w_log2(lv), sh = lrt_span_h_log2(lv);
+            float fx = float((s.neg.x != 0u ? nx : nx + 1u) << sw), fy = float((s.neg.y != 0u ? ny : ny + 1u) << sh);
+            float ex_x = fx == s.o.x ? -LRT_INF : LRT_INF, ex_y = fy == s.o.y ? -LRT_INF : LRT_INF;
+            if (!s.zero.x) { precise float e = (fx - s.o.x) * s.iv.x; ex_x = e; }
+            if (!s.zero.y) { precise float e = (fy - s.o.y) * s.iv.y; ex_y = e; }
+            if (min(ex_x, ex_y) > lrt_widen(s.t_hi)) return false;
+            uint k = lrt_child_slot(lv, nx, ny) ^ ufl;
+            eligible = ~((2u << k) - 1u) & 0xffu;
+            off += lrt_level_slots(p, lv);
+            lv = up;
+            nx = ux;
+            ny = uy;
+            break;
         }
     }
     return false;
@@ -1154,7 +1166,8 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
     float ht;
     vec2 hplanes; // the hit texel's planes (lrt_test_texel)
     bool found;
-    if (lrt_start_node(p, s, nx, ny) == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
+    uint top = lrt_start_node(p, s, nx, ny); // the lowest node holding the segment: its level
+    if (top == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
         float en = s.t_lo, ex = s.t_hi;
         lrt_slab(float(nx), float(nx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
         lrt_slab(float(ny), float(ny + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
@@ -1162,7 +1175,7 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
         hx = nx;
         hy = ny;
     } else {
-        found = lrt_walk_origin(p, s, hx, hy, ht, hplanes);
+        found = lrt_walk_origin(p, s, top, hx, hy, ht, hplanes);
     }
     // one exit: the hit's report (its face) stays out of the walk's loop
     if (found) return lrt_report_hit(p, s, t_scale, ht, tmin, tmax, hx, hy, hplanes);

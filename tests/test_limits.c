@@ -45,7 +45,7 @@ LIMITS_STATIC_ASSERT(nodes_fit_size_t, (uint64_t)38347929u * 16u <= (uint64_t)SI
 /* the largest float map, packed: 1 GiB, below PTRDIFF_MAX on 32-bit too */
 LIMITS_STATIC_ASSERT(map_fits_ptrdiff,
                      (uint64_t)LINEAR_RT_MAX_DIM * LINEAR_RT_MAX_DIM * 4u <= (uint64_t)PTRDIFF_MAX);
-/* the traversal stack stores a texel coordinate in 14 bits */
+/* the documented largest side (a texel coordinate in 14 bits) */
 LIMITS_STATIC_ASSERT(dim_fits_14_bits, LINEAR_RT_MAX_DIM <= 16384u);
 /* the ray limit is a count a size_t and a uint32_t both hold */
 LIMITS_STATIC_ASSERT(ray_limit_fits, (uint64_t)LINEAR_RT_MAX_RAYS_PER_CALL + 1u <= (uint64_t)SIZE_MAX &&
