@@ -65,7 +65,7 @@
        lrt_vk_context_desc cd = {0};       // instance, physical_device, device,
        ...                                 // vkGetInstanceProcAddr (+ optional
        lrt_vk_context *ctx;                // vkGetDeviceProcAddr, allocator, cache)
-       lrt_vk_context_create(&cd, &ctx);   // once: layouts, 4 pipelines, a sampler
+       lrt_vk_context_create(&cd, &ctx);   // once: layouts, 12 pipelines, a sampler
        lrt_vk_bvh_desc bd = {0};           // width, height, format (+ node bits,
        lrt_vk_bvh bvh;                     // your buffers or the library's)
        lrt_vk_bvh_create(ctx, &bd, &bvh);
@@ -625,9 +625,11 @@ typedef struct lrt_vk_context lrt_vk_context; /* opaque; immutable after create 
 
 /* Loads the device functions, checks the device (Vulkan 1.2, the push
    descriptor extension, the features of lrt_vk_get_requirements) and creates
-   one descriptor set layout (push descriptors), one pipeline layout (64 bytes
-   of push constants), 4 compute pipelines and one sampler. On error *out is
-   untouched and nothing is left created. */
+   one descriptor set layout (push descriptors), one pipeline layout (84 bytes
+   of push constants), 12 compute pipelines (refit and trace, of buffer and of
+   image depth; for infinite trees, and for trees with a thickness model of
+   16-bit and of 8-bit nodes) and one sampler. On error *out is untouched and
+   nothing is left created. */
 LINEAR_RT_API lrt_result lrt_vk_context_create(const lrt_vk_context_desc *desc, lrt_vk_context **out);
 /* Destroys what create made. The caller makes sure the GPU no longer uses
    it (no command buffer recorded with it is pending). NULL is fine. */
@@ -4177,10 +4179,14 @@ typedef struct lrt__vk_module {
 } lrt__vk_module;
 
 /* The pipelines, in this order. */
-/* the four kernels, then the same for back-map trees (specialization
-   constant 0, lrt_back_trees, true: other trees' pipelines carry no back code) */
+/* the four kernels, then the same for trees with a thickness model, of
+   16-bit nodes, then of 8-bit nodes (specialization constant 0,
+   lrt_back_trees, true: other trees' pipelines carry no back code; constant
+   1, lrt_back_node_bits, the node width: known to the compiler, it ran
+   their secondary rays on lavapipe at 1.35-1.75x, where the infinite trees'
+   gained nothing, docs/MEASUREMENTS.md) */
 enum { LRT__VK_REFIT_BUFFER, LRT__VK_REFIT_IMAGE, LRT__VK_TRACE_BUFFER, LRT__VK_TRACE_IMAGE, LRT__VK_MODULES,
-       LRT__VK_PIPELINES = 2 * LRT__VK_MODULES };
+       LRT__VK_PIPELINES = 3 * LRT__VK_MODULES };
 
 static lrt__vk_module lrt__vk_module_at(int which)
 {
@@ -4471,19 +4477,22 @@ static VkResult lrt__vk_create_objects(lrt_vk_context *c, VkPipelineCache cache)
 
     for (p = 0; p < LRT__VK_PIPELINES; ++p) {
         lrt__vk_module m = lrt__vk_module_at(p % LRT__VK_MODULES);
-        const VkBool32 back_trees = p >= LRT__VK_MODULES;
-        VkSpecializationMapEntry entry;
+        const uint32_t consts[2] = {p >= LRT__VK_MODULES, p >= 2 * LRT__VK_MODULES ? 8u : 16u}; /* VkBool32, node bits */
+        VkSpecializationMapEntry entry[2];
         VkSpecializationInfo spec;
         VkShaderModuleCreateInfo mi;
         VkComputePipelineCreateInfo ci;
         VkShaderModule module;
-        entry.constantID = 0;
-        entry.offset = 0;
-        entry.size = sizeof back_trees;
-        spec.mapEntryCount = 1;
-        spec.pMapEntries = &entry;
-        spec.dataSize = sizeof back_trees;
-        spec.pData = &back_trees;
+        entry[0].constantID = 0;
+        entry[0].offset = 0;
+        entry[0].size = sizeof consts[0];
+        entry[1].constantID = 1;
+        entry[1].offset = sizeof consts[0];
+        entry[1].size = sizeof consts[1];
+        spec.mapEntryCount = 2;
+        spec.pMapEntries = entry;
+        spec.dataSize = sizeof consts;
+        spec.pData = consts;
         memset(&mi, 0, sizeof mi);
         mi.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
         mi.codeSize = m.bytes;
@@ -4924,7 +4933,8 @@ static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, int pipeline,
         w[2 + k].pBufferInfo = &src->back_buffer;
     }
     c->p_vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
-                           c->pipelines[pipeline + (bvh->layout.back_codes ? LRT__VK_MODULES : 0)]);
+                           c->pipelines[pipeline + (!bvh->layout.back_codes ? 0 : bvh->layout.node_bits == 16 ? LRT__VK_MODULES
+                                                                                                   : 2 * LRT__VK_MODULES)]);
     c->p_vkCmdPushDescriptorSetKHR(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipeline_layout, 0, 3 + extra_count, w);
     c->p_vkCmdPushConstants(cmd, c->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, (uint32_t)sizeof *pc, pc);
     c->p_vkCmdDispatch(cmd, gx, gy, 1);

@@ -34,6 +34,9 @@ layout(set = 0, binding = LRT_K_VK_BINDING_NODES, std430) LRT_NODES_ACCESS buffe
 // them): with false the back code folds away, so other trees pay nothing
 layout(constant_id = 0) const bool lrt_back_trees = false;
 #define LRT_BACK_TREES lrt_back_trees
+// and their node width (8 or 16): a constant, the back codes' decoding folds
+// (their secondary rays ran on lavapipe at 1.35-1.75x, docs/MEASUREMENTS.md)
+layout(constant_id = 1) const uint lrt_back_node_bits = 16u;
 
 #include "linear_rt.glsl"
 
@@ -44,7 +47,7 @@ LrtParams lrt_params()
     p.height = pc.height;
     p.format = pc.format;
     p.flags = pc.flags;
-    p.node_bits = pc.node_bits;
+    p.node_bits = LRT_BACK_TREES ? lrt_back_node_bits : pc.node_bits;
     p.level_count = pc.level_count;
     p.depth_offset = pc.depth_offset;
     p.row_stride = pc.row_stride;
