@@ -2726,20 +2726,22 @@ LRT__FORCE_INLINE __m256 lrt__clamp_depth8(__m256 d) /* lrt__clamp_depth, 8 at o
    node's code passes too, but that box holds whenever the texel does: the
    decoded plane is never deeper than the depth (lrt__walk_init), rounding
    keeps that order, so its t bounds the ray no tighter. Returns the slot
-   of the first texel met in visiting order, the one that loop finds, and
-   its t; 8 if none. */
+   of the first texel met in visiting order, the one that loop finds, its
+   t and its planes' (lrt__test_texel); 8 if none. */
 LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup *s, uint32_t nx, uint32_t ny, uint32_t neg_z,
-                                        float *t)
+                                        float *t, float planes[2])
 {
     const unsigned char *row = (const unsigned char *)w->depth->data + w->stride * 2u * ny + 16u * (size_t)nx;
     const __m128 row0 = _mm_loadu_ps((const float *)(const void *)row);
     const __m128 row1 = _mm_loadu_ps((const float *)(const void *)(row + w->stride));
     __m256 d = _mm256_permutevar8x32_ps(_mm256_insertf128_ps(_mm256_castps128_ps256(row0), row1, 1), s->sg->order[0]), en, ex;
-    float enter[8];
+    __m256 tz, tb = _mm256_setzero_ps();
+    float lanes[8];
     uint32_t mask;
     lrt__slabs8(s, &w->lv[1], (float)(nx * 4u), (float)(ny * 2u), 0u, &en, &ex);
     d = lrt__clamp_depth8(d);
-    lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(d, s->vo[2]), s->viv[2]), neg_z, &en, &ex);
+    tz = _mm256_mul_ps(_mm256_sub_ps(d, s->vo[2]), s->viv[2]);
+    lrt__z_plane8(tz, neg_z, &en, &ex);
     if (w->back_codes) { /* the texels' backs the same way (lrt__back_plane) */
         const float *k = w->L->back_k;
         __m256 b;
@@ -2759,13 +2761,18 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
             b = _mm256_min_ps(b, _mm256_set1_ps(1.0f));
         }
         b = _mm256_max_ps(b, d);
-        lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(b, s->vo[2]), s->viv[2]), neg_z ^ 1u, &en, &ex);
+        tb = _mm256_mul_ps(_mm256_sub_ps(b, s->vo[2]), s->viv[2]);
+        lrt__z_plane8(tb, neg_z ^ 1u, &en, &ex);
     }
     mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
     if (!mask) return 8u;
-    _mm256_storeu_ps(enter, en);
     mask = lrt__lowest_bit(mask);
-    *t = enter[mask];
+    _mm256_storeu_ps(lanes, en);
+    *t = lanes[mask];
+    _mm256_storeu_ps(lanes, tz);
+    planes[0] = lanes[mask];
+    _mm256_storeu_ps(lanes, tb);
+    planes[1] = lanes[mask];
     return mask ^ s->sg->flip[0];
 }
 
@@ -2945,9 +2952,12 @@ static LRT__NOINLINE float lrt__back_plane(const lrt__walk *w, const lrt__ray_se
     return bits == ~0u ? lrt__depth_plane(s, format, raw) : lrt__depth_plane(s, LRT_FORMAT_FLOAT32, bits);
 }
 
-/* The exact test of one candidate texel against its true depth. */
+/* The exact test of one candidate texel against its true depth. planes:
+   the t of its depth plane and of its back plane (0 without a back), which
+   lrt__face compares with the hit's t instead of reading the texel again
+   (the kernels' lrt_test_texel). */
 LRT__FORCE_INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float enter,
-                           float exit, uint32_t code, float *t)
+                           float exit, uint32_t code, float *t, float planes[2])
 {
     uint32_t raw;
     float tz;
@@ -2965,10 +2975,13 @@ LRT__FORCE_INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *
         raw = lrt__depth_raw(w->depth, w->stride, tx, ty);
         tz = lrt__depth_plane(s, w->depth->format, raw);
     }
+    planes[0] = tz;
+    planes[1] = 0.0f;
     if (s->neg_z) exit = LRT__MIN_KEEP(tz, exit);
     else enter = LRT__MAX_KEEP(tz, enter);
     if (w->back_codes) { /* the back plane: entered going up (v.z < 0), left going down */
         const float tb = lrt__back_plane(w, s, tx, ty);
+        planes[1] = tb;
         if (s->neg_z) enter = LRT__MAX_KEEP(tb, enter);
         else exit = LRT__MIN_KEEP(tb, exit);
     }
@@ -2981,13 +2994,13 @@ LRT__FORCE_INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *
    ((plane - o) * (1/v), and lrt__depth_plane for depth), so the plane that
    won the max is found by equality, once per ray, whichever path tested
    the texel. t_lo holds what is left: tmin (inside), or the far plane. */
-static uint32_t lrt__face(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float t)
+LRT__FORCE_INLINE uint32_t lrt__face(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float t,
+                                     const float planes[2])
 {
-    if (!s->neg_z && lrt__depth_plane(s, w->depth->format, lrt__depth_raw(w->depth, w->stride, tx, ty)) == t)
-        return LRT_FACE_TOP;
+    if (!s->neg_z && planes[0] == t) return LRT_FACE_TOP;
     if (((float)(tx + s->neg_x) - s->o[0]) * s->iv[0] == t || ((float)(ty + s->neg_y) - s->o[1]) * s->iv[1] == t)
         return LRT_FACE_SIDE;
-    if (s->neg_z && (w->back_codes ? lrt__back_plane(w, s, tx, ty) : lrt__depth_plane(s, LRT_FORMAT_FLOAT32, 0x3f800000u)) == t)
+    if (s->neg_z && (w->back_codes ? planes[1] : lrt__depth_plane(s, LRT_FORMAT_FLOAT32, 0x3f800000u)) == t)
         return LRT_FACE_BACK;
     return LRT_FACE_INSIDE;
 }
@@ -2995,9 +3008,9 @@ static uint32_t lrt__face(const lrt__walk *w, const lrt__ray_setup *s, uint32_t 
 /* A hit at t of the walked ray, told in the caller's ray: undo the restart
    and the rescale, and stay inside [tmin, tmax] despite rounding. */
 LRT__FORCE_INLINE void lrt__report_hit(const lrt__walk *w, const lrt_ray *ray, const lrt__ray_setup *s, float t_scale, float t,
-                                 uint32_t tx, uint32_t ty, lrt_hit *hit)
+                                 uint32_t tx, uint32_t ty, const float planes[2], lrt_hit *hit)
 {
-    hit->face = (uint16_t)lrt__face(w, s, tx, ty, t);
+    hit->face = (uint16_t)lrt__face(w, s, tx, ty, t, planes);
     const float lo = lrt__flush_float(ray->tmin), hi = lrt__flush_float(ray->tmax); /* as the walk read them */
     t = (t + s->t_base) * t_scale;
     hit->t = t < lo ? lo : t > hi ? hi : t;
@@ -3159,7 +3172,7 @@ LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, size_t childre
    each texel they let through. wide and neg_z are constants where this is
    inlined. */
 LRT__FORCE_INLINE int lrt__level1_codes_hit(const lrt__walk *w, const lrt__ray_setup *s, uint32_t nx, uint32_t ny, size_t slot0,
-                                      uint32_t wide, uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t)
+                                      uint32_t wide, uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t, float planes[2])
 {
     const uint32_t flip = s->sg->flip[0];
     float enter[8], exit[8];
@@ -3170,7 +3183,7 @@ LRT__FORCE_INLINE int lrt__level1_codes_hit(const lrt__walk *w, const lrt__ray_s
         *tx = nx * 4u + (slot & 3u);
         *ty = ny * 2u + (slot >> 2);
         mask &= mask - 1u;
-        if (lrt__test_texel(w, s, *tx, *ty, enter[lane], exit[lane], lrt__code(w, slot0 + slot, wide), t)) return 1;
+        if (lrt__test_texel(w, s, *tx, *ty, enter[lane], exit[lane], lrt__code(w, slot0 + slot, wide), t, planes)) return 1;
     }
     return 0;
 }
@@ -3180,21 +3193,21 @@ LRT__FORCE_INLINE int lrt__level1_codes_hit(const lrt__walk *w, const lrt__ray_s
    depth (lrt__texels8), 8 texels at once, with no codes ---- */
 #if LRT__AVX
 LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *s, uint32_t nx, uint32_t ny, size_t slot0,
-                                      uint32_t wide, uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t)
+                                      uint32_t wide, uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t, float planes[2])
 {
     if (nx < w->texels8_w && ny < w->texels8_h && !s->zk) {
-        const uint32_t slot = lrt__texels8(w, s, nx, ny, neg_z, t);
+        const uint32_t slot = lrt__texels8(w, s, nx, ny, neg_z, t, planes);
         *tx = nx * 4u + (slot & 3u);
         *ty = ny * 2u + (slot >> 2);
         return slot < 8u;
     }
-    return lrt__level1_codes_hit(w, s, nx, ny, slot0, wide, neg_z, tx, ty, t);
+    return lrt__level1_codes_hit(w, s, nx, ny, slot0, wide, neg_z, tx, ty, t, planes);
 }
 #else
 LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *s, uint32_t nx, uint32_t ny, size_t slot0,
-                                      uint32_t wide, uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t)
+                                      uint32_t wide, uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t, float planes[2])
 {
-    return lrt__level1_codes_hit(w, s, nx, ny, slot0, wide, neg_z, tx, ty, t);
+    return lrt__level1_codes_hit(w, s, nx, ny, slot0, wide, neg_z, tx, ty, t, planes);
 }
 #endif
 
@@ -3262,9 +3275,9 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
     for (;;) {
         if (lv == 1u) { /* texels: the exact test, in visiting order */
             uint32_t tx, ty;
-            float t;
-            if (lrt__level1_hit(w, s, nx, ny, slot0, wide, neg_z, &tx, &ty, &t)) {
-                lrt__report_hit(w, ray, s, t_scale, t, tx, ty, hit);
+            float t, planes[2];
+            if (lrt__level1_hit(w, s, nx, ny, slot0, wide, neg_z, &tx, &ty, &t, planes)) {
+                lrt__report_hit(w, ray, s, t_scale, t, tx, ty, planes, hit);
                 return 1;
             }
         } else {
@@ -3361,11 +3374,11 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
         const float x0 = (float)nx, y0 = (float)ny;
         const uint32_t slot = ((ny & 1u) << 2) | (nx & 3u);
         const size_t slot0 = lrt__node_slot(w, 1, nx >> 2, ny >> 1);
-        float en = s->t_lo, ex = s->t_hi, t;
+        float en = s->t_lo, ex = s->t_hi, t, planes[2];
         lrt__slab(x0, x0 + 1.0f, s->o[0], s->iv[0], s->neg_x, &en, &ex);
         lrt__slab(y0, y0 + 1.0f, s->o[1], s->iv[1], s->neg_y, &en, &ex);
-        if (lrt__test_texel(w, s, nx, ny, en, ex, lrt__code(w, slot0 + slot, wide), &t)) {
-            lrt__report_hit(w, ray, s, t_scale, t, nx, ny, hit);
+        if (lrt__test_texel(w, s, nx, ny, en, ex, lrt__code(w, slot0 + slot, wide), &t, planes)) {
+            lrt__report_hit(w, ray, s, t_scale, t, nx, ny, planes, hit);
             return;
         }
         hit->kind = (uint16_t)kind;
