@@ -3211,10 +3211,12 @@ LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *
 }
 #endif
 
-/* Which walk: from the origin (lrt__walk_origin below) for a ray that starts
-   on the surface (at most 1/64 in front of the depth of the texel it starts
-   in, or behind it) and goes far (its start node at level 4 or above, and
-   16 texels or more along x or y); otherwise down from the start node.
+/* Where the walk (lrt__walk_origin below) starts: at the origin for a ray
+   that starts on the surface (at most 1/64 in front of the depth of the
+   texel it starts in, or behind it) and goes far (its start node at level 4
+   or above, and 16 texels or more along x or y); otherwise at the start
+   node, from which it goes down. (The kernels start at the origin: this
+   rule there won segments and lost reflections, docs/MEASUREMENTS.md.)
    Measured on the benchmark's scenes against the walk down alone (two
    alternated runs, 1 thread): shadow rays 2.2x on poles and 1.27x on noise,
    flat rays over 8-bit steps 1.6x, reflections 0.96-1.13x; the walk from
