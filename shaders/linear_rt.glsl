@@ -755,6 +755,13 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
 uint lrt_start_node(LrtParams p, LrtSetup s, out uint sx, out uint sy)
 {
     uint i0[2], i1[2];
+    if (s.zero.x && s.zero.y && float(int(s.o.x)) != s.o.x && float(int(s.o.y)) != s.o.y) {
+        // a camera ray inside one texel's column (the clip put o on the
+        // screen; off a texel edge, no neighbour's closed box is met)
+        sx = uint(int(s.o.x));
+        sy = uint(int(s.o.y));
+        return 0u;
+    }
     for (int k = 0; k < 2; ++k) {
         float o = s.o[k], v = s.v[k];
         float lim = float((k == 1 ? p.height : p.width) - 1u);
