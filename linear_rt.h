@@ -3240,7 +3240,7 @@ LRT__FORCE_INLINE int lrt__from_origin(const lrt__walk *w, const lrt__ray_setup 
 
 /* Child `slot` of node (nx, ny) of level lv: its node at level lv - 1 (the
    kernels' lrt_child). Levels lv odd group their children 4x2, even 2x4. */
-LRT__FORCE_INLINE void lrt__child(uint32_t lv, uint32_t slot, uint32_t *nx, uint32_t *ny)
+LRT__FORCE_INLINE void lrt__child(uint32_t lv, uint32_t *nx, uint32_t *ny, uint32_t slot)
 {
     const uint32_t bw_log2 = (lv & 1u) ? 2u : 1u;
     *nx = (*nx << bw_log2) + (slot & ((1u << bw_log2) - 1u));
@@ -3298,7 +3298,7 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
                 const uint32_t slot = lrt__lowest_bit(m) ^ s->sg->flip[tall];
                 masks[lv] = (uint8_t)(m & (m - 1u));
                 tested |= 1u << lv;
-                lrt__child(lv, slot, &nx, &ny);
+                lrt__child(lv, &nx, &ny, slot);
                 slot0 = children + (size_t)slot * 8u;
                 if (lv == w->row_prefetch_level) lrt__prefetch_rows(w, nx, ny); /* level 3 is wide */
                 lv -= 1u;
@@ -3320,7 +3320,7 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
                     masks[up] = (uint8_t)(pend & (pend - 1u));
                     nx = ux;
                     ny = uy;
-                    lrt__child(up, slot, &nx, &ny);
+                    lrt__child(up, &nx, &ny, slot);
                     slot0 = lrt__children_slot(w, up, ux, uy) + (size_t)slot * 8u;
                     if (up == w->row_prefetch_level) lrt__prefetch_rows(w, nx, ny);
                     eligible = 0xffu;
@@ -3364,6 +3364,7 @@ LRT__WALK_COPY(lrt__walk16_up, 1u, 0u)
 LRT__WALK_COPY(lrt__walk16_down, 1u, 1u)
 LRT__WALK_COPY(lrt__walk8_up, 0u, 0u)
 LRT__WALK_COPY(lrt__walk8_down, 0u, 1u)
+#undef LRT__WALK_COPY
 
 /* The trace of a set-up ray from node (nx, ny) of level lv (lrt__start_node);
    cull: lrt__cull_constants, stride floats apart, where AVX2 builds them
