@@ -961,68 +961,80 @@ uint lrt_code_in(uvec4 w, uint node_bits, uint slot)
     return (w[slot >> 2] >> ((slot & 3u) * 8u)) & 0xffu;
 }
 
-// is the child whose x and y slabs the ray crosses in [en, ex] met in
-// its decoded z range [depth, back or 1] (lrt_test_children); back_scale
-// 0: no back codes
-bool lrt_child_met(LrtSetup s, float en, float ex, uint code, float decode_scale, float qmaxf, uint back_code,
-                   float back_scale)
+// The node test's planes, once per walked ray (linear_rt.h's
+// lrt__cull_constants). A node's codes only cull (a texel they let through
+// gets its exact test), so a plane p's t may be p * iv + c (c = -o iv), one
+// step, fused or not, if c is moved out by more than that step's error: a
+// few ulps of (|p| + |o|) |iv| with |p| <= extent, so 2^-19 of it, and
+// 2^-19 |t_hi| for the exits' widening (lrt_widen grows an exit <= t_hi by
+// at most 2^-21 |t_hi|). An axis the ray does not move along (or by less
+// than 2^-100) takes iv = +-2^100 and |t_hi| more margin: a plane more than
+// about 2^-90 of a texel from o culls as it does exactly, a nearer one never.
+struct LrtCull {
+    vec2 iv, en, ex; // x and y: plane p is entered at p * iv + en, left at p * iv + ex
+    float za, zb;    // a child's depth plane: t = code * za + zb
+    float ba, bb;    // its back plane: t = back code * ba + bb
+    float lo, hi;    // the segment: t_lo, and t_hi widened
+};
+
+void lrt_cull_axis(float o, float iv, uint neg, bool zero, float extent, float t_hi, out float civ, out float c_en,
+                   out float c_ex)
 {
-    en = max(s.t_lo, en);
-    ex = min(s.t_hi, ex);
-    float tz;
-    if (s.zero.z) {
-        float dz = (qmaxf - float(code)) * decode_scale;
-        bool inside = dz <= s.o.z;
-        tz = (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
-    } else {
-        precise float dz = (qmaxf - float(code)) * decode_scale;
-        precise float tt = (dz - s.o.z) * s.iv.z;
-        tz = tt;
-    }
-    if (s.neg.z != 0u) ex = min(tz, ex);
-    else en = max(tz, en);
-    if (back_scale != 0.0 && s.zk == 0) { // the back plane: a decoded back never shallower than the true one
-        // (not for a z scaled by 2^zk, lrt_setup_rare: the unscaled codes would cut its back planes)
-        precise float bz = float(back_code) * back_scale;
-        float tb;
-        if (s.zero.z) {
-            tb = (s.neg.z != 0u) == (s.o.z <= bz) ? -LRT_INF : LRT_INF;
-        } else {
-            precise float tt = (bz - s.o.z) * s.iv.z;
-            tb = tt;
-        }
-        if (s.neg.z != 0u) en = max(tb, en);
-        else ex = min(tb, ex);
-    }
-    return en <= lrt_widen(ex);
+    const float IV_MAX = 1.26765060e30; // 2^100
+    const float MARGIN = 1.0 / 524288.0; // 2^-19
+    bool huge = zero || !(abs(iv) < IV_MAX);
+    float m = huge ? IV_MAX : abs(iv);
+    civ = neg != 0u ? -m : m;
+    precise float c = -o * civ;
+    precise float d = (abs(o) + extent) * m * MARGIN + abs(t_hi) * (huge ? 2.0 : MARGIN);
+    precise float a = c - d, b = c + d;
+    c_en = a;
+    c_ex = b;
 }
 
-// entering and leaving t of the 4 slabs [lo + i step, lo + (i + 1) step]
-// of one axis (a node's columns or rows), as lrt_slab gives them
-void lrt_slabs4(float lo, float step, float o, float iv, uint neg, bool zero, out vec4 en, out vec4 ex)
+LrtCull lrt_cull_setup(LrtParams p, LrtSetup s, float decode_scale, float qmaxf, float back_scale)
 {
-    precise float t0 = (lo - o) * iv, t1 = (lo + step - o) * iv, t2 = (lo + 2.0 * step - o) * iv;
-    precise float t3 = (lo + 3.0 * step - o) * iv, t4 = (lo + 4.0 * step - o) * iv;
-    vec4 a = vec4(t0, t1, t2, t3), b = vec4(t1, t2, t3, t4);
-    if (zero) {
-        vec4 l = vec4(lo, lo + step, lo + 2.0 * step, lo + 3.0 * step);
-        bvec4 inside = bvec4(uvec4(lessThanEqual(l, vec4(o))) & uvec4(lessThanEqual(vec4(o), l + step)));
-        a = mix(vec4(LRT_INF), vec4(-LRT_INF), inside);
-        b = -a;
-        neg = 0u;
-    }
-    en = neg != 0u ? b : a;
-    ex = neg != 0u ? a : b;
+    LrtCull c;
+    float zen, zex, za;
+    lrt_cull_axis(s.o.x, s.iv.x, s.neg.x, s.zero.x, float(1u << lrt_span_w_log2(p.level_count)), s.t_hi, c.iv.x, c.en.x,
+                  c.ex.x);
+    lrt_cull_axis(s.o.y, s.iv.y, s.neg.y, s.zero.y, float(1u << lrt_span_h_log2(p.level_count)), s.t_hi, c.iv.y, c.en.y,
+                  c.ex.y);
+    // a child's depth plane is (qmax - code) * decode_scale, below 1
+    precise float oz = s.o.z - qmaxf * decode_scale;
+    lrt_cull_axis(oz, s.iv.z, s.neg.z, s.zero.z, 1.0, s.t_hi, za, zen, zex);
+    precise float zan = -decode_scale * za;
+    c.za = zan;
+    c.zb = s.neg.z != 0u ? zex : zen;
+    // the back plane is back code * back_scale: entered going up, left going down
+    lrt_cull_axis(s.o.z, s.iv.z, s.neg.z, s.zero.z, 1.0, s.t_hi, za, zen, zex);
+    precise float ban = back_scale * za;
+    c.ba = ban;
+    c.bb = s.neg.z != 0u ? zen : zex;
+    c.lo = s.t_lo;
+    c.hi = lrt_widen(s.t_hi);
+    return c;
 }
 
-// the children of node (nx, ny) of level lv >= 1 that the ray meets, bit k
-// for the child met k-th in visiting order (slot k ^ flip); as the CPU's
-// node test: the same planes, the decoded bounds, exits widened. One loop
-// for 4x2 and 2x4 nodes: a child's column and row select among the node's
-// 5 column and 5 row planes (a SIMD device runs both sides of a branch on
-// the node's shape where its lanes differ)
-uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint ny, uint flip, float decode_scale, float qmaxf,
-                       uint back_base, float back_scale)
+// entering and leaving t of 4 columns (rows) [lo + i step, lo + (i + 1) step]
+// of a node, by the cull's planes, clamped to the segment
+void lrt_cull_slabs4(LrtCull c, int axis, float lo, float step, uint neg, out vec4 en, out vec4 ex)
+{
+    vec4 a = lo + step * vec4(0.0, 1.0, 2.0, 3.0), b = a + step; // exact: small integers times powers of two
+    precise vec4 ta = a * c.iv[axis], tb = b * c.iv[axis];
+    precise vec4 e = (neg != 0u ? tb : ta) + c.en[axis], x = (neg != 0u ? ta : tb) + c.ex[axis];
+    en = max(e, vec4(c.lo));
+    ex = min(x, vec4(c.hi));
+}
+
+// the children of node (nx, ny) of level lv >= 1 that the ray may meet, bit
+// k for the child met k-th in visiting order (slot k ^ flip): the cull's
+// planes, never tighter than the exact ones. One loop for 4x2 and 2x4
+// nodes: a child's column and row select among the node's 4 columns and 4
+// rows (a SIMD device runs both sides of a branch on the node's shape where
+// its lanes differ)
+uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, uint nx, uint ny, uint flip, uint back_base,
+                       bool back)
 {
     uint cl = lv - 1u;
     bool tall = lrt_bw_log2(cl) == 1u;
@@ -1030,18 +1042,24 @@ uint lrt_test_children(LrtParams p, LrtSetup s, uint lv, uint off, uint nx, uint
     float x0 = float((nx << lrt_bw_log2(cl)) << lrt_span_w_log2(cl)), y0 = float((ny << lrt_bh_log2(cl)) << lrt_span_h_log2(cl));
     uint slot0 = lrt_node_code0(p, lv, off, nx, ny);
     uvec4 w = lrt_node_words(p.node_bits, slot0);
-    uvec4 b = back_scale != 0.0 ? lrt_node_words(p.node_bits, back_base + slot0) : uvec4(0u); // the back codes
+    uvec4 b = back ? lrt_node_words(p.node_bits, back_base + slot0) : uvec4(0u); // the back codes
     vec4 cen, cex, ren, rex;
-    lrt_slabs4(x0, sw, s.o.x, s.iv.x, s.neg.x, s.zero.x, cen, cex);
-    lrt_slabs4(y0, sh, s.o.y, s.iv.y, s.neg.y, s.zero.y, ren, rex);
+    lrt_cull_slabs4(c, 0, x0, sw, s.neg.x, cen, cex);
+    lrt_cull_slabs4(c, 1, y0, sh, s.neg.y, ren, rex);
     uint mask = 0u;
     for (uint slot = 0u; slot < 8u; ++slot) { // 4x2: slot = row << 2 | column; 2x4: row << 1 | column
         // (selects between two fixed indices once the loop is unrolled)
         float en = tall ? max(cen[slot & 1u], ren[slot >> 1]) : max(cen[slot & 3u], ren[slot >> 2]);
         float ex = tall ? min(cex[slot & 1u], rex[slot >> 1]) : min(cex[slot & 3u], rex[slot >> 2]);
-        if (lrt_child_met(s, en, ex, lrt_code_in(w, p.node_bits, slot), decode_scale, qmaxf, lrt_code_in(b, p.node_bits, slot),
-                          back_scale))
-            mask |= 1u << (slot ^ flip);
+        precise float tz = float(lrt_code_in(w, p.node_bits, slot)) * c.za + c.zb;
+        if (s.neg.z != 0u) ex = min(tz, ex);
+        else en = max(tz, en);
+        if (back) { // the back plane
+            precise float tb = float(lrt_code_in(b, p.node_bits, slot)) * c.ba + c.bb;
+            if (s.neg.z != 0u) en = max(tb, en);
+            else ex = min(tb, ex);
+        }
+        if (en <= ex) mask |= 1u << (slot ^ flip);
     }
     return mask;
 }
@@ -1069,6 +1087,9 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
     // just above 1/qmax, linear_rt.h's back_scale; 0: no back codes
     float back_scale = !lrt_has_back(p) ? 0.0 : p.node_bits == 16u ? uintBitsToFloat(0x37800088u) : uintBitsToFloat(0x3b808089u);
     uint back_base = lrt_has_back(p) ? lrt_back_codes(p) : 0u;
+    // the back plane; not for a z scaled by 2^zk (lrt_setup_rare): the unscaled codes would cut it
+    bool back = lrt_has_back(p) && s.zk == 0;
+    LrtCull cull = lrt_cull_setup(p, s, decode_scale, qmaxf, back_scale);
     uint flip_wide = (s.neg.x != 0u ? 3u : 0u) | (s.neg.y != 0u ? 4u : 0u); // children in 4x2 blocks
     uint flip_tall = (s.neg.x != 0u ? 1u : 0u) | (s.neg.y != 0u ? 6u : 0u); // in 2x4 blocks
     // the texel where the segment starts, and its level-1 node
@@ -1079,7 +1100,7 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
     uvec4 masks = uvec4(0u);
     for (;;) {
         uint flip = lrt_bw_log2(lv - 1u) == 1u ? flip_tall : flip_wide;
-        uint m = lrt_test_children(p, s, lv, off, nx, ny, flip, decode_scale, qmaxf, back_base, back_scale) & eligible;
+        uint m = lrt_cull_children(p, s, cull, lv, off, nx, ny, flip, back_base, back) & eligible;
         // a padding node (past its level's grid) has no children in memory:
         // never down into one (fuzz_core: a read past the nodes)
         if (lv >= 2u && (nx >= lrt_grid_w(p.width, lv) || ny >= lrt_grid_h(p.height, lv))) m = 0u;
