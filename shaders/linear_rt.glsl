@@ -7,6 +7,8 @@
 //     numbers host and shader share; the rest of that file is skipped)
 //   #define LRT_DEPTH_IMAGE 0 or 1
 //   #define LRT_NODE_WORD(i)      word i of the node array (uint)
+//   (optional: LRT_NODE_QUAD(i) and LRT_NODE_PAIR(i), the same array read as
+//   uvec4 and uvec2: a node's codes in one load, as lrt_common.glsl does)
 //   #define LRT_DEPTH_WORD(i)     word i of the depth buffer (LRT_DEPTH_IMAGE 0)
 //   #define LRT_DEPTH_TEXEL(x, y) texelFetch(depth, ivec2(x, y), 0).r (LRT_DEPTH_IMAGE 1)
 // and passes an LrtParams (the first fields of the push constants of the
@@ -19,8 +21,9 @@
 // Float and integer arithmetic only: no shaderFloat64, no reliance on fma.
 //
 // The numbers follow linear_rt.h step by step, so both paths give the same
-// answers up to float rounding: every plane crossing is (plane - o) * (1/v)
-// in float; a unorm depth plane's distance v/max - o.z is taken exactly
+// answers up to float rounding: every plane crossing the answer rests on is
+// (plane - o) * (1/v) in float (a node's test only culls: plane * (1/v) + c
+// with margins, as linear_rt.h's AVX2 node test); a unorm depth plane's distance v/max - o.z is taken exactly
 // with Dekker's product (linear_rt.h uses double); a zero direction
 // component is a closed slab (handled without NaN or inf arithmetic). The
 // walk (lrt_trace_ray, below) starts at the ray's origin and needs no
@@ -945,13 +948,20 @@ uvec4 lrt_mask_set(uvec4 m, uint lv, uint bits)
 }
 
 // the 8 codes from code slot0 on (a node's) in one go: 4 words of 16-bit
-// codes, or 2 of 8-bit
+// codes, or 2 of 8-bit; one load of a uvec4 or uvec2 where the includer
+// gives LRT_NODE_QUAD and LRT_NODE_PAIR (lavapipe: secondary rays 1.03-1.10x
+// with 16-bit nodes, 1.00-1.05x with 8-bit, docs/MEASUREMENTS.md)
 uvec4 lrt_node_words(uint node_bits, uint slot0)
 {
+#ifdef LRT_NODE_QUAD
+    if (node_bits == 16u) return LRT_NODE_QUAD(slot0 >> 3);
+    return uvec4(LRT_NODE_PAIR(slot0 >> 3), 0u, 0u);
+#else
     if (node_bits == 16u)
         return uvec4(LRT_NODE_WORD(slot0 >> 1), LRT_NODE_WORD((slot0 >> 1) + 1u), LRT_NODE_WORD((slot0 >> 1) + 2u),
                      LRT_NODE_WORD((slot0 >> 1) + 3u));
     return uvec4(LRT_NODE_WORD(slot0 >> 2), LRT_NODE_WORD((slot0 >> 2) + 1u), 0u, 0u);
+#endif
 }
 
 // code slot of a node whose words are w (lrt_code's order)

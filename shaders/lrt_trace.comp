@@ -3,6 +3,7 @@
 // lrt_trace.comp - one ray per invocation through the BVH: its closest hit,
 // into hits[ray_first + i].
 #define LRT_NODES_ACCESS readonly // (lrt_common.glsl)
+#define LRT_NODES_QUADS
 #include "lrt_common.glsl"
 
 struct LrtRayIn {
