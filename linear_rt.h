@@ -179,7 +179,10 @@
      when L is even and 2x4 blocks when L is odd, up to a 1x1 root level.
    - a node stores the 8 heights of its children, h = 1 - depth rounded UP to
      8 or 16 bits (so a compressed bound never cuts off a hit); a node's own
-     height is the max of its children's and lives in its parent.
+     height is the max of its children's and lives in its parent. Codes are
+     linear (c / 255 or c / 65535), except 8-bit codes of float depth:
+     squares, (c + 1)^2 / 2^16, fine where a perspective depth crowds near 1
+     (>>heights: lrt__square_code).
    - the texel level is not stored (its heights sit in the level-1 nodes), so
      the tree costs about 1.14 bytes per texel with 8-bit nodes and 2.29 with
      16-bit nodes (each level has 1/8 of the nodes of the one below): a
@@ -1113,6 +1116,25 @@ static uint32_t lrt__float_heights4(const unsigned char *row, uint32_t x0, uint3
 #define lrt__float_heights4(row, x0, n, reversed, qmax, codes) 0u /* the loop does them all */
 #endif
 
+/* 8-bit codes of float depth are squares: code c stands for the height
+   h = 1 - d of (c + 1)^2 / 2^16 (lrt__square_height: 2^-16 to 1, exact in
+   float, and so is 1 - h, fused or not). A perspective depth crowds near
+   1, where h is small: there a code's step is about 2/(256 sqrt(h)) of h,
+   where a linear 8-bit code's is 1/255 of the whole range, wider than a
+   far floor's every height (the yard of build/bench); at h = 1/2 it is
+   1.4 linear steps (docs/MEASUREMENTS.md). Rounded up: the smallest c with
+   1 - lrt__square_height(c) <= d (the kernels' refit takes the same). */
+LRT__FORCE_INLINE float lrt__square_height(uint32_t code) { return (float)((code + 1u) * (code + 1u)) * (1.0f / 65536.0f); }
+
+static uint32_t lrt__square_code(float d)
+{
+    int32_t c = (int32_t)(sqrtf(1.0f - d) * 256.0f) - 3; /* within a step or two */
+    c = c < 0 ? 0 : c > 255 ? 255 : c;
+    while (c > 0 && 1.0f - lrt__square_height((uint32_t)c - 1u) <= d) --c;
+    while (1.0f - lrt__square_height((uint32_t)c) > d) ++c; /* stops at 255: height 1 */
+    return (uint32_t)c;
+}
+
 /* Height codes of texels [x0, x0+n) of one row: qmax - floor(depth * qmax).
    Integer inputs stay in integers, so 8-bit depth in 8- or 16-bit nodes and
    16-bit depth in 16-bit nodes are exact. One loop per format keeps the
@@ -1122,7 +1144,14 @@ static void lrt__row_heights(const lrt_depth *depth, const unsigned char *row, u
 {
     const int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
     uint32_t i;
-    if (depth->format == LRT_FORMAT_FLOAT32) {
+    if (depth->format == LRT_FORMAT_FLOAT32 && qmax == 255u) { /* squares (above) */
+        for (i = 0; i < n; ++i) {
+            float f;
+            memcpy(&f, row + 4 * (size_t)(x0 + i), 4);
+            if (reversed) f = 1.0f - f;
+            codes[i] = lrt__square_code(lrt__clamp_depth(f));
+        }
+    } else if (depth->format == LRT_FORMAT_FLOAT32) {
         for (i = lrt__float_heights4(row, x0, n, reversed, qmax, codes); i < n; ++i) {
             float f;
             memcpy(&f, row + 4 * (size_t)(x0 + i), 4);
@@ -2374,6 +2403,7 @@ typedef struct lrt__walk {
     size_t back_stride; /* of the back map (LRT_THICKNESS_BACK_MAP) */
     float back_scale;   /* just above 1/qmax: a decoded back is never shallower than the true one */
     int exact_codes;    /* the level-1 codes are the input depth itself */
+    int square_codes;   /* 8-bit codes of float depth: squares (lrt__square_code) */
     int plain_float;    /* float depth, standard Z */
     uint32_t texels8_w, texels8_h; /* plain float: level-1 nodes (x, y) below these lie inside the map (lrt__texels8) */
     float extent[2];    /* the root's span in texels: no node's plane lies beyond it */
@@ -2454,6 +2484,7 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
        in float never drops a hit that the texel test (in double) finds */
     w->decode_scale = (1.0f / (float)w->qmax) * (1.0f - 1.0f / 1048576.0f);
     w->exact_codes = depth->format != LRT_FORMAT_FLOAT32 && lrt__format_bytes(depth->format) * 8u <= L->node_bits;
+    w->square_codes = depth->format == LRT_FORMAT_FLOAT32 && L->node_bits == 8;
     w->row_prefetch_level = w->exact_codes ? ~0u : 3u;
     w->back_scale = (1.0f / (float)w->qmax) * (1.0f + 1.0f / 1048576.0f);
     if (L->back_codes) {
@@ -2686,6 +2717,13 @@ LRT__FORCE_INLINE void lrt__slabs8(const lrt__ray_setup *s, const lrt__walk_leve
 
 /* The z plane at t = tz of each lane: it leaves (v.z < 0) or enters; a NaN
    tz keeps the other operand */
+/* (code + 1)^2 of 8 codes, as floats (exact) */
+LRT__FORCE_INLINE __m256 lrt__squares8(__m256i codes)
+{
+    const __m256i c1 = _mm256_add_epi32(codes, _mm256_set1_epi32(1));
+    return _mm256_cvtepi32_ps(_mm256_mullo_epi32(c1, c1));
+}
+
 LRT__FORCE_INLINE void lrt__z_plane8(__m256 tz, uint32_t neg_z, __m256 *enter, __m256 *exit)
 {
     if (neg_z) *exit = _mm256_min_ps(tz, *exit);
@@ -2699,12 +2737,13 @@ LRT__FORCE_INLINE void lrt__box8(const lrt__walk *w, const lrt__ray_setup *s, co
                                  __m256 *exit, __m256 *enter_xy, __m256 *exit_xy)
 {
     const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(c16), s->sg->order[tall]);
-    const __m256 dz = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), codes));
+    const __m256 dz = w->square_codes ? _mm256_sub_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(lrt__squares8(codes), _mm256_set1_ps(1.0f / 65536.0f)))
+                                    : _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), codes)),
+                                                    _mm256_set1_ps(w->decode_scale));
     lrt__slabs8(s, v, x0, y0, tall, enter, exit);
     *enter_xy = *enter;
     *exit_xy = *exit;
-    lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(dz, _mm256_set1_ps(w->decode_scale)), s->vo[2]), s->viv[2]),
-                  neg_z, enter, exit);
+    lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(dz, s->vo[2]), s->viv[2]), neg_z, enter, exit);
     if (w->back_codes && !s->zk) { /* the back plane; not for a z scaled by 2^zk: unscaled codes would cut it */
         const __m256i back = _mm256_permutevar8x32_epi32(
             _mm256_cvtepu16_epi32(lrt__load_codes(w, w->back_codes + slot0, wide)), s->sg->order[tall]);
@@ -2804,7 +2843,7 @@ LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray
     const __m256 ye = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->ky_enter[tall], sh, Y0), s->cull_iv[1], s->cull_enter[1]);
     const __m256 yx = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->ky_exit[tall], sh, Y0), s->cull_iv[1], s->cull_exit[1]);
     const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(lrt__load_codes(w, slot0, wide)), g->order[tall]);
-    const __m256 tz = LRT__EXACT_MADD8(_mm256_cvtepi32_ps(codes), s->cull_za, s->cull_zb);
+    const __m256 tz = LRT__EXACT_MADD8(w->square_codes ? lrt__squares8(codes) : _mm256_cvtepi32_ps(codes), s->cull_za, s->cull_zb);
     /* X0 and Y0 wait for the parent's test, the codes' load is ahead of them */
     __m256 en = _mm256_max_ps(_mm256_max_ps(xe, ye), neg_z ? s->vt_lo : _mm256_max_ps(tz, s->vt_lo));
     __m256 ex = _mm256_min_ps(_mm256_min_ps(xx, yx), neg_z ? _mm256_min_ps(tz, s->cull_hi) : s->cull_hi);
@@ -2860,11 +2899,20 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
     const __m128i zero = _mm_setzero_si128(), qmax = _mm_set1_epi32((int)w->qmax);
     __m128 xe[2], xx[2], ye[2], yx[2];
     uint32_t k;
-    const __m128 dz[2] = {_mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpacklo_epi16(c16, zero))),
-                          _mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpackhi_epi16(c16, zero)))};
+    __m128 dz[2] = {_mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpacklo_epi16(c16, zero))),
+                    _mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpackhi_epi16(c16, zero)))};
     lrt__child_slabs(s, v, x0, y0, tall, xe, xx, ye, yx);
+    for (k = 0; k < 2; ++k) { /* the decoded depth: (qmax - code) * decode_scale, or 1 - lrt__square_height(code) */
+        if (w->square_codes) { /* (c + 1)^2 <= 2^16, in 32-bit lanes */
+            const __m128i c1 = _mm_add_epi32(k ? _mm_unpackhi_epi16(c16, zero) : _mm_unpacklo_epi16(c16, zero), _mm_set1_epi32(1));
+            const __m128i sq = _mm_madd_epi16(c1, c1); /* c1 < 2^15 in the low half, 0 in the high */
+            dz[k] = _mm_sub_ps(_mm_set1_ps(1.0f), _mm_mul_ps(_mm_cvtepi32_ps(sq), _mm_set1_ps(1.0f / 65536.0f)));
+        } else {
+            dz[k] = _mm_mul_ps(dz[k], _mm_set1_ps(w->decode_scale));
+        }
+    }
     for (k = 0; k < 2; ++k) {
-        const __m128 tz = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(dz[k], _mm_set1_ps(w->decode_scale)), s->vo[2]), s->viv[2]);
+        const __m128 tz = _mm_mul_ps(_mm_sub_ps(dz[k], s->vo[2]), s->viv[2]);
         __m128 en = _mm_max_ps(xe[k], s->vt_lo), ex = _mm_min_ps(xx[k], s->vt_hi); /* maxps/minps keep the 2nd operand on NaN */
         en = _mm_max_ps(ye[k], en);
         ex = _mm_min_ps(yx[k], ex);
@@ -2899,14 +2947,15 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
     uint32_t k;
     float dz[8], bz[8], px[5], py[5];
     for (k = 0; k < 8; ++k) {
-        dz[k] = (float)((int)w->qmax - (int)lrt__code(w, slot0 + k, wide));
+        const uint32_t code = lrt__code(w, slot0 + k, wide);
+        dz[k] = w->square_codes ? 1.0f - lrt__square_height(code) : (float)((int)w->qmax - (int)code) * w->decode_scale;
         bz[k] = w->back_codes ? (float)lrt__code(w, w->back_codes + slot0 + k, wide) * w->back_scale : 0.0f;
     }
     for (k = 0; k <= bw; ++k) px[k] = ((x0 + (float)k * v->child_span_w) - s->o[0]) * s->iv[0];
     for (k = 0; k <= bh; ++k) py[k] = ((y0 + (float)k * v->child_span_h) - s->o[1]) * s->iv[1];
     for (k = 0; k < 8; ++k) {
         uint32_t c = tall ? (k & 1u) : (k & 3u), r = tall ? (k >> 1) : (k >> 2);
-        float tz = (dz[k] * w->decode_scale - s->o[2]) * s->iv[2];
+        float tz = (dz[k] - s->o[2]) * s->iv[2];
         float en = s->t_lo, ex = s->t_hi;
         en = LRT__MAX_KEEP(px[c + s->neg_x], en);
         en = LRT__MAX_KEEP(py[r + s->neg_y], en);
@@ -3057,9 +3106,11 @@ static void lrt__cull_constants(const lrt__walk *w, const lrt__ray_setup *s, flo
     for (axis = 0; axis < 2; ++axis)
         lrt__cull_axis(s->o[axis], s->iv[axis], w->extent[axis], s->t_hi, &c[LRT__CULL_IV_X + axis],
                        &c[LRT__CULL_ENTER_X + axis], &c[LRT__CULL_EXIT_X + axis]);
-    /* z: a node's plane is (qmax - code) * decode_scale, below 1 */
-    lrt__cull_axis(s->o[2] - (float)w->qmax * w->decode_scale, s->iv[2], 1.0f, s->t_hi, &c[LRT__CULL_ZA], &zb_enter, &zb_exit);
-    c[LRT__CULL_ZA] = -w->decode_scale * c[LRT__CULL_ZA];
+    /* z: a node's plane is (qmax - code) * decode_scale, below 1, or
+       1 - (code + 1)^2 2^-16 (square codes: lrt__squares8), at least 0 */
+    lrt__cull_axis(s->o[2] - (w->square_codes ? 1.0f : (float)w->qmax * w->decode_scale), s->iv[2], 1.0f, s->t_hi,
+                   &c[LRT__CULL_ZA], &zb_enter, &zb_exit);
+    c[LRT__CULL_ZA] = (w->square_codes ? -1.0f / 65536.0f : -w->decode_scale) * c[LRT__CULL_ZA];
     c[LRT__CULL_ZB] = s->neg_z ? zb_exit : zb_enter;
     c[LRT__CULL_HI] = lrt__widen(s->t_hi);
     /* the back plane is back code * back_scale: it enters going up, leaves going down */
@@ -3549,12 +3600,12 @@ static void lrt__setup8(const lrt__walk *w, const lrt_ray *rays, lrt__batch8 *b)
         for (k = 0; k < 2; ++k)
             lrt__cull_axis8(o[k], iv[k], w->extent[k], t_hi, b->cull[LRT__CULL_IV_X + k], b->cull[LRT__CULL_ENTER_X + k],
                             b->cull[LRT__CULL_EXIT_X + k]);
-        lrt__cull_axis8(_mm256_sub_ps(o[2], _mm256_set1_ps((float)w->qmax * w->decode_scale)), iv[2], 1.0f, t_hi,
-                        b->cull[LRT__CULL_ZA], b->cull[LRT__CULL_ZB], b->cull[LRT__CULL_HI]);
+        lrt__cull_axis8(_mm256_sub_ps(o[2], _mm256_set1_ps(w->square_codes ? 1.0f : (float)w->qmax * w->decode_scale)), iv[2],
+                        1.0f, t_hi, b->cull[LRT__CULL_ZA], b->cull[LRT__CULL_ZB], b->cull[LRT__CULL_HI]);
         ivz = _mm256_loadu_ps(b->cull[LRT__CULL_ZA]);
         zb_enter = _mm256_loadu_ps(b->cull[LRT__CULL_ZB]);
         zb_exit = _mm256_loadu_ps(b->cull[LRT__CULL_HI]);
-        _mm256_storeu_ps(b->cull[LRT__CULL_ZA], _mm256_mul_ps(_mm256_set1_ps(-w->decode_scale), ivz));
+        _mm256_storeu_ps(b->cull[LRT__CULL_ZA], _mm256_mul_ps(_mm256_set1_ps(w->square_codes ? -1.0f / 65536.0f : -w->decode_scale), ivz));
         _mm256_storeu_ps(b->cull[LRT__CULL_ZB], _mm256_blendv_ps(zb_enter, zb_exit, neg[2]));
         if (w->back_codes) { /* the back plane: enters going up, leaves going down */
             float exits[8];

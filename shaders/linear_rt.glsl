@@ -275,10 +275,27 @@ bool lrt_scaled_is_whole(uint dbits, uint qmax)
     return (lo & ((1u << uint(sh)) - 1u)) == 0u;
 }
 
+// 8-bit codes of float depth are squares: code c stands for the height
+// h = 1 - d of (c + 1)^2 / 2^16, exact in float, as linear_rt.h's
+// lrt__square_code
+bool lrt_square_codes(LrtParams p) { return p.node_bits == 8u && p.format == LRT_FLOAT32; }
+float lrt_square_depth(uint code) { return 1.0 - float((code + 1u) * (code + 1u)) * (1.0 / 65536.0); } // exact
+
+// the smallest code c with lrt_square_depth(c) <= d (the guess within a
+// step or two)
+uint lrt_square_code(float d)
+{
+    int c = clamp(int(sqrt(1.0 - d) * 256.0) - 3, 0, 255);
+    for (int k = 0; k < 4 && c > 0 && lrt_square_depth(uint(c - 1)) <= d; ++k) c -= 1;
+    for (int k = 0; k < 8 && lrt_square_depth(uint(c)) > d; ++k) c += 1;
+    return uint(c);
+}
+
 uint lrt_texel_code(LrtParams p, uint x, uint y)
 {
     uint qmax = p.node_bits == 16u ? 65535u : 255u;
     uint raw = lrt_depth_raw(p, x, y);
+    if (lrt_square_codes(p)) return lrt_square_code(uintBitsToFloat(raw));
     if (p.format == LRT_UNORM8) return qmax - (raw * qmax) / 255u;
     if (p.format == LRT_UNORM16) return qmax - (raw * qmax) / 65535u; // < 2^32
     return qmax - lrt_floor_scaled(raw, qmax);
@@ -982,7 +999,7 @@ uint lrt_code_in(uvec4 w, uint node_bits, uint slot)
 // about 2^-90 of a texel from o culls as it does exactly, a nearer one never.
 struct LrtCull {
     vec2 iv, en, ex; // x and y: plane p is entered at p * iv + en, left at p * iv + ex
-    float za, zb;    // a child's depth plane: t = code * za + zb
+    float za, zb;    // a child's depth plane: t = code * za + zb ((code + 1)^2: lrt_square_codes)
     float ba, bb;    // its back plane: t = back code * ba + bb
     float lo, hi;    // the segment: t_lo, and t_hi widened
 };
@@ -1010,10 +1027,12 @@ LrtCull lrt_cull_setup(LrtParams p, LrtSetup s, float decode_scale, float qmaxf,
                   c.ex.x);
     lrt_cull_axis(s.o.y, s.iv.y, s.neg.y, s.zero.y, float(1u << lrt_span_h_log2(p.level_count)), s.t_hi, c.iv.y, c.en.y,
                   c.ex.y);
-    // a child's depth plane is (qmax - code) * decode_scale, below 1
-    precise float oz = s.o.z - qmaxf * decode_scale;
+    // a child's depth plane is (qmax - code) * decode_scale, below 1, or
+    // 1 - (code + 1)^2 2^-16 (lrt_square_codes), at least 0
+    bool square = lrt_square_codes(p);
+    precise float oz = s.o.z - (square ? 1.0 : qmaxf * decode_scale);
     lrt_cull_axis(oz, s.iv.z, s.neg.z, s.zero.z, 1.0, s.t_hi, za, zen, zex);
-    precise float zan = -decode_scale * za;
+    precise float zan = (square ? -1.0 / 65536.0 : -decode_scale) * za;
     c.za = zan;
     c.zb = s.neg.z != 0u ? zex : zen;
     // the back plane is back code * back_scale: entered going up, left going down
@@ -1061,7 +1080,8 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
         // (selects between two fixed indices once the loop is unrolled)
         float en = tall ? max(cen[slot & 1u], ren[slot >> 1]) : max(cen[slot & 3u], ren[slot >> 2]);
         float ex = tall ? min(cex[slot & 1u], rex[slot >> 1]) : min(cex[slot & 3u], rex[slot >> 2]);
-        precise float tz = float(lrt_code_in(w, p.node_bits, slot)) * c.za + c.zb;
+        uint code = lrt_code_in(w, p.node_bits, slot);
+        precise float tz = float(lrt_square_codes(p) ? (code + 1u) * (code + 1u) : code) * c.za + c.zb;
         if (s.neg.z != 0u) ex = min(tz, ex);
         else en = max(tz, en);
         if (back) { // the back plane

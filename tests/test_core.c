@@ -444,6 +444,80 @@ static void test_layout(void)
     }
 }
 
+/* ---- 3b. 8-bit codes of float depth: squares --------------------------------- */
+/* Independently of lrt__square_code's own steps: code c stands for the
+   depth 1 - (c + 1)^2 / 2^16 (exact), and a texel's code is the smallest
+   whose depth is at most its own. Then a tree's texel codes. */
+static double square_depth(uint32_t c) { return 1.0 - (double)((c + 1u) * (c + 1u)) / 65536.0; }
+
+static int square_code_right(float d, uint32_t c)
+{
+    return c <= 255u && square_depth(c) <= (double)d && (c == 0u || square_depth(c - 1u) > (double)d);
+}
+
+static void test_square_codes(void)
+{
+    uint32_t c, k, bad = 0, seed = 12345u;
+    float probe[4];
+    for (c = 0; c <= 255u; ++c) { /* every code's own depth and its float neighbours */
+        const float d = (float)square_depth(c);
+        probe[0] = d;
+        probe[1] = nextafterf(d, 0.0f);
+        probe[2] = nextafterf(d, 2.0f);
+        probe[3] = (float)(1.0 - (1.0 - d) * 1.03);
+        for (k = 0; k < 4; ++k)
+            if (probe[k] >= 0.0f && probe[k] <= 1.0f && !square_code_right(probe[k], lrt__square_code(probe[k]))) {
+                if (bad++ < 5) printf("FAIL square code of %.9g: %u\n", probe[k], lrt__square_code(probe[k]));
+            }
+    }
+    for (k = 0; k < 200000u; ++k) { /* random depths, crowded near 1 as a perspective's are */
+        float d;
+        seed = seed * 1664525u + 1013904223u;
+        d = (float)(seed >> 8) / 16777216.0f;
+        if (k & 1u) d = 1.0f - d * d * d * d;
+        if (!square_code_right(d, lrt__square_code(d))) {
+            if (bad++ < 5) printf("FAIL square code of %.9g: %u\n", d, lrt__square_code(d));
+        }
+    }
+    CHECK(bad == 0, "square codes: %u depths coded wrong", bad);
+    CHECK(square_depth(255u) == 0.0 && lrt__square_code(1.0f) == 0u && lrt__square_code(0.0f) == 255u,
+          "square codes: depth 1 is code 0, depth 0 code 255");
+    { /* a tree's texel codes: the texels' own (clamped) depths, rounded up */
+        const int w = 37, h = 21;
+        float *d = (float *)malloc(sizeof(float) * w * h);
+        lrt_depth dm;
+        lrt_bvh bvh;
+        lrt_build_options opt;
+        int x, y, ok = 1;
+        for (k = 0; k < (uint32_t)(w * h); ++k) {
+            seed = seed * 1664525u + 1013904223u;
+            d[k] = 1.0f - (float)(seed >> 8) / 16777216.0f * 0.01f;
+        }
+        d[0] = 0.0f;
+        d[1] = 1.0f;
+        d[2] = -0.5f; /* clamped to 0 */
+        d[3] = 1e-42f; /* subnormal: 0 */
+        memset(&dm, 0, sizeof dm);
+        dm.data = d;
+        dm.width = (uint32_t)w;
+        dm.height = (uint32_t)h;
+        dm.format = LRT_FORMAT_FLOAT32;
+        memset(&opt, 0, sizeof opt);
+        opt.node_bits = 8;
+        CHECK(lrt_bvh_build(&bvh, &dm, &opt, NULL) == LRT_SUCCESS, "square codes: build");
+        for (y = 0; y < h; ++y)
+            for (x = 0; x < w; ++x) {
+                const size_t node = (bvh.layout.levels[1].offset + lrt_layout_node_index(&bvh.layout, 1, (uint32_t)x >> 2, (uint32_t)y >> 1)) * 8u;
+                const uint32_t code = ((const uint8_t *)bvh.nodes)[node + (((uint32_t)y & 1u) << 2 | ((uint32_t)x & 3u))];
+                const float v = d[y * w + x];
+                ok &= square_code_right(v < 1e-38f ? 0.0f : v, code);
+            }
+        CHECK(ok, "square codes: a texel code of an 8-bit float tree is not its depth rounded up");
+        lrt_bvh_destroy(&bvh);
+        free(d);
+    }
+}
+
 /* ---- 4. update equals rebuild ------------------------------------------------- */
 /* a back map that moves with the depth: 0.03 behind it, 0.2 behind the sphere
    (inside the rect where the depth changes, as a back-face pass would) */
@@ -863,6 +937,7 @@ int main(int argc, char **argv)
     RUN_TEST(test_named_cases);
     RUN_TEST(test_found_cases);
     RUN_TEST(test_layout);
+    RUN_TEST(test_square_codes);
     RUN_TEST(test_update);
     RUN_TEST(test_bad_arguments);
     RUN_TEST(test_ranges);
