@@ -2737,7 +2737,7 @@ LRT__FORCE_INLINE void lrt__box8(const lrt__walk *w, const lrt__ray_setup *s, co
                                  __m256 *exit, __m256 *enter_xy, __m256 *exit_xy)
 {
     const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(c16), s->sg->order[tall]);
-    const __m256 dz = w->square_codes ? _mm256_sub_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(lrt__squares8(codes), _mm256_set1_ps(1.0f / 65536.0f)))
+    const __m256 dz = !wide && w->square_codes ? _mm256_sub_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(lrt__squares8(codes), _mm256_set1_ps(1.0f / 65536.0f)))
                                     : _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), codes)),
                                                     _mm256_set1_ps(w->decode_scale));
     lrt__slabs8(s, v, x0, y0, tall, enter, exit);
@@ -2843,7 +2843,7 @@ LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray
     const __m256 ye = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->ky_enter[tall], sh, Y0), s->cull_iv[1], s->cull_enter[1]);
     const __m256 yx = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->ky_exit[tall], sh, Y0), s->cull_iv[1], s->cull_exit[1]);
     const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(lrt__load_codes(w, slot0, wide)), g->order[tall]);
-    const __m256 tz = LRT__EXACT_MADD8(w->square_codes ? lrt__squares8(codes) : _mm256_cvtepi32_ps(codes), s->cull_za, s->cull_zb);
+    const __m256 tz = LRT__EXACT_MADD8(!wide && w->square_codes ? lrt__squares8(codes) : _mm256_cvtepi32_ps(codes), s->cull_za, s->cull_zb);
     /* X0 and Y0 wait for the parent's test, the codes' load is ahead of them */
     __m256 en = _mm256_max_ps(_mm256_max_ps(xe, ye), neg_z ? s->vt_lo : _mm256_max_ps(tz, s->vt_lo));
     __m256 ex = _mm256_min_ps(_mm256_min_ps(xx, yx), neg_z ? _mm256_min_ps(tz, s->cull_hi) : s->cull_hi);
@@ -2903,7 +2903,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
                     _mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpackhi_epi16(c16, zero)))};
     lrt__child_slabs(s, v, x0, y0, tall, xe, xx, ye, yx);
     for (k = 0; k < 2; ++k) { /* the decoded depth: (qmax - code) * decode_scale, or 1 - lrt__square_height(code) */
-        if (w->square_codes) { /* (c + 1)^2 <= 2^16, in 32-bit lanes */
+        if (!wide && w->square_codes) { /* (c + 1)^2 <= 2^16, in 32-bit lanes */
             const __m128i c1 = _mm_add_epi32(k ? _mm_unpackhi_epi16(c16, zero) : _mm_unpacklo_epi16(c16, zero), _mm_set1_epi32(1));
             const __m128i sq = _mm_madd_epi16(c1, c1); /* c1 < 2^15 in the low half, 0 in the high */
             dz[k] = _mm_sub_ps(_mm_set1_ps(1.0f), _mm_mul_ps(_mm_cvtepi32_ps(sq), _mm_set1_ps(1.0f / 65536.0f)));
@@ -2948,7 +2948,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
     float dz[8], bz[8], px[5], py[5];
     for (k = 0; k < 8; ++k) {
         const uint32_t code = lrt__code(w, slot0 + k, wide);
-        dz[k] = w->square_codes ? 1.0f - lrt__square_height(code) : (float)((int)w->qmax - (int)code) * w->decode_scale;
+        dz[k] = !wide && w->square_codes ? 1.0f - lrt__square_height(code) : (float)((int)w->qmax - (int)code) * w->decode_scale;
         bz[k] = w->back_codes ? (float)lrt__code(w, w->back_codes + slot0 + k, wide) * w->back_scale : 0.0f;
     }
     for (k = 0; k <= bw; ++k) px[k] = ((x0 + (float)k * v->child_span_w) - s->o[0]) * s->iv[0];
