@@ -1124,7 +1124,10 @@ static uint32_t lrt__float_heights4(const unsigned char *row, uint32_t x0, uint3
    far floor's every height (the yard of build/bench); at h = 1/2 it is
    1.4 linear steps (docs/MEASUREMENTS.md). Rounded up: the smallest c with
    1 - lrt__square_height(c) <= d (the kernels' refit takes the same). */
-LRT__FORCE_INLINE float lrt__square_height(uint32_t code) { return (float)((code + 1u) * (code + 1u)) * (1.0f / 65536.0f); }
+LRT__FORCE_INLINE float lrt__square_height(uint32_t code)
+{
+    return (float)((code + 1u) * (code + 1u)) * (1.0f / 65536.0f);
+}
 
 static uint32_t lrt__square_code(float d)
 {
@@ -2483,6 +2486,9 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
        under it by more than the float rounding of its plane's t, so culling
        in float never drops a hit that the texel test (in double) finds */
     w->decode_scale = (1.0f / (float)w->qmax) * (1.0f - 1.0f / 1048576.0f);
+    /* (square codes decode to 1 - h exactly, at most the depth: the texel
+       test of float depth computes its plane's t the same way, and rounding
+       keeps the order) */
     w->exact_codes = depth->format != LRT_FORMAT_FLOAT32 && lrt__format_bytes(depth->format) * 8u <= L->node_bits;
     w->square_codes = depth->format == LRT_FORMAT_FLOAT32 && L->node_bits == 8;
     w->row_prefetch_level = w->exact_codes ? ~0u : 3u;
@@ -2715,15 +2721,15 @@ LRT__FORCE_INLINE void lrt__slabs8(const lrt__ray_setup *s, const lrt__walk_leve
     *exit = _mm256_min_ps(yx, _mm256_min_ps(xx, s->vt_hi));
 }
 
-/* The z plane at t = tz of each lane: it leaves (v.z < 0) or enters; a NaN
-   tz keeps the other operand */
-/* (code + 1)^2 of 8 codes, as floats (exact) */
+/* (code + 1)^2 of 8 codes, as floats (exact): square codes (lrt__square_code) */
 LRT__FORCE_INLINE __m256 lrt__squares8(__m256i codes)
 {
     const __m256i c1 = _mm256_add_epi32(codes, _mm256_set1_epi32(1));
     return _mm256_cvtepi32_ps(_mm256_mullo_epi32(c1, c1));
 }
 
+/* The z plane at t = tz of each lane: it leaves (v.z < 0) or enters; a NaN
+   tz keeps the other operand */
 LRT__FORCE_INLINE void lrt__z_plane8(__m256 tz, uint32_t neg_z, __m256 *enter, __m256 *exit)
 {
     if (neg_z) *exit = _mm256_min_ps(tz, *exit);
@@ -2737,9 +2743,12 @@ LRT__FORCE_INLINE void lrt__box8(const lrt__walk *w, const lrt__ray_setup *s, co
                                  __m256 *exit, __m256 *enter_xy, __m256 *exit_xy)
 {
     const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(c16), s->sg->order[tall]);
-    const __m256 dz = !wide && w->square_codes ? _mm256_sub_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(lrt__squares8(codes), _mm256_set1_ps(1.0f / 65536.0f)))
-                                    : _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), codes)),
-                                                    _mm256_set1_ps(w->decode_scale));
+    /* the decoded depth: (qmax - code) * decode_scale, or 1 - (code + 1)^2 2^-16 */
+    const __m256 dz =
+        !wide && w->square_codes
+            ? _mm256_sub_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(lrt__squares8(codes), _mm256_set1_ps(1.0f / 65536.0f)))
+            : _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), codes)),
+                            _mm256_set1_ps(w->decode_scale));
     lrt__slabs8(s, v, x0, y0, tall, enter, exit);
     *enter_xy = *enter;
     *exit_xy = *exit;
@@ -2843,7 +2852,8 @@ LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray
     const __m256 ye = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->ky_enter[tall], sh, Y0), s->cull_iv[1], s->cull_enter[1]);
     const __m256 yx = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->ky_exit[tall], sh, Y0), s->cull_iv[1], s->cull_exit[1]);
     const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(lrt__load_codes(w, slot0, wide)), g->order[tall]);
-    const __m256 tz = LRT__EXACT_MADD8(!wide && w->square_codes ? lrt__squares8(codes) : _mm256_cvtepi32_ps(codes), s->cull_za, s->cull_zb);
+    const __m256 tz =
+        LRT__EXACT_MADD8(!wide && w->square_codes ? lrt__squares8(codes) : _mm256_cvtepi32_ps(codes), s->cull_za, s->cull_zb);
     /* X0 and Y0 wait for the parent's test, the codes' load is ahead of them */
     __m256 en = _mm256_max_ps(_mm256_max_ps(xe, ye), neg_z ? s->vt_lo : _mm256_max_ps(tz, s->vt_lo));
     __m256 ex = _mm256_min_ps(_mm256_min_ps(xx, yx), neg_z ? _mm256_min_ps(tz, s->cull_hi) : s->cull_hi);
@@ -2904,7 +2914,8 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
     lrt__child_slabs(s, v, x0, y0, tall, xe, xx, ye, yx);
     for (k = 0; k < 2; ++k) { /* the decoded depth: (qmax - code) * decode_scale, or 1 - lrt__square_height(code) */
         if (!wide && w->square_codes) { /* (c + 1)^2 <= 2^16, in 32-bit lanes */
-            const __m128i c1 = _mm_add_epi32(k ? _mm_unpackhi_epi16(c16, zero) : _mm_unpacklo_epi16(c16, zero), _mm_set1_epi32(1));
+            const __m128i c1 =
+                _mm_add_epi32(k ? _mm_unpackhi_epi16(c16, zero) : _mm_unpacklo_epi16(c16, zero), _mm_set1_epi32(1));
             const __m128i sq = _mm_madd_epi16(c1, c1); /* c1 < 2^15 in the low half, 0 in the high */
             dz[k] = _mm_sub_ps(_mm_set1_ps(1.0f), _mm_mul_ps(_mm_cvtepi32_ps(sq), _mm_set1_ps(1.0f / 65536.0f)));
         } else {
@@ -2948,7 +2959,8 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
     float dz[8], bz[8], px[5], py[5];
     for (k = 0; k < 8; ++k) {
         const uint32_t code = lrt__code(w, slot0 + k, wide);
-        dz[k] = !wide && w->square_codes ? 1.0f - lrt__square_height(code) : (float)((int)w->qmax - (int)code) * w->decode_scale;
+        dz[k] = !wide && w->square_codes ? 1.0f - lrt__square_height(code)
+                                         : (float)((int)w->qmax - (int)code) * w->decode_scale;
         bz[k] = w->back_codes ? (float)lrt__code(w, w->back_codes + slot0 + k, wide) * w->back_scale : 0.0f;
     }
     for (k = 0; k <= bw; ++k) px[k] = ((x0 + (float)k * v->child_span_w) - s->o[0]) * s->iv[0];
@@ -3605,7 +3617,8 @@ static void lrt__setup8(const lrt__walk *w, const lrt_ray *rays, lrt__batch8 *b)
         ivz = _mm256_loadu_ps(b->cull[LRT__CULL_ZA]);
         zb_enter = _mm256_loadu_ps(b->cull[LRT__CULL_ZB]);
         zb_exit = _mm256_loadu_ps(b->cull[LRT__CULL_HI]);
-        _mm256_storeu_ps(b->cull[LRT__CULL_ZA], _mm256_mul_ps(_mm256_set1_ps(w->square_codes ? -1.0f / 65536.0f : -w->decode_scale), ivz));
+        _mm256_storeu_ps(b->cull[LRT__CULL_ZA],
+                         _mm256_mul_ps(_mm256_set1_ps(w->square_codes ? -1.0f / 65536.0f : -w->decode_scale), ivz));
         _mm256_storeu_ps(b->cull[LRT__CULL_ZB], _mm256_blendv_ps(zb_enter, zb_exit, neg[2]));
         if (w->back_codes) { /* the back plane: enters going up, leaves going down */
             float exits[8];
