@@ -23,12 +23,12 @@
 // The numbers follow linear_rt.h step by step, so both paths give the same
 // answers up to float rounding: every plane crossing the answer rests on is
 // (plane - o) * (1/v) in float (a node's test only culls: plane * (1/v) + c
-// with margins, as linear_rt.h's AVX2 node test); a unorm depth plane's distance v/max - o.z is taken exactly
-// with Dekker's product (linear_rt.h uses double); a zero direction
-// component is a closed slab (handled without NaN or inf arithmetic). The
-// walk (lrt_trace_ray, below) starts at the ray's origin and needs no
-// stack; it visits children in the CPU walk's front-to-back order, so the
-// first texel hit is the closest and the CPU's.
+// with margins, as linear_rt.h's AVX2 node test); a unorm depth plane's
+// distance v/max - o.z is taken exactly with Dekker's product (linear_rt.h
+// uses double); a zero direction component is a closed slab (handled
+// without NaN or inf arithmetic). The walk (lrt_trace_ray, below) starts at
+// the ray's origin and needs no stack; it visits children in the CPU walk's
+// front-to-back order, so the first texel hit is the closest and the CPU's.
 // `precise` keeps compilers from fusing or reordering what must round the
 // way it is written.
 
@@ -281,13 +281,14 @@ bool lrt_scaled_is_whole(uint dbits, uint qmax)
 bool lrt_square_codes(LrtParams p) { return p.node_bits == 8u && p.format == LRT_FLOAT32; }
 float lrt_square_depth(uint code) { return 1.0 - float((code + 1u) * (code + 1u)) * (1.0 / 65536.0); } // exact
 
-// the smallest code c with lrt_square_depth(c) <= d (the guess within a
-// step or two)
+// the smallest code c with lrt_square_depth(c) <= d: ceil(256 sqrt(h)) - 1,
+// whose guess below is one off at most (two steps each way allowed for a
+// device's less exact sqrt)
 uint lrt_square_code(float d)
 {
-    int c = clamp(int(sqrt(1.0 - d) * 256.0) - 3, 0, 255);
-    for (int k = 0; k < 4 && c > 0 && lrt_square_depth(uint(c - 1)) <= d; ++k) c -= 1;
-    for (int k = 0; k < 8 && lrt_square_depth(uint(c)) > d; ++k) c += 1;
+    int c = clamp(int(sqrt(1.0 - d) * 256.0), 0, 255);
+    for (int k = 0; k < 2 && c > 0 && lrt_square_depth(uint(c - 1)) <= d; ++k) c -= 1;
+    for (int k = 0; k < 2 && lrt_square_depth(uint(c)) > d; ++k) c += 1;
     return uint(c);
 }
 

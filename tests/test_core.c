@@ -470,7 +470,7 @@ static void test_square_codes(void)
                 if (bad++ < 5) printf("FAIL square code of %.9g: %u\n", probe[k], lrt__square_code(probe[k]));
             }
     }
-    for (k = 0; k < 200000u; ++k) { /* random depths, crowded near 1 as a perspective's are */
+    for (k = 0; k < 4000000u; ++k) { /* random depths, crowded near 1 as a perspective's are */
         float d;
         seed = seed * 1664525u + 1013904223u;
         d = (float)(seed >> 8) / 16777216.0f;
