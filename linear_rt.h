@@ -1133,11 +1133,10 @@ static uint32_t lrt__square_code(float d)
 {
     /* the code is ceil(256 sqrt(h)) - 1: 256 sqrt(1 - d) in float is within
        2^-16 of 256 sqrt(h), so its floor is the code or one off either way */
-    int32_t c = (int32_t)(sqrtf(1.0f - d) * 256.0f);
-    c = c > 255 ? 255 : c;
-    if (c > 0 && 1.0f - lrt__square_height((uint32_t)c - 1u) <= d) --c;
-    else if (1.0f - lrt__square_height((uint32_t)c) > d) ++c;
-    return (uint32_t)c;
+    const uint32_t c = (uint32_t)(sqrtf(1.0f - d) * 256.0f); /* 0 to 256 (256 at d = 0 only: one down) */
+    if (c && 1.0f - lrt__square_height(c - 1u) <= d) return c - 1u;
+    if (1.0f - lrt__square_height(c) > d) return c + 1u;
+    return c;
 }
 
 /* ---- ISA block: a row's float depths to square codes, 4 at a time (SSE2 |
