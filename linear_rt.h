@@ -2438,6 +2438,8 @@ typedef struct lrt__walk {
     float back_scale;   /* just above 1/qmax: a decoded back is never shallower than the true one */
     int exact_codes;    /* the level-1 codes are the input depth itself */
     int square_codes;   /* 8-bit codes of float depth: squares (lrt__square_code) */
+    float code_depth0, code_step; /* a node's depth plane is code_depth0 + value * code_step, value the code
+                                     (linear) or (code + 1)^2 (square): lrt__cull_children's z plane */
     int plain_float;    /* float depth, standard Z */
     uint32_t texels8_w, texels8_h; /* plain float: level-1 nodes (x, y) below these lie inside the map (lrt__texels8) */
     float extent[2];    /* the root's span in texels: no node's plane lies beyond it */
@@ -2522,6 +2524,8 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
        keeps the order) */
     w->exact_codes = depth->format != LRT_FORMAT_FLOAT32 && lrt__format_bytes(depth->format) * 8u <= L->node_bits;
     w->square_codes = depth->format == LRT_FORMAT_FLOAT32 && L->node_bits == 8;
+    w->code_depth0 = w->square_codes ? 1.0f : (float)w->qmax * w->decode_scale;
+    w->code_step = w->square_codes ? -1.0f / 65536.0f : -w->decode_scale;
     w->row_prefetch_level = w->exact_codes ? ~0u : 3u;
     w->back_scale = (1.0f / (float)w->qmax) * (1.0f + 1.0f / 1048576.0f);
     if (L->back_codes) {
@@ -3151,9 +3155,8 @@ static void lrt__cull_constants(const lrt__walk *w, const lrt__ray_setup *s, flo
                        &c[LRT__CULL_ENTER_X + axis], &c[LRT__CULL_EXIT_X + axis]);
     /* z: a node's plane is (qmax - code) * decode_scale, below 1, or
        1 - (code + 1)^2 2^-16 (square codes: lrt__squares8), at least 0 */
-    lrt__cull_axis(s->o[2] - (w->square_codes ? 1.0f : (float)w->qmax * w->decode_scale), s->iv[2], 1.0f, s->t_hi,
-                   &c[LRT__CULL_ZA], &zb_enter, &zb_exit);
-    c[LRT__CULL_ZA] = (w->square_codes ? -1.0f / 65536.0f : -w->decode_scale) * c[LRT__CULL_ZA];
+    lrt__cull_axis(s->o[2] - w->code_depth0, s->iv[2], 1.0f, s->t_hi, &c[LRT__CULL_ZA], &zb_enter, &zb_exit);
+    c[LRT__CULL_ZA] = w->code_step * c[LRT__CULL_ZA];
     c[LRT__CULL_ZB] = s->neg_z ? zb_exit : zb_enter;
     c[LRT__CULL_HI] = lrt__widen(s->t_hi);
     /* the back plane is back code * back_scale: it enters going up, leaves going down */
@@ -3643,13 +3646,12 @@ static void lrt__setup8(const lrt__walk *w, const lrt_ray *rays, lrt__batch8 *b)
         for (k = 0; k < 2; ++k)
             lrt__cull_axis8(o[k], iv[k], w->extent[k], t_hi, b->cull[LRT__CULL_IV_X + k], b->cull[LRT__CULL_ENTER_X + k],
                             b->cull[LRT__CULL_EXIT_X + k]);
-        lrt__cull_axis8(_mm256_sub_ps(o[2], _mm256_set1_ps(w->square_codes ? 1.0f : (float)w->qmax * w->decode_scale)), iv[2],
-                        1.0f, t_hi, b->cull[LRT__CULL_ZA], b->cull[LRT__CULL_ZB], b->cull[LRT__CULL_HI]);
+        lrt__cull_axis8(_mm256_sub_ps(o[2], _mm256_set1_ps(w->code_depth0)), iv[2], 1.0f, t_hi, b->cull[LRT__CULL_ZA],
+                        b->cull[LRT__CULL_ZB], b->cull[LRT__CULL_HI]);
         ivz = _mm256_loadu_ps(b->cull[LRT__CULL_ZA]);
         zb_enter = _mm256_loadu_ps(b->cull[LRT__CULL_ZB]);
         zb_exit = _mm256_loadu_ps(b->cull[LRT__CULL_HI]);
-        _mm256_storeu_ps(b->cull[LRT__CULL_ZA],
-                         _mm256_mul_ps(_mm256_set1_ps(w->square_codes ? -1.0f / 65536.0f : -w->decode_scale), ivz));
+        _mm256_storeu_ps(b->cull[LRT__CULL_ZA], _mm256_mul_ps(_mm256_set1_ps(w->code_step), ivz));
         _mm256_storeu_ps(b->cull[LRT__CULL_ZB], _mm256_blendv_ps(zb_enter, zb_exit, neg[2]));
         if (w->back_codes) { /* the back plane: enters going up, leaves going down */
             float exits[8];

@@ -1020,8 +1020,13 @@ void lrt_cull_axis(float o, float iv, uint neg, bool zero, float extent, float t
     c_ex = b;
 }
 
-LrtCull lrt_cull_setup(LrtParams p, LrtSetup s, float decode_scale, float qmaxf, float back_scale)
+LrtCull lrt_cull_setup(LrtParams p, LrtSetup s)
 {
+    // just below 1/qmax, the same float as linear_rt.h's decode_scale
+    float decode_scale = p.node_bits == 16u ? uintBitsToFloat(0x37800078u) : uintBitsToFloat(0x3b808079u);
+    float qmaxf = p.node_bits == 16u ? 65535.0 : 255.0;
+    // just above 1/qmax, linear_rt.h's back_scale
+    float back_scale = p.node_bits == 16u ? uintBitsToFloat(0x37800088u) : uintBitsToFloat(0x3b808089u);
     LrtCull c;
     float zen, zex, za;
     lrt_cull_axis(s.o.x, s.iv.x, s.neg.x, s.zero.x, float(1u << lrt_span_w_log2(p.level_count)), s.t_hi, c.iv.x, c.en.x,
@@ -1112,15 +1117,10 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
     hx = 0u;
     hy = 0u;
     ht = 0.0;
-    // just below 1/qmax, the same float as linear_rt.h's decode_scale
-    float decode_scale = p.node_bits == 16u ? uintBitsToFloat(0x37800078u) : uintBitsToFloat(0x3b808079u);
-    float qmaxf = p.node_bits == 16u ? 65535.0 : 255.0;
-    // just above 1/qmax, linear_rt.h's back_scale; 0: no back codes
-    float back_scale = !lrt_has_back(p) ? 0.0 : p.node_bits == 16u ? uintBitsToFloat(0x37800088u) : uintBitsToFloat(0x3b808089u);
     uint back_base = lrt_has_back(p) ? lrt_back_codes(p) : 0u;
     // the back plane; not for a z scaled by 2^zk (lrt_setup_rare): the unscaled codes would cut it
     bool back = lrt_has_back(p) && s.zk == 0;
-    LrtCull cull = lrt_cull_setup(p, s, decode_scale, qmaxf, back_scale);
+    LrtCull cull = lrt_cull_setup(p, s);
     uint flip_wide = (s.neg.x != 0u ? 3u : 0u) | (s.neg.y != 0u ? 4u : 0u); // children in 4x2 blocks
     uint flip_tall = (s.neg.x != 0u ? 1u : 0u) | (s.neg.y != 0u ? 6u : 0u); // in 2x4 blocks
     // the texel where the segment starts, and its level-1 node
