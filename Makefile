@@ -224,9 +224,16 @@ test-header: | deps $(B)
 	job gcc $(STD) $(STRICT) -mavx2 -mfma -c $(B)/header_tu.c -o $(B)/header_avx2fma.o; \
 	job gcc $(STD) $(STRICT) -DLINEAR_RT_NO_AVX -c $(B)/header_tu.c -o $(B)/header_noavx.o; \
 	job gcc $(STD) $(STRICT) -DLINEAR_RT_NO_RUNTIME_DISPATCH -c $(B)/header_tu.c -o $(B)/header_nodispatch.o; \
+	job gcc $(STD) $(STRICT) -O2 -c $(B)/header_tu.c -o $(B)/header_gcc_o2.o; \
+	if command -v clang >/dev/null 2>&1; then \
+	  job clang $(STD) $(STRICT) -O2 -c $(B)/header_tu.c -o $(B)/header_clang_o2.o; fi; \
 	flush; for o in gcc clang; do [ -f $(B)/header_$$o.o ] || continue; \
 	  if nm $(B)/header_$$o.o | grep -q 'lrt__trace_walk_avx2'; then echo "  $$o: a plain build has the AVX2 walk (run-time choice)"; n=$$((n + 1)); \
-	  else echo "  FAIL: $$o: a plain build has no AVX2 walk"; bad=$$((bad + 1)); fi; done; \
+	  else echo "  FAIL: $$o: a plain build has no AVX2 walk"; bad=$$((bad + 1)); fi; \
+	  calls=$$(objdump -d --no-show-raw-insn $(B)/header_$${o}_o2.o | \
+	    awk '/^[0-9a-f]+ <.*>:$$/ { fn = $$2 } /\tcall/ && fn ~ /_avx2/ && $$NF ~ /^<lrt__/ && $$NF !~ /_avx2[.>+]/ && $$NF != "<lrt__check_back>" { print "    " fn " calls " $$NF }' | sort -u); \
+	  if [ -z "$$calls" ]; then echo "  $$o -O2: the AVX2 walk calls no helper compiled for plain x86-64 (an out-of-line one halved a 3x2 map's speed)"; n=$$((n + 1)); \
+	  else echo "  FAIL: $$o -O2: the AVX2 walk calls helpers compiled for plain x86-64 (make them LRT__FORCE_INLINE):"; echo "$$calls"; bad=$$((bad + 1)); fi; done; \
 	mkdir -p $(B)/renamed && cp linear_rt.h $(B)/renamed/lrt_copy.h && \
 	printf '#define LINEAR_RT_SELF "lrt_copy.h"\n#define LINEAR_RT_IMPLEMENTATION\n#include "renamed/lrt_copy.h"\n' > $(B)/header_renamed_tu.c; \
 	job gcc $(STD) $(STRICT) -c $(B)/header_renamed_tu.c -o $(B)/header_renamed.o; \

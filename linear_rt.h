@@ -988,7 +988,7 @@ static lrt_result lrt__check_back(const lrt_depth *depth, uint32_t thickness, si
    may depend on one). The SIMD clamps: min with 1 (minps keeps 1 for NaN),
    then an AND with (d >= 2^-126). */
 #define LRT__FLT_MIN 1.17549435e-38f /* 2^-126, the least normal float */
-LRT__INLINE float lrt__clamp_depth(float f)
+LRT__FORCE_INLINE float lrt__clamp_depth(float f)
 {
     if (!(f <= 1.0f)) f = 1.0f; /* NaN too */
     if (!(f >= LRT__FLT_MIN)) f = 0.0f;
@@ -1036,7 +1036,7 @@ LRT__FORCE_INLINE uint32_t lrt__depth_raw(const lrt_depth *depth, size_t stride,
 /* Texel (x, y)'s back depth, raw: max(depth, back) (docs/MODEL.md: a back in
    front of the depth is the depth). Raw values order as depths do: a
    unorm's integer, or the bits of a float clamped to [0, 1]. */
-LRT__INLINE uint32_t lrt__back_raw(const lrt_depth *depth, size_t stride, size_t back_stride, uint32_t x, uint32_t y)
+LRT__FORCE_INLINE uint32_t lrt__back_raw(const lrt_depth *depth, size_t stride, size_t back_stride, uint32_t x, uint32_t y)
 {
     const uint32_t d = lrt__depth_raw(depth, stride, x, y), b = lrt__map_raw(depth, depth[1].data, back_stride, x, y);
     return b > d ? b : d;
@@ -1048,7 +1048,7 @@ LRT__INLINE uint32_t lrt__back_raw(const lrt_depth *depth, size_t stride, size_t
    of docs/MODEL.md's exact b (the relative model 4 ulps; tests/test_reference.c
    measures it). Clamped to 1 and never in
    front of d: d = 1 keeps b = 1 (u = 0, q = inf, the quotient 0). */
-LRT__INLINE float lrt__model_back(uint32_t thickness, const float k[2], float d)
+LRT__FORCE_INLINE float lrt__model_back(uint32_t thickness, const float k[2], float d)
 {
     float b;
     if (thickness == LRT_THICKNESS_CONSTANT) {
@@ -1062,7 +1062,7 @@ LRT__INLINE float lrt__model_back(uint32_t thickness, const float k[2], float d)
 }
 
 /* A raw depth (lrt__map_raw) as the float the models start from. */
-LRT__INLINE float lrt__raw_to_float(lrt_format format, uint32_t raw)
+LRT__FORCE_INLINE float lrt__raw_to_float(lrt_format format, uint32_t raw)
 {
     float d;
     if (format == LRT_FORMAT_UNORM8) return (float)raw / 255.0f;
@@ -1075,7 +1075,7 @@ LRT__INLINE float lrt__raw_to_float(lrt_format format, uint32_t raw)
    bits, or ~0 when b is not behind a unorm depth's exact v / max (b(d)
    rounds to the float d, below v / max): the box is then the flat plate
    [d, d], its back the depth's own exact plane. */
-LRT__INLINE uint32_t lrt__model_back_bits(const lrt_layout *L, lrt_format format, uint32_t raw)
+LRT__FORCE_INLINE uint32_t lrt__model_back_bits(const lrt_layout *L, lrt_format format, uint32_t raw)
 {
     const float b = lrt__model_back(L->thickness, L->back_k, lrt__raw_to_float(format, raw));
     uint32_t bits;
@@ -1267,7 +1267,7 @@ LINEAR_RT_DEF lrt_result lrt_layout_compute(uint32_t width, uint32_t height, uin
 /* Slot of node (x, y) among the 8 children of its parent: y0 x1 x0 for 4x2
    blocks, y1 y0 x0 for 2x4 blocks. Row-major with x fastest, so flipping the
    bits of one axis reverses that axis' order (used by the traversal). */
-static uint32_t lrt__child_slot(const lrt_level *lv, uint32_t x, uint32_t y)
+LRT__FORCE_INLINE uint32_t lrt__child_slot(const lrt_level *lv, uint32_t x, uint32_t y)
 {
     return lv->block_w == 4 ? ((y & 1u) << 2) | (x & 3u) : ((y & 3u) << 1) | (x & 1u);
 }
@@ -3771,7 +3771,11 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
    four (lrt__cpu_has_avx2: one look at the CPU-feature bits that libgcc or
    compiler-rt fill once at start-up). The walk's float steps never fuse
    differently here (tests/test_paths.c holds every path to the same bits,
-   also with -ffp-contract=fast).
+   also with -ffp-contract=fast). A helper defined before the walk and called
+   from it must be LRT__FORCE_INLINE: GCC does not inline a plain inline
+   function of another tuning into this pass, and one such call
+   (lrt__clamp_depth) ran a 3x2 map's rays at half speed (make test-header
+   checks the pass's calls).
    ========================================================================== */
 #if LRT__AVX_AT_RUN_TIME
 #define LRT__AVX2_PASS
