@@ -5,6 +5,7 @@
 #                every test; ends with one line "N passed, M failed". A test
 #                whose tool is missing fails (ALLOW_SKIP=1: it skips instead)
 #   make bench   install gnuplot and Embree too, then the benchmark (bench/)
+#   make bench-plain-vs-native  linear_rt's CPU rows, plain build / -march=native
 #   make examples  build/minimal, ssr, ao, shadows, vulkan_inline
 #   make spv     compile shaders/*.comp and regenerate shaders_spv.h (needs glslang)
 #   make clean
@@ -66,7 +67,7 @@ include tests/threads.mk
 include tests/fuzz/fuzz.mk
 include examples/vulkan_inline/vulkan_inline.mk
 
-.PHONY: FORCE all demo examples pictures check test test-all test-programs deps clean spv spv-check bench bench-deps bench-publish $(TESTS) test-sanitize
+.PHONY: FORCE all demo examples pictures check test test-all test-programs deps clean spv spv-check bench bench-deps bench-publish bench-plain-vs-native $(TESTS) test-sanitize
 
 all: $(B)/demo $(B)/test_reference $(B)/test_core
 
@@ -377,6 +378,19 @@ bench-deps:
 bench: bench-deps
 	@$(MAKE) --no-print-directory $(B)/bench
 	$(B)/bench $(BENCH_ARGS)
+
+# The plain build's run-time walk against a -march=native build of the
+# library, in one run: build/bench-twin holds both (bench/m_linear_rt.c a
+# second time, with -march=native), tools/plain_vs_native.sh compares them.
+# make bench-plain-vs-native [RUNS=N] (N runs, each row's best; default 1)
+RUNS ?= 1
+$(B)/bench-twin: $(BENCH_SRC) $(BENCH_HDR) $(BENCH_DEPS) $(B)/config.stamp | deps $(B)
+	$(CC) $(BENCH_FLAGS) -march=native -DBENCH_NATIVE_TWIN -c bench/m_linear_rt.c -o $(B)/m_linear_rt_native.o
+	$(CC) $(BENCH_FLAGS) -DBENCH_WITH_NATIVE_TWIN $(BENCH_SRC) $(B)/m_linear_rt_native.o -o $@ $(BENCH_LIBS)
+
+bench-plain-vs-native: bench-deps
+	@$(MAKE) --no-print-directory $(B)/bench-twin
+	tools/plain_vs_native.sh $(RUNS)
 
 BENCH_PUBLISHED := results.csv results.md speed_vs_accuracy.png
 bench-publish:

@@ -1,7 +1,19 @@
 /* bench/m_linear_rt.c - linear_rt itself as benchmark methods: the CPU path
    with 8- and 16-bit nodes (threads by lrt_trace_range), and the Vulkan
    kernels with 8- and 16-bit nodes (GPU timestamps). This file holds the
-   library's one implementation for the whole benchmark. */
+   library's one implementation for the whole benchmark.
+   Compiled a second time with -march=native and BENCH_NATIVE_TWIN (make
+   bench-plain-vs-native), it adds the same CPU methods under names ending in
+   " native", with a static copy of the library built for this CPU alone: the
+   plain build's run-time walk and a native build's, side by side in one run
+   (this machine's phases move whole runs by 10-40%, more than the effect). */
+#ifdef BENCH_NATIVE_TWIN
+#define LINEAR_RT_STATIC
+#undef BENCH_HAVE_VULKAN
+#define BENCH_NAME_SUFFIX " native"
+#else
+#define BENCH_NAME_SUFFIX ""
+#endif
 #ifdef BENCH_HAVE_VULKAN
 #define LINEAR_RT_VULKAN
 #define LINEAR_RT_VULKAN_DEVICE_HELPER
@@ -126,9 +138,13 @@ static void cpu_close(bench_method *m)
     m->impl = NULL;
 }
 
+#ifdef BENCH_NATIVE_TWIN
+int bench_add_linear_rt_cpu_native(bench_method *out, int max)
+#else
 int bench_add_linear_rt_cpu(bench_method *out, int max)
+#endif
 {
-    static const char *names[2] = {"linear_rt cpu 16", "linear_rt cpu 8"};
+    static const char *names[2] = {"linear_rt cpu 16" BENCH_NAME_SUFFIX, "linear_rt cpu 8" BENCH_NAME_SUFFIX};
     int i;
     for (i = 0; i < 2 && i < max; ++i) {
         lrt_cpu *c = (lrt_cpu *)calloc(1, sizeof *c);
@@ -345,6 +361,7 @@ static void gpu_close(bench_method *m)
 }
 #endif
 
+#ifndef BENCH_NATIVE_TWIN
 int bench_add_linear_rt_vulkan(bench_method *out, int max)
 {
     static const char *names[2] = {"linear_rt vulkan 16", "linear_rt vulkan 8"};
@@ -371,3 +388,4 @@ int bench_add_linear_rt_vulkan(bench_method *out, int max)
     }
     return i;
 }
+#endif /* BENCH_NATIVE_TWIN */

@@ -499,61 +499,92 @@ static double pct(size_t a, size_t n) { return n ? 100.0 * (double)a / (double)n
 #define TRACE_MIN_MS 20.0 /* --quick: 0, one trace a run */
 #define TRACE_MAX_REPEATS 1000
 
-/* one method on one scene: build, update, every ray set */
-static void run_method(bench_method *m, const scene *sc, ray_set *sets, int nsets, const options *o, lrt_hit *hits,
-                       int opened)
+/* methods on one scene: build, update, every ray set. Several methods
+   (a method and its -march=native twin, make bench-plain-vs-native) take
+   their runs of each set in turn, so that the machine's slow and fast
+   phases fall on all of them alike; each is scored on hits of its own */
+#define GROUP_MAX 2
+static void run_methods(bench_method *const *m, int nm, const scene *sc, ray_set *sets, int nsets, const options *o,
+                        lrt_hit *hits)
 {
-    double build_ms = 0, upd[16], t[16], ms;
-    int k, s, ok = opened;
-    char why[160] = "";
-    if (!opened) snprintf(why, sizeof why, "%s", "could not open");
-    if (ok && m->build(m, &sc->s, &build_ms, why, sizeof why)) ok = 0;
-    for (k = 0; ok && k <= o->runs; ++k) { /* one warm-up */
-        if (m->update(m, &sc->s, &ms, why, sizeof why)) ok = 0;
-        if (k) upd[k - 1] = ms;
+    double build_ms[GROUP_MAX] = {0}, upd[GROUP_MAX][16], t[GROUP_MAX][16], ms;
+    int k, s, j, ok[GROUP_MAX];
+    char why[GROUP_MAX][160];
+    for (j = 0; j < nm; ++j) {
+        why[j][0] = '\0';
+        ok[j] = !m[j]->build(m[j], &sc->s, &build_ms[j], why[j], sizeof why[j]);
     }
-    for (s = 0; s < nsets; ++s) {
-        result *r = &g_res[g_nres < MAX_RESULTS ? g_nres++ : MAX_RESULTS - 1];
-        memset(r, 0, sizeof *r);
-        r->method = m->name;
-        r->device = m->device;
-        r->scene = sc->s.name;
-        r->set = sets[s].r.name;
-        r->exact = m->exact;
-        r->threads = strcmp(m->device, "cpu") == 0 ? o->threads : 0;
-        r->rays = sets[s].r.count;
-        r->ok = ok;
-        snprintf(r->why, sizeof r->why, "%s", why);
-        if (!ok) continue;
-        for (k = 0; r->ok && k <= o->runs; ++k) {
-            /* a run traces the set again until TRACE_MIN_MS have passed (at
-               most TRACE_MAX_REPEATS times) and keeps the mean: a set of a
-               few thousand rays takes well under a millisecond, where one
-               call's timing is mostly the machine's noise. Passed on the
-               wall clock: a GPU method's time is its timestamps', and on a
-               discrete GPU each call also copies rays and hits over PCIe,
-               many times longer (an H200 spent over 90 s on one method's
-               sets when the loop counted the timestamps) */
-            const double wall0 = bench_now_ms();
-            double total = 0.0;
-            int reps = 0;
-            do {
-                if (m->trace(m, &sc->s, &sets[s].r, hits, &ms, r->why, sizeof r->why)) {
-                    r->ok = 0;
-                    break;
-                }
-                total += ms;
-                ++reps;
-            } while (!o->quick && bench_now_ms() - wall0 < TRACE_MIN_MS && reps < TRACE_MAX_REPEATS);
-            if (k) t[k - 1] = total / reps;
+    for (k = 0; k <= o->runs; ++k) /* one warm-up */
+        for (j = 0; j < nm; ++j) {
+            if (ok[j] && m[j]->update(m[j], &sc->s, &ms, why[j], sizeof why[j])) ok[j] = 0;
+            if (k) upd[j][k - 1] = ms;
         }
-        if (!r->ok) continue;
-        r->build_ms = build_ms;
-        r->update_ms = median(upd, o->runs);
-        r->trace_ms = median(t, o->runs);
-        r->bytes_per_texel = (double)m->memory_bytes(m) / ((double)sc->s.width * sc->s.height);
-        score_set(sc, &sets[s], hits, m->exact, &r->sc);
+    for (s = 0; s < nsets; ++s) {
+        result *r[GROUP_MAX];
+        for (j = 0; j < nm; ++j) {
+            r[j] = &g_res[g_nres < MAX_RESULTS ? g_nres++ : MAX_RESULTS - 1];
+            memset(r[j], 0, sizeof *r[j]);
+            r[j]->method = m[j]->name;
+            r[j]->device = m[j]->device;
+            r[j]->scene = sc->s.name;
+            r[j]->set = sets[s].r.name;
+            r[j]->exact = m[j]->exact;
+            r[j]->threads = strcmp(m[j]->device, "cpu") == 0 ? o->threads : 0;
+            r[j]->rays = sets[s].r.count;
+            r[j]->ok = ok[j];
+            snprintf(r[j]->why, sizeof r[j]->why, "%.159s", why[j]);
+        }
+        for (k = 0; k <= o->runs; ++k)
+            for (j = 0; j < nm; ++j) {
+                /* a run traces the set again until TRACE_MIN_MS have passed
+                   (at most TRACE_MAX_REPEATS times) and keeps the mean: a set
+                   of a few thousand rays takes well under a millisecond,
+                   where one call's timing is mostly the machine's noise.
+                   Passed on the wall clock: a GPU method's time is its
+                   timestamps', and on a discrete GPU each call also copies
+                   rays and hits over PCIe, many times longer (an H200 spent
+                   over 90 s on one method's sets when the loop counted the
+                   timestamps). In a group the first method alternates */
+                const int q = k & 1 ? nm - 1 - j : j;
+                const double wall0 = bench_now_ms();
+                double total = 0.0;
+                int reps = 0;
+                if (!r[q]->ok) continue;
+                do {
+                    if (m[q]->trace(m[q], &sc->s, &sets[s].r, hits, &ms, r[q]->why, sizeof r[q]->why)) {
+                        r[q]->ok = 0;
+                        break;
+                    }
+                    total += ms;
+                    ++reps;
+                } while (!o->quick && bench_now_ms() - wall0 < TRACE_MIN_MS && reps < TRACE_MAX_REPEATS);
+                if (k && reps) t[q][k - 1] = total / reps;
+            }
+        for (j = 0; j < nm; ++j) {
+            if (!r[j]->ok) continue;
+            /* in a group the hits are the last method's: trace again */
+            if (nm > 1 && m[j]->trace(m[j], &sc->s, &sets[s].r, hits, &ms, r[j]->why, sizeof r[j]->why)) {
+                r[j]->ok = 0;
+                continue;
+            }
+            r[j]->build_ms = build_ms[j];
+            r[j]->update_ms = median(upd[j], o->runs);
+            r[j]->trace_ms = median(t[j], o->runs);
+            r[j]->bytes_per_texel = (double)m[j]->memory_bytes(m[j]) / ((double)sc->s.width * sc->s.height);
+            score_set(sc, &sets[s], hits, m[j]->exact, &r[j]->sc);
+        }
     }
+}
+
+/* how many methods from m[k] on run as one group: a method and its native
+   twin (the same name and " native"), else 1 */
+static int group_size(const bench_method *m, const char *const *skipped, int k, int nm)
+{
+    size_t n = strlen(m[k].name);
+    if (k + 1 < nm && !skipped[k] && !skipped[k + 1] && strncmp(m[k + 1].name, m[k].name, n) == 0 &&
+        strcmp(m[k + 1].name + n, " native") == 0)
+        return 2;
+    return 1;
 }
 
 /* ---- the stability suite: small named cases built to break someone -------------- */
@@ -1080,7 +1111,7 @@ int main(int argc, char **argv)
     ray_set sets[SET_COUNT];
     stab_case stab[STAB_CASES];
     lrt_hit *hits;
-    int nm = 0, ns = 0, k, s, a, nstab, nsets;
+    int nm = 0, ns = 0, k, s, a, g, nstab, nsets;
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
 
     memset(&o, 0, sizeof o);
@@ -1155,7 +1186,18 @@ int main(int argc, char **argv)
         usage();
         return 2;
     }
+#ifdef BENCH_WITH_NATIVE_TWIN
+    { /* make bench-plain-vs-native: each CPU method of linear_rt, then its -march=native twin */
+        bench_method plain[2], native[2];
+        int np = bench_add_linear_rt_cpu(plain, 2), nn = bench_add_linear_rt_cpu_native(native, 2), i;
+        for (i = 0; i < np; ++i) {
+            m[nm++] = plain[i];
+            if (i < nn) m[nm++] = native[i];
+        }
+    }
+#else
     nm += bench_add_linear_rt_cpu(m + nm, 64 - nm);
+#endif
     nm += bench_add_linear_rt_vulkan(m + nm, 64 - nm);
     nm += bench_add_embree(m + nm, 64 - nm);
     nm += bench_add_march_cpu(m + nm, 64 - nm);
@@ -1220,18 +1262,23 @@ int main(int argc, char **argv)
                 printf(" %s %zu (%.1f%%)", sets[k].r.name, sets[k].r.count, pct(sets[k].r.count, texels));
             printf("\n");
         }
-        for (k = 0; k < nm; ++k) {
+        for (k = 0; k < nm; k += g) {
+            bench_method *group[GROUP_MAX];
+            int j;
+            g = group_size(m, skipped, k, nm);
             if (skipped[k]) continue;
-            printf("  %-22s", m[k].name);
+            for (j = 0; j < g; ++j) group[j] = &m[k + j];
+            if (g > 1) printf("  %s and %s, in turn\n", m[k].name, m[k + 1].name);
             fflush(stdout);
-            run_method(&m[k], &scenes[s], sets, nsets, &o, hits, 1);
-            {
-                const result *r = find(m[k].name, scenes[s].s.name, "segments");
-                const result *p = find(m[k].name, scenes[s].s.name, "primary");
-                if (r && p)
+            run_methods(group, g, &scenes[s], sets, nsets, &o, hits);
+            for (j = 0; j < g; ++j) {
+                const result *r = find(m[k + j].name, scenes[s].s.name, "segments");
+                const result *p = find(m[k + j].name, scenes[s].s.name, "primary");
+                printf("  %-22s", m[k + j].name);
+                if (r && p && r->ok && p->ok)
                     printf(" primary %8.2f M/s %6.2f%% right | segments %8.2f M/s %6.2f%% right | update %.2f ms\n",
                            mrays(p), pct(p->sc.right, p->sc.n), mrays(r), pct(r->sc.right, r->sc.n), p->update_ms);
-                else printf(" failed: %s\n", g_nres ? g_res[g_nres - 1].why : "?");
+                else printf(" failed: %s\n", r && !r->ok ? r->why : p && !p->ok ? p->why : g_nres ? g_res[g_nres - 1].why : "?");
             }
         }
         for (k = 0; k < nsets; ++k) set_free(&sets[k]);
@@ -1242,8 +1289,14 @@ int main(int argc, char **argv)
         char label[64];
         snprintf(label, sizeof label, "stab:%s", stab[a].sc.s.name);
         stab[a].sc.s.name = strdup(label);
-        for (k = 0; k < nm; ++k)
-            if (!skipped[k]) run_method(&m[k], &stab[a].sc, &stab[a].set, 1, &o, hits, 1);
+        for (k = 0; k < nm; k += g) {
+            bench_method *group[GROUP_MAX];
+            int j;
+            g = group_size(m, skipped, k, nm);
+            if (skipped[k]) continue;
+            for (j = 0; j < g; ++j) group[j] = &m[k + j];
+            run_methods(group, g, &stab[a].sc, &stab[a].set, 1, &o, hits);
+        }
         {
             int j;
             printf("  %-22s", stab[a].name);

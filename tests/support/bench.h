@@ -70,6 +70,7 @@ struct bench_method {
    defines its adder, and its open() says why it cannot run. Each adds zero
    or more methods to the list and returns how many. */
 int bench_add_linear_rt_cpu(bench_method *out, int max);
+int bench_add_linear_rt_cpu_native(bench_method *out, int max); /* BENCH_WITH_NATIVE_TWIN builds only */
 int bench_add_linear_rt_vulkan(bench_method *out, int max);
 int bench_add_embree(bench_method *out, int max);
 int bench_add_march_cpu(bench_method *out, int max);
