@@ -516,8 +516,9 @@ static void run_methods(bench_method *const *m, int nm, const scene *sc, ray_set
     }
     for (k = 0; k <= o->runs; ++k) /* one warm-up */
         for (j = 0; j < nm; ++j) {
-            if (ok[j] && m[j]->update(m[j], &sc->s, &ms, why[j], sizeof why[j])) ok[j] = 0;
-            if (k) upd[j][k - 1] = ms;
+            if (!ok[j]) continue;
+            if (m[j]->update(m[j], &sc->s, &ms, why[j], sizeof why[j])) ok[j] = 0;
+            else if (k) upd[j][k - 1] = ms;
         }
     for (s = 0; s < nsets; ++s) {
         result *r[GROUP_MAX];
