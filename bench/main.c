@@ -577,15 +577,18 @@ static void run_methods(bench_method *const *m, int nm, const scene *sc, ray_set
     }
 }
 
-/* how many methods from m[k] on run as one group: a method and its native
-   twin (the same name and " native"), else 1 */
-static int group_size(const bench_method *m, const char *const *skipped, int k, int nm)
+/* the methods from m[k] on that run as one group, into group: a method and
+   its native twin (the same name and " native"), else m[k] alone; how many */
+static int method_group(bench_method *m, const char *const *skipped, int k, int nm, bench_method **group)
 {
     size_t n = strlen(m[k].name);
-    if (k + 1 < nm && !skipped[k] && !skipped[k + 1] && strncmp(m[k + 1].name, m[k].name, n) == 0 &&
-        strcmp(m[k + 1].name + n, " native") == 0)
-        return 2;
-    return 1;
+    int g = k + 1 < nm && !skipped[k] && !skipped[k + 1] && strncmp(m[k + 1].name, m[k].name, n) == 0 &&
+                    strcmp(m[k + 1].name + n, " native") == 0
+                ? 2
+                : 1;
+    group[0] = &m[k];
+    group[1] = g > 1 ? &m[k + 1] : NULL;
+    return g;
 }
 
 /* ---- the stability suite: small named cases built to break someone -------------- */
@@ -1266,9 +1269,8 @@ int main(int argc, char **argv)
         for (k = 0; k < nm; k += g) {
             bench_method *group[GROUP_MAX];
             int j;
-            g = group_size(m, skipped, k, nm);
+            g = method_group(m, skipped, k, nm, group);
             if (skipped[k]) continue;
-            for (j = 0; j < g; ++j) group[j] = &m[k + j];
             if (g > 1) printf("  %s and %s, in turn\n", m[k].name, m[k + 1].name);
             fflush(stdout);
             run_methods(group, g, &scenes[s], sets, nsets, &o, hits);
@@ -1292,11 +1294,8 @@ int main(int argc, char **argv)
         stab[a].sc.s.name = strdup(label);
         for (k = 0; k < nm; k += g) {
             bench_method *group[GROUP_MAX];
-            int j;
-            g = group_size(m, skipped, k, nm);
-            if (skipped[k]) continue;
-            for (j = 0; j < g; ++j) group[j] = &m[k + j];
-            run_methods(group, g, &stab[a].sc, &stab[a].set, 1, &o, hits);
+            g = method_group(m, skipped, k, nm, group);
+            if (!skipped[k]) run_methods(group, g, &stab[a].sc, &stab[a].set, 1, &o, hits);
         }
         {
             int j;
