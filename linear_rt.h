@@ -159,6 +159,12 @@
                                    (define it for the API in every file that
                                    uses it, as for the implementation)
        LINEAR_RT_VULKAN_DEVICE_HELPER  lrt_vk_device_create (dlopen of the loader)
+       LINEAR_RT_COUNT_NODE_TEST(level)  profiling: evaluated by the CPU walk
+                                   at each node test: level 0 for the one
+                                   texel of a ray that needs no walk, 1 for a
+                                   level-1 node's texels, 2 and up for a
+                                   node's children (default: nothing; the
+                                   benchmark's counts, bench/visits.c)
    Memory: lrt_bvh_build allocates once (allocator hooks or the macros);
    lrt_bvh_build_in uses caller-owned memory sized by lrt_bvh_memory_size.
    Update and trace never allocate.
@@ -846,6 +852,10 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
 #define LRT__AVX LRT__AVX_BUILT /* the pass being compiled: AVX2 or not (>>walk-avx2 redefines it) */
 #ifndef LINEAR_RT_SELF
 #define LINEAR_RT_SELF "linear_rt.h" /* for the AVX2 pass: this file, found beside itself */
+#endif
+
+#ifndef LINEAR_RT_COUNT_NODE_TEST
+#define LINEAR_RT_COUNT_NODE_TEST(level) ((void)0)
 #endif
 
 #ifndef LINEAR_RT_ASSERT
@@ -3375,6 +3385,7 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
         if (lv == 1u) { /* texels: the exact test, in visiting order */
             uint32_t tx, ty;
             float t, planes[2];
+            LINEAR_RT_COUNT_NODE_TEST(1u);
             if (lrt__level1_hit(w, s, nx, ny, slot0, wide, neg_z, &tx, &ty, &t, planes)) {
                 lrt__report_hit(w, ray, s, t_scale, t, tx, ty, planes, hit);
                 return 1;
@@ -3384,6 +3395,7 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
             const size_t children = lrt__children_slot(w, lv, nx, ny);
             uint32_t m;
             lrt__prefetch_children(w, children, wide);
+            LINEAR_RT_COUNT_NODE_TEST(lv);
             m = tall ? lrt__cull_children(w, s, lv, nx, ny, slot0, 1u, wide, neg_z)
                      : lrt__cull_children(w, s, lv, nx, ny, slot0, 0u, wide, neg_z);
             /* a padding node (past its level's grid) has no children in
@@ -3475,6 +3487,7 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
         const uint32_t slot = ((ny & 1u) << 2) | (nx & 3u);
         const size_t slot0 = lrt__node_slot(w, 1, nx >> 2, ny >> 1);
         float en = s->t_lo, ex = s->t_hi, t, planes[2];
+        LINEAR_RT_COUNT_NODE_TEST(0u);
         lrt__slab(x0, x0 + 1.0f, s->o[0], s->iv[0], s->neg_x, &en, &ex);
         lrt__slab(y0, y0 + 1.0f, s->o[1], s->iv[1], s->neg_y, &en, &ex);
         if (lrt__test_texel(w, s, nx, ny, en, ex, lrt__code(w, slot0 + slot, wide), &t, planes)) {

@@ -482,6 +482,31 @@ typedef struct result {
 static result g_res[MAX_RESULTS];
 static int g_nres;
 
+/* what linear_rt's CPU walk costs per ray on each set, by node width:
+   node tests per ray at level 0, level 1 and above (bench_visits) */
+typedef struct visits_row {
+    const char *scene, *set;
+    uint32_t node_bits;
+    double per_ray[3];
+} visits_row;
+#define MAX_VISITS 256
+static visits_row g_visits[MAX_VISITS];
+static int g_nvisits;
+
+static void count_visits(const scene *sc, const ray_set *sets, int nsets)
+{
+    static const uint32_t bits[2] = {16u, 8u};
+    int s, b;
+    for (s = 0; s < nsets; ++s)
+        for (b = 0; b < 2 && g_nvisits < MAX_VISITS; ++b) {
+            visits_row *v = &g_visits[g_nvisits];
+            v->scene = sc->s.name;
+            v->set = sets[s].r.name;
+            v->node_bits = bits[b];
+            if (bench_visits(&sc->s, &sets[s].r, bits[b], v->per_ray) == 0) ++g_nvisits;
+        }
+}
+
 static double median(double *v, int n)
 {
     int i, j;
@@ -827,6 +852,19 @@ static void write_csv(const options *o)
                 r->ok, r->why);
     }
     fclose(csv);
+    if (!g_nvisits) return;
+    snprintf(path, sizeof path, "%s/visits.csv", o->out_dir);
+    if (!(csv = fopen(path, "w"))) {
+        fprintf(stderr, "bench: cannot write into %s\n", o->out_dir);
+        exit(1);
+    }
+    fprintf(csv, "scene,rays,node_bits,level0_per_ray,level1_per_ray,above_per_ray,all_per_ray\n");
+    for (i = 0; i < g_nvisits; ++i) {
+        const visits_row *v = &g_visits[i];
+        fprintf(csv, "%s,%s,%u,%.3f,%.3f,%.3f,%.3f\n", v->scene, v->set, v->node_bits, v->per_ray[0], v->per_ray[1],
+                v->per_ray[2], v->per_ray[0] + v->per_ray[1] + v->per_ray[2]);
+    }
+    fclose(csv);
 }
 
 static void write_outputs(const options *o, bench_method *m, int nm, const char *const *why_skipped,
@@ -926,6 +964,17 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
                 else fprintf(md, " %.1f |", pct(c->sc.right, c->sc.n));
             }
             fprintf(md, "\n");
+        }
+    }
+    if (g_nvisits) {
+        fprintf(md, "\n## What linear_rt's CPU walk costs per ray\n\nNode tests per ray (bench/visits.c, one thread): "
+                    "level 0 (the one texel of a ray that needs no walk) / level 1 (a level-1 node's 8 texels) / above "
+                    "(a node's 8 children); the same counts are in visits.csv.\n\n");
+        fprintf(md, "| scene | rays | 16-bit nodes | 8-bit nodes |\n|---|---|---|---|\n");
+        for (i = 0; i + 1 < g_nvisits; i += 2) {
+            const visits_row *a = &g_visits[i], *b = &g_visits[i + 1];
+            fprintf(md, "| %s | %s | %.2f / %.2f / %.2f | %.2f / %.2f / %.2f |\n", a->scene, a->set, a->per_ray[0],
+                    a->per_ray[1], a->per_ray[2], b->per_ray[0], b->per_ray[1], b->per_ray[2]);
         }
     }
     (void)nstab;
@@ -1115,7 +1164,7 @@ int main(int argc, char **argv)
     ray_set sets[SET_COUNT];
     stab_case stab[STAB_CASES];
     lrt_hit *hits;
-    int nm = 0, ns = 0, k, s, a, g, nstab, nsets;
+    int nm = 0, ns = 0, k, s, a, g, nstab, nsets, count_walk = 0;
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
 
     memset(&o, 0, sizeof o);
@@ -1247,6 +1296,7 @@ int main(int argc, char **argv)
         if (!m[k].open) skipped[k] = "built without its package (see the Makefile's bench dependencies)";
         else if (m[k].open(&m[k], o.size, o.size, o.threads, whybuf[k], sizeof whybuf[k])) skipped[k] = whybuf[k];
         if (skipped[k]) printf("skipped: %-22s %s\n", m[k].name, skipped[k]);
+        else if (strncmp(m[k].name, "linear_rt cpu", 13) == 0) count_walk = 1; /* and its node tests, counted */
     }
     for (s = 0; s < ns; ++s) {
         double t0 = bench_now_ms();
@@ -1284,6 +1334,7 @@ int main(int argc, char **argv)
                 else printf(" failed: %s\n", r && !r->ok ? r->why : p && !p->ok ? p->why : g_nres ? g_res[g_nres - 1].why : "?");
             }
         }
+        if (count_walk) count_visits(&scenes[s], sets, nsets);
         for (k = 0; k < nsets; ++k) set_free(&sets[k]);
         write_csv(&o);
     }
@@ -1297,6 +1348,7 @@ int main(int argc, char **argv)
             g = method_group(m, skipped, k, nm, group);
             if (!skipped[k]) run_methods(group, g, &stab[a].sc, &stab[a].set, 1, &o, hits);
         }
+        if (count_walk) count_visits(&stab[a].sc, &stab[a].set, 1);
         {
             int j;
             printf("  %-22s", stab[a].name);
@@ -1315,6 +1367,14 @@ int main(int argc, char **argv)
     printf("wrote %s/results.csv and %s/results.md\n", o.out_dir, o.out_dir);
     {   /* exact methods must be right on every scored ray */
         int bad = 0;
+        for (k = 0; k < g_nvisits; ++k) /* and a camera ray is one texel test (the count's own check) */
+            if (strcmp(g_visits[k].set, "primary") == 0 &&
+                (g_visits[k].per_ray[0] != 1.0 || g_visits[k].per_ray[1] != 0.0 || g_visits[k].per_ray[2] != 0.0)) {
+                printf("NODE TESTS WRONG: %s primary rays, %u-bit nodes: %.3f / %.3f / %.3f per ray, not 1 / 0 / 0\n",
+                       g_visits[k].scene, g_visits[k].node_bits, g_visits[k].per_ray[0], g_visits[k].per_ray[1],
+                       g_visits[k].per_ray[2]);
+                bad = 1;
+            }
         for (k = 0; k < g_nres; ++k)
             if (g_res[k].ok && g_res[k].exact && g_res[k].sc.right != g_res[k].sc.n) {
                 printf("EXACT METHOD WRONG: %s on %s / %s: %zu of %zu right\n", g_res[k].method, g_res[k].scene,

@@ -78,4 +78,10 @@ int bench_add_vulkan_peers(bench_method *out, int max); /* ray-query AABB / tria
 
 double bench_now_ms(void);   /* CLOCK_MONOTONIC in ms */
 
+/* What linear_rt's CPU walk costs per ray on a set (bench/visits.c): node
+   tests per ray at level 0 (the one texel of a ray that needs no walk),
+   level 1 (a level-1 node's texels) and above (a node's children), by a
+   copy of the library that counts them, on one thread. 0 on success. */
+int bench_visits(const bench_scene *scene, const bench_rays *rays, uint32_t node_bits, double per_ray[3]);
+
 #endif

@@ -1,0 +1,41 @@
+/* bench/visits.c - what linear_rt's CPU walk costs per ray: its node tests
+   by level, counted through the library's profiling hook
+   (LINEAR_RT_COUNT_NODE_TEST) in a copy of the library of this file's own
+   (LINEAR_RT_STATIC), so the timed copy (m_linear_rt.c) counts nothing.
+   The counters are this file's: one thread at a time. */
+#include <stddef.h>
+
+static size_t visits_tests[3]; /* level 0, level 1, above */
+#define LINEAR_RT_COUNT_NODE_TEST(level) (++visits_tests[(level) > 1u ? 2 : (level)])
+#define LINEAR_RT_STATIC
+#define LINEAR_RT_IMPLEMENTATION
+#include "../tests/support/bench.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+int bench_visits(const bench_scene *sc, const bench_rays *rs, uint32_t node_bits, double per_ray[3])
+{
+    const lrt_depth *depth = sc->back ? sc->pair : &sc->lrt;
+    lrt_build_options o;
+    lrt_bvh bvh;
+    lrt_hit *hits;
+    lrt_result r;
+    int k;
+    memset(per_ray, 0, 3 * sizeof *per_ray);
+    if (!rs->count) return 0;
+    memset(&o, 0, sizeof o);
+    o.node_bits = node_bits;
+    o.thickness = sc->back ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
+    if (lrt_bvh_build(&bvh, depth, &o, NULL) != LRT_SUCCESS) return 1;
+    if (!(hits = (lrt_hit *)malloc(sizeof(lrt_hit) * rs->count))) {
+        lrt_bvh_destroy(&bvh);
+        return 1;
+    }
+    memset(visits_tests, 0, sizeof visits_tests);
+    r = lrt_trace(&bvh, depth, rs->rays, hits, rs->count, 0);
+    for (k = 0; k < 3; ++k) per_ray[k] = (double)visits_tests[k] / (double)rs->count;
+    free(hits);
+    lrt_bvh_destroy(&bvh);
+    return r != LRT_SUCCESS;
+}
