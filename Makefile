@@ -383,10 +383,19 @@ bench: bench-deps
 # library, in one run: build/bench-twin holds both (bench/m_linear_rt.c a
 # second time, with -march=native), tools/plain_vs_native.sh compares them.
 # make bench-plain-vs-native [RUNS=N] (N runs, each row's best; default 1)
+# TWIN_CFLAGS (default -march=native) and PLAIN_CFLAGS build the two copies
+# otherwise, for any A/B of the CPU walk in one run: e.g. TWIN_CFLAGS=
+# -DLINEAR_RT_NO_AVX (the SSE2 walk against the AVX2 one), or PLAIN_CFLAGS=
+# -DLINEAR_RT_NO_AVX TWIN_CFLAGS=-DLINEAR_RT_NO_SIMD (plain C against SSE2);
+# the twin's rows keep the name " native" (docs/MEASUREMENTS.md).
 RUNS ?= 1
-$(B)/bench-twin: $(BENCH_SRC) $(BENCH_HDR) $(BENCH_DEPS) $(B)/config.stamp | deps $(B)
-	$(CC) $(BENCH_FLAGS) -march=native -DBENCH_NATIVE_TWIN -c bench/m_linear_rt.c -o $(B)/m_linear_rt_native.o
-	$(CC) $(BENCH_FLAGS) -DBENCH_WITH_NATIVE_TWIN $(BENCH_SRC) $(B)/m_linear_rt_native.o -o $@ $(BENCH_LIBS)
+TWIN_CFLAGS ?= -march=native
+PLAIN_CFLAGS ?=
+$(B)/twin-flags.stamp: FORCE | $(B)
+	@echo '$(PLAIN_CFLAGS) / $(TWIN_CFLAGS)' | cmp -s - $@ || echo '$(PLAIN_CFLAGS) / $(TWIN_CFLAGS)' > $@
+$(B)/bench-twin: $(BENCH_SRC) $(BENCH_HDR) $(BENCH_DEPS) $(B)/config.stamp $(B)/twin-flags.stamp | deps $(B)
+	$(CC) $(BENCH_FLAGS) $(TWIN_CFLAGS) -DBENCH_NATIVE_TWIN -c bench/m_linear_rt.c -o $(B)/m_linear_rt_native.o
+	$(CC) $(BENCH_FLAGS) $(PLAIN_CFLAGS) -DBENCH_WITH_NATIVE_TWIN $(BENCH_SRC) $(B)/m_linear_rt_native.o -o $@ $(BENCH_LIBS)
 
 bench-plain-vs-native: bench-deps
 	@$(MAKE) --no-print-directory $(B)/bench-twin

@@ -38,7 +38,9 @@ for ((i = 1; i <= runs; ++i)); do
         { tail -5 "$out/run-$i.log"; exit 1; }
 done
 head -1 "$out/run-1.log" | sed 's/.*linear_rt.s CPU walk/plain build: CPU walk/'
-echo "native build: -march=native, the walk compiled for this CPU"
+flags=$(cat "$B/twin-flags.stamp" 2>/dev/null || true)
+echo "flags (plain / native): ${flags:- / -march=native}"
+echo "  (the Makefile's PLAIN_CFLAGS / TWIN_CFLAGS; by default the native copy is -march=native)"
 
 # results.csv: method,device,exact,threads,scene,rays,count,...,mrays_per_s (11th)
 awk -F, -v runs="$runs" '
