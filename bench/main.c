@@ -971,10 +971,15 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
                     "level 0 (the one texel of a ray that needs no walk) / level 1 (a level-1 node's 8 texels) / above "
                     "(a node's 8 children); the same counts are in visits.csv.\n\n");
         fprintf(md, "| scene | rays | 16-bit nodes | 8-bit nodes |\n|---|---|---|---|\n");
-        for (i = 0; i + 1 < g_nvisits; i += 2) {
-            const visits_row *a = &g_visits[i], *b = &g_visits[i + 1];
-            fprintf(md, "| %s | %s | %.2f / %.2f / %.2f | %.2f / %.2f / %.2f |\n", a->scene, a->set, a->per_ray[0],
-                    a->per_ray[1], a->per_ray[2], b->per_ray[0], b->per_ray[1], b->per_ray[2]);
+        for (i = 0; i < g_nvisits; ++i) { /* each set's 16-bit row, and its 8-bit row where there is one */
+            const visits_row *a = &g_visits[i], *b = NULL;
+            if (a->node_bits != 16u) continue;
+            for (k = 0; k < g_nvisits; ++k)
+                if (g_visits[k].node_bits == 8u && !strcmp(g_visits[k].scene, a->scene) && !strcmp(g_visits[k].set, a->set))
+                    b = &g_visits[k];
+            fprintf(md, "| %s | %s | %.2f / %.2f / %.2f |", a->scene, a->set, a->per_ray[0], a->per_ray[1], a->per_ray[2]);
+            if (b) fprintf(md, " %.2f / %.2f / %.2f |\n", b->per_ray[0], b->per_ray[1], b->per_ray[2]);
+            else fprintf(md, " - |\n");
         }
     }
     (void)nstab;
