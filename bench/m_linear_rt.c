@@ -75,9 +75,9 @@ static int cpu_build(bench_method *m, const bench_scene *sc, double *ms, char *w
     c->built = 0;
     memset(&o, 0, sizeof o);
     o.node_bits = c->node_bits;
-    o.thickness = sc->back ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
+    o.thickness = bench_lrt_thickness(sc);
     t0 = bench_now_ms();
-    r = lrt_bvh_build(&c->bvh, sc->back ? sc->pair : &sc->lrt, &o, NULL);
+    r = lrt_bvh_build(&c->bvh, bench_lrt_depth(sc), &o, NULL);
     *ms = bench_now_ms() - t0;
     if (r != LRT_SUCCESS) {
         snprintf(why, n, "lrt_bvh_build: %s", lrt_result_string(r));
@@ -91,7 +91,7 @@ static int cpu_update(bench_method *m, const bench_scene *sc, double *ms, char *
 {
     lrt_cpu *c = (lrt_cpu *)m->impl;
     double t0 = bench_now_ms();
-    lrt_result r = lrt_bvh_update(&c->bvh, sc->back ? sc->pair : &sc->lrt, NULL);
+    lrt_result r = lrt_bvh_update(&c->bvh, bench_lrt_depth(sc), NULL);
     *ms = bench_now_ms() - t0;
     if (r != LRT_SUCCESS) {
         snprintf(why, n, "lrt_bvh_update: %s", lrt_result_string(r));
@@ -111,7 +111,7 @@ static int cpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *r
     double t0 = bench_now_ms();
     for (k = 0; k < t; ++k) {
         sl[k].bvh = &c->bvh;
-        sl[k].depth = sc->back ? sc->pair : &sc->lrt;
+        sl[k].depth = bench_lrt_depth(sc);
         sl[k].rays = rs->rays;
         sl[k].hits = hits;
         sl[k].first = rs->count * (size_t)k / (size_t)t;
@@ -296,7 +296,7 @@ static int gpu_build(bench_method *m, const bench_scene *sc, double *ms, char *w
     bd.height = sc->height;
     bd.format = LRT_FORMAT_FLOAT32;
     bd.options.node_bits = g->node_bits;
-    bd.options.thickness = sc->back ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
+    bd.options.thickness = bench_lrt_thickness(sc);
     if ((r = lrt_vk_bvh_create(g->ctx, &bd, &g->bvh)) != LRT_SUCCESS) {
         snprintf(why, n, "lrt_vk_bvh_create: %s", lrt_result_string(r));
         return 1;

@@ -16,7 +16,7 @@ static size_t visits_tests[3]; /* level 0, level 1, above */
 
 int bench_visits(const bench_scene *sc, const bench_rays *rs, uint32_t node_bits, double per_ray[3])
 {
-    const lrt_depth *depth = sc->back ? sc->pair : &sc->lrt;
+    const lrt_depth *depth = bench_lrt_depth(sc);
     lrt_build_options o;
     lrt_bvh bvh;
     lrt_hit *hits;
@@ -26,7 +26,7 @@ int bench_visits(const bench_scene *sc, const bench_rays *rs, uint32_t node_bits
     if (!rs->count) return 0;
     memset(&o, 0, sizeof o);
     o.node_bits = node_bits;
-    o.thickness = sc->back ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
+    o.thickness = bench_lrt_thickness(sc);
     if (lrt_bvh_build(&bvh, depth, &o, NULL) != LRT_SUCCESS) return 1;
     if (!(hits = (lrt_hit *)malloc(sizeof(lrt_hit) * rs->count))) {
         lrt_bvh_destroy(&bvh);

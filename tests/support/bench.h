@@ -30,6 +30,14 @@ typedef struct bench_scene {
     lrt_depth pair[2];       /* with back: lrt with LRT_DEPTH_BACK_FOLLOWS, then the back map */
 } bench_scene;
 
+/* What linear_rt takes of a scene: its depth (with the back map after it, for
+   a thickness scene) and the thickness model of its tree. */
+static inline const lrt_depth *bench_lrt_depth(const bench_scene *sc) { return sc->back ? sc->pair : &sc->lrt; }
+static inline uint32_t bench_lrt_thickness(const bench_scene *sc)
+{
+    return sc->back ? LRT_THICKNESS_BACK_MAP : LRT_THICKNESS_INFINITE;
+}
+
 enum { BENCH_ANY_HIT = 1u }; /* bench_rays.flags: occlusion; any hit will do */
 
 typedef struct bench_rays {
