@@ -178,6 +178,7 @@ typedef struct lrt_gpu {
     double period_ns;
     int has_dev, has_t, has_bvh, has_depth;
     size_t ray_cap;
+    bench_gpu_batch batch;
 } lrt_gpu;
 
 static void gpu_release(lrt_gpu *g)
@@ -250,15 +251,17 @@ static void gpu_depth(const lrt_gpu *g, const bench_scene *sc, lrt_vk_depth d[2]
     }
 }
 
-/* One submission around one recorded command, timed by two timestamps. */
+/* One submission around one recorded command (a trace: `repeat` of them,
+   back to back), timed by two timestamps: ms of one. */
 typedef enum { GPU_BUILD, GPU_UPDATE, GPU_TRACE } gpu_op;
 
-static int gpu_run(lrt_gpu *g, const bench_scene *sc, gpu_op op, uint32_t count, uint32_t flags, double *ms,
+static int gpu_run(lrt_gpu *g, const bench_scene *sc, gpu_op op, uint32_t count, uint32_t repeat, double *ms,
                    char *why, size_t n)
 {
     lrt_vk_depth d[2];
     uint64_t ts[2];
-    lrt_result r;
+    lrt_result r = LRT_SUCCESS;
+    uint32_t i;
     gpu_depth(g, sc, d);
     if (vkt_begin(&g->t)) {
         snprintf(why, n, "vkBeginCommandBuffer failed");
@@ -269,7 +272,11 @@ static int gpu_run(lrt_gpu *g, const bench_scene *sc, gpu_op op, uint32_t count,
     g->t.vkCmdWriteTimestamp(g->t.cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, g->pool, 0);
     if (op == GPU_BUILD) r = lrt_vk_cmd_build(g->ctx, g->t.cmd, &g->bvh, d);
     else if (op == GPU_UPDATE) r = lrt_vk_cmd_update(g->ctx, g->t.cmd, &g->bvh, d, NULL);
-    else r = lrt_vk_cmd_trace(g->ctx, g->t.cmd, &g->bvh, d, g->rays.buffer, 0, g->hits.buffer, 0, count, flags);
+    else
+        for (i = 0; i < repeat && r == LRT_SUCCESS; ++i) {
+            if (i) vkt_compute_barrier(&g->t); /* the same hits written again */
+            r = lrt_vk_cmd_trace(g->ctx, g->t.cmd, &g->bvh, d, g->rays.buffer, 0, g->hits.buffer, 0, count, 0u);
+        }
     g->t.vkCmdWriteTimestamp(g->t.cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->pool, 1);
     vkt_host_barrier(&g->t);
     if (r != LRT_SUCCESS || vkt_submit(&g->t) ||
@@ -278,7 +285,7 @@ static int gpu_run(lrt_gpu *g, const bench_scene *sc, gpu_op op, uint32_t count,
         snprintf(why, n, "recording or submitting failed: %s", lrt_result_string(r));
         return 1;
     }
-    *ms = (double)(ts[1] - ts[0]) * g->period_ns * 1e-6;
+    *ms = (double)(ts[1] - ts[0]) * g->period_ns * 1e-6 / (op == GPU_TRACE ? repeat : 1u);
     return 0;
 }
 
@@ -311,7 +318,7 @@ static int gpu_build(bench_method *m, const bench_scene *sc, double *ms, char *w
     g->has_depth = 1;
     memcpy(g->depth.map, sc->depth, map_bytes);
     if (sc->back) memcpy((unsigned char *)g->depth.map + map_bytes, sc->back, map_bytes);
-    return gpu_run(g, sc, GPU_BUILD, 0, 0, ms, why, n);
+    return gpu_run(g, sc, GPU_BUILD, 0, 1, ms, why, n);
 }
 
 static int gpu_update(bench_method *m, const bench_scene *sc, double *ms, char *why, size_t n)
@@ -320,7 +327,7 @@ static int gpu_update(bench_method *m, const bench_scene *sc, double *ms, char *
     const size_t map_bytes = (size_t)sc->width * sc->height * 4u;
     memcpy(g->depth.map, sc->depth, map_bytes);
     if (sc->back) memcpy((unsigned char *)g->depth.map + map_bytes, sc->back, map_bytes);
-    return gpu_run(g, sc, GPU_UPDATE, 0, 0, ms, why, n);
+    return gpu_run(g, sc, GPU_UPDATE, 0, 1, ms, why, n);
 }
 
 static int gpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *rs, lrt_hit *hits, double *ms,
@@ -345,8 +352,9 @@ static int gpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *r
         g->ray_cap = rs->count;
     }
     memcpy(g->rays.map, rs->rays, rs->count * sizeof(lrt_ray));
-    if (gpu_run(g, sc, GPU_TRACE, (uint32_t)rs->count, 0u, ms, why, n))
+    if (gpu_run(g, sc, GPU_TRACE, (uint32_t)rs->count, bench_gpu_batch_size(&g->batch, rs->rays, rs->count), ms, why, n))
         return 1;
+    bench_gpu_batch_timed(&g->batch, *ms);
     memcpy(hits, g->hits.map, rs->count * sizeof(lrt_hit));
     return 0;
 }

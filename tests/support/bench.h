@@ -86,6 +86,41 @@ int bench_add_vulkan_peers(bench_method *out, int max); /* ray-query AABB / tria
 
 double bench_now_ms(void);   /* CLOCK_MONOTONIC in ms */
 
+/* GPU traces are timed as batches of back-to-back dispatches of the same
+   rays in one submission, about BENCH_GPU_BATCH_MS of GPU time a batch
+   (its mean is the trace's time), so that the GPU works in stretches
+   rather than in single short dispatches with host work between: under
+   those an NVIDIA H200's SM clock stood at its idle 345 MHz of 1980
+   (docs/MEASUREMENTS.md, "The kernels on an NVIDIA H200"; whether batches
+   raise it is still to be seen on such a device). A dispatch of one of
+   lavapipe's whole sets mostly lasts a batch on its own. */
+#define BENCH_GPU_BATCH_MS 10.0
+#define BENCH_GPU_BATCH_MAX 64u
+typedef struct bench_gpu_batch {
+    const void *rays; /* the set the size was chosen for */
+    size_t count;
+    uint32_t size;    /* dispatches in the next batch */
+} bench_gpu_batch;
+
+/* The batch size for `rays` (count of them): 1 for a set not seen last */
+static inline uint32_t bench_gpu_batch_size(bench_gpu_batch *b, const void *rays, size_t count)
+{
+    if (b->rays != rays || b->count != count || !b->size) {
+        b->rays = rays;
+        b->count = count;
+        b->size = 1;
+    }
+    return b->size;
+}
+
+/* After a batch whose dispatches took ms each: enough for the next batch
+   to last BENCH_GPU_BATCH_MS, at most BENCH_GPU_BATCH_MAX */
+static inline void bench_gpu_batch_timed(bench_gpu_batch *b, double ms)
+{
+    double n = ms > 0.0 ? BENCH_GPU_BATCH_MS / ms : (double)BENCH_GPU_BATCH_MAX;
+    b->size = n >= (double)BENCH_GPU_BATCH_MAX ? BENCH_GPU_BATCH_MAX : n > 1.0 ? (uint32_t)n + 1u : 1u;
+}
+
 /* What linear_rt's CPU walk costs per ray on a set (bench/visits.c): node
    tests per ray at level 0 (the one texel of a ray that needs no walk),
    level 1 (a level-1 node's texels) and above (a node's children), by a
