@@ -2356,8 +2356,10 @@ LRT__FORCE_INLINE void lrt__set_direction(lrt__ray_setup *s, const float v[3])
    below 2^-100 but not 0 (a tiny v_k has no finite 1/v_k; a plane near
    such an o_k is crossed at a t that may round to 0), a v_k of 2^16 or
    more (the same with plane - o_k below 2^-110); also |v.z| >= 16 from o.z = 0 (a float depth as small as
-   2^-146 is met at such a t). The unsigned test x - low < high - low is
-   a signed one after both sides are moved by 2^31. */
+   2^-146 is met at such a t). A ray whose one oddity is a large v goes on
+   in the common set-up once scaled (lrt__huge_direction). The unsigned
+   test x - low < high - low is a signed one after both sides are moved by
+   2^31. */
 #if LRT__SSE
 LRT__FORCE_INLINE int lrt__rare_bits(const lrt_ray *ray)
 {
@@ -2394,8 +2396,38 @@ LRT__FORCE_INLINE int lrt__rare_bits(const lrt_ray *ray)
 }
 #endif
 
+/* A rare ray whose one oddity is a direction of 2^16 or more: every other
+   component ordinary, the origin near the screen, and the ray scaled as
+   lrt__setup_rare scales it (max |v| in [1, 2), t by 2^e) ordinary too, a
+   nonzero v_k still 2^-100 or more and tmax still finite. That scaled ray
+   takes the common set-up, which is all lrt__setup_rare would do with it
+   but for the kind of a miss, there decided on the caller's ray: here by
+   the clip, as for any ordinary ray. The benchmark's terraces reflect
+   most rays straight back at the camera this way (a v.z of about 10^6):
+   that set 2.6-2.75x (docs/MEASUREMENTS.md, "Large directions without the
+   rare set-up"). Returns e (16 to 125), or 0: lrt__setup_rare. */
+LRT__FORCE_INLINE int lrt__huge_direction(const lrt_ray *ray, uint32_t width, uint32_t height)
+{
+    uint32_t u[8];
+    float m = lrt__maxf(lrt__maxf(fabsf(ray->dir[0]), fabsf(ray->dir[1])), fabsf(ray->dir[2]));
+    int k, e, ok;
+    if (!(m >= 65536.0f && m < 8.50705917e37f)) return 0; /* below 2^126: 2^-e stays a normal float */
+    e = lrt__ilogb(m);
+    ok = !lrt__far_origin(ray->origin, width, height);
+    memcpy(u, ray, sizeof u);
+    for (k = 0; k < 8; ++k) {
+        const uint32_t x = u[k] & 0x7fffffffu;
+        if (k < 3) ok &= x == 0u || x - LRT__RARE_TINY < 0x7f800000u - LRT__RARE_TINY; /* origin: as lrt__rare_bits */
+        else if (k == 3 || k == 7) /* tmin, tmax: 0 or normal, and finite once scaled */
+            ok &= x == 0u || (x - 0x00800000u < 0x7f000000u && (int)(x >> 23) - 127 + e <= 127);
+        else ok &= x == 0u || (x < 0x7f800000u && (int)(x >> 23) - 127 - e >= -100); /* v_k 2^-e: 2^-100 or more */
+    }
+    return ok ? e : 0;
+}
+
 /* Validates and clips one ray; returns 0 with *kind set when nothing is left
-   to walk. Directions at the edge of float range take lrt__setup_rare. */
+   to walk. Directions at the edge of float range take lrt__setup_rare (but
+   for a direction that is only large: lrt__huge_direction). */
 LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_t height, lrt__ray_setup *s, float *t_scale,
                           uint32_t *kind)
 {
@@ -2406,24 +2438,30 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
     /* a far-away origin restarts in lrt__setup_rare too (one restart for both
        kinds of ray, and the kernels' common set-up stays short) */
     rare |= lrt__far_origin(ray->origin, width, height);
-    if (LRT__UNLIKELY(rare)) { /* through a copy, so that *s stays the caller's own (kept in registers) */
-        lrt__ray_setup r;
-        float ts = 1.0f;
-        uint32_t kd = 0;
-        k = lrt__setup_rare(ray, width, height, &r, &ts, &kd);
-        *s = r;
-        *t_scale = ts;
-        *kind = kd;
-        return k;
+    for (k = 0; k < 3; ++k) v[k] = ray->dir[k];
+    if (LRT__UNLIKELY(rare)) {
+        const int e = lrt__huge_direction(ray, width, height);
+        if (e) { /* lrt__setup_rare's scaling, then the common set-up */
+            for (k = 0; k < 3; ++k) v[k] = ray->dir[k] * lrt__pow2(-e);
+            tmin = lrt__scale_t(tmin, e);
+            tmax = lrt__scale_t(tmax, e);
+            *t_scale = lrt__pow2(-e);
+        } else { /* through a copy, so that *s stays the caller's own (kept in registers) */
+            lrt__ray_setup r;
+            float ts = 1.0f;
+            uint32_t kd = 0;
+            k = lrt__setup_rare(ray, width, height, &r, &ts, &kd);
+            *s = r;
+            *t_scale = ts;
+            *kind = kd;
+            return k;
+        }
     }
     if (!(tmin >= 0.0f) || !(tmin <= tmax)) {
         *kind = LRT_MISS_INVALID_RAY;
         return 0;
     }
-    for (k = 0; k < 3; ++k) {
-        s->o[k] = ray->origin[k];
-        v[k] = ray->dir[k];
-    }
+    for (k = 0; k < 3; ++k) s->o[k] = ray->origin[k];
     s->zk = 0;
     lrt__set_direction(s, v);
     s->t_base = 0.0f;
@@ -3540,6 +3578,8 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
 typedef struct lrt__batch8 {
     float o[3][8], v[3][8], iv[3][8], t_lo[8], t_hi[8];
     float cull[LRT__CULL_COUNT][8]; /* lrt__cull_constants */
+    float t_scale[8];               /* 2^-e of a ray scaled by lrt__huge_direction, else 1 (set when huge) */
+    int huge;                       /* lanes with a direction of 2^16 or more */
     uint32_t i0[2][8], i1[2][8];    /* lrt__start_node's texel range, x and y */
     uint32_t kind[8];
     uint32_t one_by_one, walk, column; /* lane masks: for lrt__setup_ray; something to walk; a camera ray in one texel column */
@@ -3571,6 +3611,47 @@ LRT__FORCE_INLINE void lrt__cull_axis8(__m256 o, __m256 iv, float extent, __m256
     _mm256_storeu_ps(c_exit, _mm256_add_ps(c, d));
 }
 
+/* lrt__huge_direction on 8 lanes: such a ray scaled by 2^-e, its t by 2^e
+   (b->t_scale); a far origin is left to the bit test of lrt__setup8, which
+   sends it one by one. Apart, so that lrt__setup8 stays short for camera
+   rays. */
+static LRT__NOINLINE void lrt__huge8(const lrt__walk *w, const __m256 o[3], __m256 v[3], __m256 *tmin, __m256 *tmax, lrt__batch8 *b)
+{
+    const lrt_layout *L = w->L;
+    const __m256 sign = _mm256_set1_ps(-0.0f), one = _mm256_set1_ps(1.0f);
+    const __m256i abs_bits = _mm256_set1_epi32(0x7fffffff), lo = _mm256_set1_epi32(-101), hi = _mm256_set1_epi32(128);
+    __m256i av[3], at[2], mb, e, h;
+    __m256 far, down, up, hf;
+    int k;
+    for (k = 0; k < 3; ++k) av[k] = _mm256_and_si256(_mm256_castps_si256(v[k]), abs_bits);
+    at[0] = _mm256_and_si256(_mm256_castps_si256(*tmin), abs_bits);
+    at[1] = _mm256_and_si256(_mm256_castps_si256(*tmax), abs_bits);
+    mb = _mm256_max_epi32(_mm256_max_epi32(av[0], av[1]), av[2]);
+    e = _mm256_sub_epi32(_mm256_srli_epi32(mb, 23), _mm256_set1_epi32(127));
+    h = _mm256_and_si256(_mm256_cmpgt_epi32(mb, _mm256_set1_epi32(0x477fffff)), _mm256_cmpgt_epi32(_mm256_set1_epi32(0x7e800000), mb));
+    for (k = 0; k < 3; ++k) {
+        const __m256i ev = _mm256_sub_epi32(_mm256_srli_epi32(av[k], 23), e); /* v_k 2^-e: 2^-100 or more */
+        h = _mm256_and_si256(h, lrt__bits_in(o[k], LRT__RARE_TINY, 0x7f800000u - LRT__RARE_TINY));
+        h = _mm256_and_si256(h, _mm256_or_si256(_mm256_cmpeq_epi32(av[k], _mm256_setzero_si256()),
+                                                _mm256_cmpgt_epi32(_mm256_sub_epi32(ev, _mm256_set1_epi32(127)), lo)));
+    }
+    for (k = 0; k < 2; ++k) { /* 0 or normal, and finite once scaled */
+        const __m256i et = _mm256_add_epi32(_mm256_sub_epi32(_mm256_srli_epi32(at[k], 23), _mm256_set1_epi32(127)), e);
+        h = _mm256_and_si256(h, lrt__bits_in(k ? *tmax : *tmin, 0x00800000u, 0x7f000000u));
+        h = _mm256_and_si256(h, _mm256_or_si256(_mm256_cmpeq_epi32(at[k], _mm256_setzero_si256()), _mm256_cmpgt_epi32(hi, et)));
+    }
+    far = _mm256_or_ps(_mm256_cmp_ps(_mm256_andnot_ps(sign, o[0]), _mm256_set1_ps(2.0f * (float)L->width + 16.0f), _CMP_GT_OQ),
+                       _mm256_cmp_ps(_mm256_andnot_ps(sign, o[1]), _mm256_set1_ps(2.0f * (float)L->height + 16.0f), _CMP_GT_OQ));
+    far = _mm256_or_ps(far, _mm256_cmp_ps(_mm256_andnot_ps(sign, o[2]), _mm256_set1_ps(4.0f), _CMP_GT_OQ));
+    hf = _mm256_andnot_ps(far, _mm256_castsi256_ps(h));
+    down = _mm256_castsi256_ps(_mm256_slli_epi32(_mm256_sub_epi32(_mm256_set1_epi32(127), e), 23));
+    up = _mm256_castsi256_ps(_mm256_slli_epi32(_mm256_add_epi32(_mm256_set1_epi32(127), e), 23));
+    for (k = 0; k < 3; ++k) v[k] = _mm256_blendv_ps(v[k], _mm256_mul_ps(v[k], down), hf);
+    *tmin = _mm256_blendv_ps(*tmin, _mm256_mul_ps(*tmin, up), hf);
+    *tmax = _mm256_blendv_ps(*tmax, _mm256_mul_ps(*tmax, up), hf);
+    _mm256_storeu_ps(b->t_scale, _mm256_blendv_ps(one, down, hf));
+}
+
 static void lrt__setup8(const lrt__walk *w, const lrt_ray *rays, lrt__batch8 *b)
 {
     const lrt_layout *L = w->L;
@@ -3594,6 +3675,15 @@ static void lrt__setup8(const lrt__walk *w, const lrt_ray *rays, lrt__batch8 *b)
         t[k + 4] = _mm256_permute2f128_ps(r[k], r[k + 4], 0x31);
     }
     o[0] = t[0], o[1] = t[1], o[2] = t[2], tmin = t[3], v[0] = t[4], v[1] = t[5], v[2] = t[6], tmax = t[7];
+    { /* lrt__huge_direction: a batch with no direction of 2^16 or more
+         (camera rays) pays one compare */
+        const __m256i abs_bits = _mm256_set1_epi32(0x7fffffff);
+        const __m256i mb = _mm256_max_epi32(_mm256_max_epi32(_mm256_and_si256(_mm256_castps_si256(v[0]), abs_bits),
+                                                             _mm256_and_si256(_mm256_castps_si256(v[1]), abs_bits)),
+                                            _mm256_and_si256(_mm256_castps_si256(v[2]), abs_bits));
+        b->huge = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(mb, _mm256_set1_epi32(0x477fffff))));
+        if (LRT__UNLIKELY(b->huge)) lrt__huge8(w, o, v, &tmin, &tmax, b);
+    }
     { /* the bit test of lrt__setup_ray: such lanes go one by one */
         __m256i ok = _mm256_and_si256(lrt__bits_in(tmin, 0x00800000u, 0x7f000000u), lrt__bits_in(tmax, 0x00800000u, 0x7f000000u));
         for (k = 0; k < 3; ++k) {
@@ -3737,7 +3827,8 @@ LRT__FORCE_INLINE void lrt__trace8(const lrt__walk *w, const lrt_ray *rays, lrt_
             const uint32_t i0[2] = {b.i0[0][j], b.i0[1][j]}, i1[2] = {b.i1[0][j], b.i1[1][j]};
             lv = lrt__start_level(w, i0, i1, s.neg_x, s.neg_y, &nx, &ny, &px, &py);
         }
-        lrt__trace_from(w, &rays[j], hit, &s, 1.0f, b.kind[j], lv, nx, ny, px, py, &b.cull[0][j], 8, wide);
+        lrt__trace_from(w, &rays[j], hit, &s, (b.huge >> j) & 1 ? b.t_scale[j] : 1.0f, b.kind[j], lv, nx, ny, px, py,
+                        &b.cull[0][j], 8, wide);
     }
 }
 
@@ -3845,6 +3936,8 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__flush_float lrt__flush_float_avx2
 #define lrt__flush_ray lrt__flush_ray_avx2
 #define lrt__lanes lrt__lanes_avx2
+#define lrt__huge_direction lrt__huge_direction_avx2
+#define lrt__huge8 lrt__huge8_avx2
 #define lrt__level1_codes_hit lrt__level1_codes_hit_avx2
 #define lrt__level1_hit lrt__level1_hit_avx2
 #define lrt__load_codes lrt__load_codes_avx2
@@ -3932,6 +4025,8 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__grow_prod
 #undef lrt__ilogb
 #undef lrt__lanes
+#undef lrt__huge_direction
+#undef lrt__huge8
 #undef lrt__level1_codes_hit
 #undef lrt__level1_hit
 #undef lrt__load_codes

@@ -742,6 +742,27 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
 // validates and clips a ray; false with kind set when nothing is left to
 // walk. The rays that linear_rt.h takes through lrt__setup_rare (the same
 // test on the bits) take lrt_setup_rare.
+// linear_rt.h's lrt__huge_direction: a rare ray whose one oddity is a
+// direction of 2^16 or more takes the common set-up once scaled as
+// lrt_setup_rare scales it; e (16 to 125), or 0 for lrt_setup_rare
+int lrt_huge_direction(LrtParams p, vec3 o, float tmin, vec3 v, float tmax)
+{
+    uvec3 ao = floatBitsToUint(o) & 0x7fffffffu, av = floatBitsToUint(v) & 0x7fffffffu;
+    uvec2 at = floatBitsToUint(vec2(tmin, tmax)) & 0x7fffffffu;
+    uint mb = max(max(av.x, av.y), av.z); // finite floats order as their bits
+    if (mb >= 0x7e800000u || mb < 0x47800000u) return 0; // 2^16 <= max |v| < 2^126: 2^-e stays normal
+    int e = int(mb >> 23) - 127;
+    bool ok = !lrt_far_origin(p, o);
+    const uint TINY = 0x0d800000u; // 2^-100
+    for (int k = 0; k < 3; ++k) {
+        ok = ok && (ao[k] == 0u || ao[k] - TINY < 0x7f800000u - TINY); // as lrt_setup_ray's test
+        ok = ok && (av[k] == 0u || (av[k] < 0x7f800000u && int(av[k] >> 23) - 127 - e >= -100)); // v_k 2^-e >= 2^-100
+    }
+    for (int k = 0; k < 2; ++k) // 0 or normal, and finite once scaled
+        ok = ok && (at[k] == 0u || (at[k] - 0x00800000u < 0x7f000000u && int(at[k] >> 23) - 127 + e <= 127));
+    return ok ? e : 0;
+}
+
 bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out float t_scale, out uint kind)
 {
     uvec3 ao = floatBitsToUint(o) & 0x7fffffffu, av = floatBitsToUint(v) & 0x7fffffffu;
@@ -754,8 +775,15 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
         rare = rare || (av[k] != 0u && !(av[k] - TINY < HUGE - TINY));
     }
     rare = rare || lrt_far_origin(p, o);
-    if (rare) return lrt_setup_rare(p, o, tmin, v, tmax, s, t_scale, kind);
     t_scale = 1.0;
+    if (rare) {
+        int e = lrt_huge_direction(p, o, tmin, v, tmax);
+        if (e == 0) return lrt_setup_rare(p, o, tmin, v, tmax, s, t_scale, kind);
+        v *= lrt_pow2(-e); // lrt_setup_rare's scaling, then the common set-up
+        tmin = lrt_scale_t(tmin, e);
+        tmax = lrt_scale_t(tmax, e);
+        t_scale = lrt_pow2(-e);
+    }
     s.o = o;
     s.t_base = 0.0;
     s.zk = 0;

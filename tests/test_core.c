@@ -362,6 +362,54 @@ static void test_found_cases(void)
     }
 }
 
+/* A direction of 2^16 or more is only scaled (lrt__huge_direction), not
+   set up as a rare ray, when nothing else about the ray is odd: rays at
+   each edge of that rule (the largest v_k up to 2^127, a v_k 2^100 or 2^101
+   below it, a tmax that stays finite scaled or not, an origin far off the
+   screen), each right by the reference, and the same answer traced alone
+   (lrt__setup_ray) as in a batch of 8 (the AVX2 walk's lrt__setup8) */
+static void test_huge_directions(void)
+{
+    static const int es[] = {16, 17, 40, 100, 124, 125, 126, 127};
+    test_map m;
+    lrt_bvh bvh;
+    lrt_ray rays[512];
+    lrt_hit all[512], one;
+    size_t n = 0, i;
+    make_map(&m, 37, 23, SHAPE_NOISE, LRT_FORMAT_FLOAT32, 0, 0);
+    CHECK(lrt_bvh_build(&bvh, &m.depth, NULL, NULL) == LRT_SUCCESS, "huge directions: build");
+    for (i = 0; i < sizeof es / sizeof es[0]; ++i) {
+        const int e = es[i];
+        int k;
+        for (k = 0; k < 32 && n < 512; ++k) {
+            lrt_ray *r = &rays[n++];
+            const float big = ldexpf(k & 1 ? -1.5f : 1.25f, e); /* the largest component */
+            const float small = ldexpf(1.0f, e - ((k >> 1) & 1 ? 101 : 100));
+            r->origin[0] = 3.25f + (float)(k % 7) * 4.5f;
+            r->origin[1] = 2.75f + (float)(k % 5) * 4.0f;
+            r->origin[2] = (k >> 2) & 1 ? 0.0f : 0.4f;
+            if ((k >> 3) & 1) r->origin[0] = 1e6f; /* far off the screen */
+            r->dir[0] = (k >> 4) & 1 ? small : big;
+            r->dir[1] = (k >> 4) & 1 ? -big * 0.5f : -small;
+            r->dir[2] = ldexpf(k & 2 ? 0.75f : -0.75f, e - (k % 3) * 8);
+            r->tmin = (k >> 2) & 1 ? 0.0f : ldexpf(1.0f, -126);
+            r->tmax = (k >> 3) & 1 ? 3.40282347e38f : ldexpf(1.99f, 127 - e > -126 ? 127 - e : -126);
+        }
+    }
+    CHECK(lrt_trace(&bvh, &m.depth, rays, all, n, 0) == LRT_SUCCESS, "huge directions: trace");
+    for (i = 0; i < n; ++i) {
+        ref_ray q = to_ref(&rays[i]);
+        ref_answer a = to_answer(&all[i]);
+        char why[256];
+        CHECK(lrt_trace(&bvh, &m.depth, &rays[i], &one, 1, 0) == LRT_SUCCESS, "huge directions: trace one");
+        CHECK(memcmp(&one, &all[i], sizeof one) == 0, "huge direction %zu: alone kind %u t %g, in a batch kind %u t %g", i,
+              one.kind, one.t, all[i].kind, all[i].t);
+        CHECK(ref_check(&m.ref, &q, &a, 0, why, sizeof why), "huge direction %zu: %s", i, why);
+    }
+    lrt_bvh_destroy(&bvh);
+    free_map(&m);
+}
+
 /* ---- 3. Morton mapping and level geometry --------------------------------------- */
 static uint32_t ilog2(uint32_t v) { uint32_t k = 0; while ((1u << k) < v) ++k; return k; }
 
@@ -936,6 +984,7 @@ int main(int argc, char **argv)
     printf("walk: %s\n", lrt_cpu_path());
     RUN_TEST(test_named_cases);
     RUN_TEST(test_found_cases);
+    RUN_TEST(test_huge_directions);
     RUN_TEST(test_layout);
     RUN_TEST(test_square_codes);
     RUN_TEST(test_update);
