@@ -2417,9 +2417,9 @@ LRT__FORCE_INLINE int lrt__huge_direction(const lrt_ray *ray, uint32_t width, ui
     memcpy(u, ray, sizeof u);
     for (k = 0; k < 8; ++k) {
         const uint32_t x = u[k] & 0x7fffffffu;
-        if (k < 3) ok &= x == 0u || x - LRT__RARE_TINY < 0x7f800000u - LRT__RARE_TINY; /* origin: as lrt__rare_bits */
+        if (k < 3) ok &= x == 0u || (x >= LRT__RARE_TINY && x < 0x7f800000u); /* origin: as lrt__rare_bits */
         else if (k == 3 || k == 7) /* tmin, tmax: 0 or normal, and finite once scaled */
-            ok &= x == 0u || (x - 0x00800000u < 0x7f000000u && (int)(x >> 23) - 127 + e <= 127);
+            ok &= x == 0u || (x >= 0x00800000u && x < 0x7f800000u && (int)(x >> 23) - 127 + e <= 127);
         else ok &= x == 0u || (x < 0x7f800000u && (int)(x >> 23) - 127 - e >= -100); /* v_k 2^-e: 2^-100 or more */
     }
     return ok ? e : 0;
