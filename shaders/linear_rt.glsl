@@ -739,9 +739,6 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
     return s.t_lo <= s.t_hi;
 }
 
-// validates and clips a ray; false with kind set when nothing is left to
-// walk. The rays that linear_rt.h takes through lrt__setup_rare (the same
-// test on the bits) take lrt_setup_rare.
 // linear_rt.h's lrt__huge_direction: a rare ray whose one oddity is a
 // direction of 2^16 or more takes the common set-up once scaled as
 // lrt_setup_rare scales it; e (16 to 125), or 0 for lrt_setup_rare
@@ -763,6 +760,10 @@ int lrt_huge_direction(LrtParams p, vec3 o, float tmin, vec3 v, float tmax)
     return ok ? e : 0;
 }
 
+// validates and clips a ray; false with kind set when nothing is left to
+// walk. The rays that linear_rt.h takes through lrt__setup_rare (the same
+// test on the bits) take lrt_setup_rare
+// (but for a direction that is only large: lrt_huge_direction).
 bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out float t_scale, out uint kind)
 {
     uvec3 ao = floatBitsToUint(o) & 0x7fffffffu, av = floatBitsToUint(v) & 0x7fffffffu;
