@@ -3611,22 +3611,31 @@ LRT__FORCE_INLINE void lrt__cull_axis8(__m256 o, __m256 iv, float extent, __m256
     _mm256_storeu_ps(c_exit, _mm256_add_ps(c, d));
 }
 
-/* lrt__huge_direction on 8 lanes: such a ray scaled by 2^-e, its t by 2^e
+/* lrt__far_origin on 8 lanes */
+LRT__FORCE_INLINE __m256 lrt__far8(const lrt_layout *L, const __m256 o[3])
+{
+    const __m256 sign = _mm256_set1_ps(-0.0f);
+    const __m256 far = _mm256_or_ps(_mm256_cmp_ps(_mm256_andnot_ps(sign, o[0]), _mm256_set1_ps(2.0f * (float)L->width + 16.0f), _CMP_GT_OQ),
+                                    _mm256_cmp_ps(_mm256_andnot_ps(sign, o[1]), _mm256_set1_ps(2.0f * (float)L->height + 16.0f), _CMP_GT_OQ));
+    return _mm256_or_ps(far, _mm256_cmp_ps(_mm256_andnot_ps(sign, o[2]), _mm256_set1_ps(4.0f), _CMP_GT_OQ));
+}
+
+/* lrt__huge_direction on 8 lanes, given their |v| bits av and the largest
+   mb (lrt__setup8's): such a ray scaled by 2^-e, its t by 2^e
    (b->t_scale); a far origin is left to the bit test of lrt__setup8, which
    sends it one by one. Apart, so that lrt__setup8 stays short for camera
    rays. */
-static LRT__NOINLINE void lrt__huge8(const lrt__walk *w, const __m256 o[3], __m256 v[3], __m256 *tmin, __m256 *tmax, lrt__batch8 *b)
+static LRT__NOINLINE void lrt__huge8(const lrt__walk *w, const __m256 o[3], __m256 v[3], __m256 *tmin, __m256 *tmax,
+                                     const __m256i av[3], __m256i mb, lrt__batch8 *b)
 {
     const lrt_layout *L = w->L;
-    const __m256 sign = _mm256_set1_ps(-0.0f), one = _mm256_set1_ps(1.0f);
+    const __m256 one = _mm256_set1_ps(1.0f);
     const __m256i abs_bits = _mm256_set1_epi32(0x7fffffff), lo = _mm256_set1_epi32(-101), hi = _mm256_set1_epi32(128);
-    __m256i av[3], at[2], mb, e, h;
-    __m256 far, down, up, hf;
+    __m256i at[2], e, h;
+    __m256 down, up, hf;
     int k;
-    for (k = 0; k < 3; ++k) av[k] = _mm256_and_si256(_mm256_castps_si256(v[k]), abs_bits);
     at[0] = _mm256_and_si256(_mm256_castps_si256(*tmin), abs_bits);
     at[1] = _mm256_and_si256(_mm256_castps_si256(*tmax), abs_bits);
-    mb = _mm256_max_epi32(_mm256_max_epi32(av[0], av[1]), av[2]);
     e = _mm256_sub_epi32(_mm256_srli_epi32(mb, 23), _mm256_set1_epi32(127));
     h = _mm256_and_si256(_mm256_cmpgt_epi32(mb, _mm256_set1_epi32(0x477fffff)), _mm256_cmpgt_epi32(_mm256_set1_epi32(0x7e800000), mb));
     for (k = 0; k < 3; ++k) {
@@ -3640,10 +3649,7 @@ static LRT__NOINLINE void lrt__huge8(const lrt__walk *w, const __m256 o[3], __m2
         h = _mm256_and_si256(h, lrt__bits_in(k ? *tmax : *tmin, 0x00800000u, 0x7f000000u));
         h = _mm256_and_si256(h, _mm256_or_si256(_mm256_cmpeq_epi32(at[k], _mm256_setzero_si256()), _mm256_cmpgt_epi32(hi, et)));
     }
-    far = _mm256_or_ps(_mm256_cmp_ps(_mm256_andnot_ps(sign, o[0]), _mm256_set1_ps(2.0f * (float)L->width + 16.0f), _CMP_GT_OQ),
-                       _mm256_cmp_ps(_mm256_andnot_ps(sign, o[1]), _mm256_set1_ps(2.0f * (float)L->height + 16.0f), _CMP_GT_OQ));
-    far = _mm256_or_ps(far, _mm256_cmp_ps(_mm256_andnot_ps(sign, o[2]), _mm256_set1_ps(4.0f), _CMP_GT_OQ));
-    hf = _mm256_andnot_ps(far, _mm256_castsi256_ps(h));
+    hf = _mm256_andnot_ps(lrt__far8(L, o), _mm256_castsi256_ps(h));
     down = _mm256_castsi256_ps(_mm256_slli_epi32(_mm256_sub_epi32(_mm256_set1_epi32(127), e), 23));
     up = _mm256_castsi256_ps(_mm256_slli_epi32(_mm256_add_epi32(_mm256_set1_epi32(127), e), 23));
     for (k = 0; k < 3; ++k) v[k] = _mm256_blendv_ps(v[k], _mm256_mul_ps(v[k], down), hf);
@@ -3678,11 +3684,11 @@ static void lrt__setup8(const lrt__walk *w, const lrt_ray *rays, lrt__batch8 *b)
     { /* lrt__huge_direction: a batch with no direction of 2^16 or more
          (camera rays) pays one compare */
         const __m256i abs_bits = _mm256_set1_epi32(0x7fffffff);
-        const __m256i mb = _mm256_max_epi32(_mm256_max_epi32(_mm256_and_si256(_mm256_castps_si256(v[0]), abs_bits),
-                                                             _mm256_and_si256(_mm256_castps_si256(v[1]), abs_bits)),
-                                            _mm256_and_si256(_mm256_castps_si256(v[2]), abs_bits));
+        __m256i av[3], mb;
+        for (k = 0; k < 3; ++k) av[k] = _mm256_and_si256(_mm256_castps_si256(v[k]), abs_bits);
+        mb = _mm256_max_epi32(_mm256_max_epi32(av[0], av[1]), av[2]);
         b->huge = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(mb, _mm256_set1_epi32(0x477fffff))));
-        if (LRT__UNLIKELY(b->huge)) lrt__huge8(w, o, v, &tmin, &tmax, b);
+        if (LRT__UNLIKELY(b->huge)) lrt__huge8(w, o, v, &tmin, &tmax, av, mb, b);
     }
     { /* the bit test of lrt__setup_ray: such lanes go one by one */
         __m256i ok = _mm256_and_si256(lrt__bits_in(tmin, 0x00800000u, 0x7f000000u), lrt__bits_in(tmax, 0x00800000u, 0x7f000000u));
@@ -3720,16 +3726,12 @@ static void lrt__setup8(const lrt__walk *w, const lrt_ray *rays, lrt__batch8 *b)
     }
     { /* an invalid range: no walk, kind LRT_MISS_INVALID_RAY */
         const __m256 invalid = _mm256_or_ps(_mm256_cmp_ps(tmin, zero, _CMP_NGE_UQ), _mm256_cmp_ps(tmin, tmax, _CMP_NLE_UQ));
-        __m256 far;
         _mm256_storeu_si256((__m256i *)(void *)b->kind, _mm256_blendv_epi8(_mm256_loadu_si256((const __m256i *)(const void *)b->kind),
                                                                               _mm256_set1_epi32(LRT_MISS_INVALID_RAY),
                                                                               _mm256_castps_si256(invalid)));
         walk = _mm256_andnot_ps(invalid, _mm256_cmp_ps(t_lo, t_hi, _CMP_LE_OQ));
         /* a far origin restarts: one by one */
-        far = _mm256_or_ps(_mm256_cmp_ps(_mm256_andnot_ps(sign, o[0]), _mm256_set1_ps(2.0f * (float)L->width + 16.0f), _CMP_GT_OQ),
-                           _mm256_cmp_ps(_mm256_andnot_ps(sign, o[1]), _mm256_set1_ps(2.0f * (float)L->height + 16.0f), _CMP_GT_OQ));
-        far = _mm256_or_ps(far, _mm256_cmp_ps(_mm256_andnot_ps(sign, o[2]), _mm256_set1_ps(4.0f), _CMP_GT_OQ));
-        bad = _mm256_or_ps(bad, _mm256_and_ps(walk, far));
+        bad = _mm256_or_ps(bad, _mm256_and_ps(walk, lrt__far8(L, o)));
     }
     b->one_by_one = (uint32_t)_mm256_movemask_ps(bad);
     b->walk = (uint32_t)_mm256_movemask_ps(walk);
@@ -3938,6 +3940,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__lanes lrt__lanes_avx2
 #define lrt__huge_direction lrt__huge_direction_avx2
 #define lrt__huge8 lrt__huge8_avx2
+#define lrt__far8 lrt__far8_avx2
 #define lrt__level1_codes_hit lrt__level1_codes_hit_avx2
 #define lrt__level1_hit lrt__level1_hit_avx2
 #define lrt__load_codes lrt__load_codes_avx2
@@ -4027,6 +4030,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__lanes
 #undef lrt__huge_direction
 #undef lrt__huge8
+#undef lrt__far8
 #undef lrt__level1_codes_hit
 #undef lrt__level1_hit
 #undef lrt__load_codes
