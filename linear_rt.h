@@ -184,16 +184,20 @@
    - level 0 is the texels; level L+1 groups level L's nodes in 4x2 blocks
      when L is even and 2x4 blocks when L is odd, up to a 1x1 root level.
    - a node stores the 8 heights of its children, h = 1 - depth rounded UP to
-     8 or 16 bits (so a compressed bound never cuts off a hit); a node's own
-     height is the max of its children's and lives in its parent. Codes are
-     linear (c / 255 or c / 65535), except 8-bit codes of float depth:
-     squares, (c + 1)^2 / 2^16, fine where a perspective depth crowds near 1
-     (>>heights: lrt__square_code).
+     16 bits (c / 65535, so a compressed bound never cuts off a hit); a
+     node's own height is the max of its children's and lives in its parent.
+   - 8-bit trees (node_bits 8) keep those 16-bit codes above level 1 and
+     make each level-1 node one 32-bit word: its 8 texels' codes as 3-bit
+     steps down from the node's own height H (in its parent), code = H -
+     (j << e) with one shift e (4 bits) per node, the least that reaches
+     the node's lowest texel (>>nodes: lrt__compact_word). A far floor,
+     whose 8 texels differ by a few 16-bit steps, keeps them exactly; a
+     node's update needs its 8 texels alone.
    - the texel level is not stored (its heights sit in the level-1 nodes), so
-     the tree costs about 1.14 bytes per texel with 8-bit nodes and 2.29 with
-     16-bit nodes (each level has 1/8 of the nodes of the one below): a
-     stored leaf level of one height per texel would add 1 or 2 bytes more,
-     so skipping it saves about half.
+     the tree costs about 2.29 bytes per texel with 16-bit nodes and 0.79
+     with 8-bit nodes (each level has 1/8 of the nodes of the one below): a
+     stored leaf level of one height per texel would add 2 bytes more, so
+     skipping it saves about half.
    - within a level, node (x,y) sits at its modified Morton code: for a level
      grouped 4x2 into its parent, (parent block index) << 3 | y0 x1 x0, for
      2x4, (parent block index) << 3 | y1 y0 x0, the parent block index being
@@ -206,8 +210,8 @@
    - node precision: LRT_NODE_BITS_AUTO picks 8 bits for 8-bit depth and 16
      for 16-bit and float depth. Hits are exact anyway: the last test of every
      candidate texel uses the true depth (read back from the depth map when
-     the nodes are coarser than the input, e.g. float or 16-bit input in
-     8-bit nodes).
+     the codes are not the input itself, e.g. float input, or any input in
+     8-bit trees).
 
    WHAT IT DOES NOT DO
    - no GPU work of its own: it records into your command buffers and never
@@ -359,17 +363,19 @@ typedef struct lrt_level {
 
 typedef struct lrt_layout {
     uint32_t width, height;       /* texels */
-    uint32_t node_bits;           /* 8 or 16 */
-    uint32_t node_bytes;          /* 8 children x node_bits/8 */
+    uint32_t node_bits;           /* 8 or 16: the level-1 nodes' width (THE TREE) */
+    uint32_t node_bytes;          /* a node above level 1: 8 children x 16 bits */
     uint32_t level_count;         /* stored levels: levels[1..level_count]; root = levels[level_count] */
     lrt_level levels[LINEAR_RT_MAX_LEVELS + 1]; /* levels[0]: the texels (not stored) */
     size_t node_count;            /* all node slots */
     uint32_t back_codes;          /* 1: a thickness model: each slot also has a back code (the deepest
-                                     back depth under it), node_count * 8 codes after the heights */
-    size_t bytes;                 /* node_count * node_bytes, twice that with back codes */
+                                     back depth under it), laid out as the heights, after them */
+    size_t bytes;                 /* levels[1].count * level1_node_bytes + the other slots * node_bytes,
+                                     twice that with back codes */
     uint32_t thickness;           /* lrt_thickness of the tree (set by the build options) */
     float back_k[2];              /* LRT_THICKNESS_CONSTANT: f / (f - n), T / n; RELATIVE: k f / (f - n),
                                      1 + k (in float: the kernels compute b(d) from the same two) */
+    uint32_t level1_node_bytes;   /* 16, or 4: a compact level-1 node (node_bits 8, two levels or more) */
 } lrt_layout;
 
 enum { LRT_NODE_BITS_AUTO = 0 };
@@ -1103,7 +1109,7 @@ LRT__FORCE_INLINE uint32_t lrt__model_back_bits(const lrt_layout *L, lrt_format 
 }
 
 /* =============================================================== >>heights
-   2. Heights: h = 1 - depth, compressed to node_bits and rounded UP, so that
+   2. Heights: h = 1 - depth, compressed to 16 bits and rounded UP, so that
       the box a node promises is never smaller than the true one.
    ========================================================================== */
 
@@ -1133,76 +1139,16 @@ static uint32_t lrt__float_heights4(const unsigned char *row, uint32_t x0, uint3
 #define lrt__float_heights4(row, x0, n, reversed, qmax, codes) 0u /* the loop does them all */
 #endif
 
-/* 8-bit codes of float depth are squares: code c stands for the height
-   h = 1 - d of (c + 1)^2 / 2^16 (lrt__square_height: 2^-16 to 1, exact in
-   float, and so is 1 - h, fused or not). A perspective depth crowds near
-   1, where h is small: there a code's step is about 2/(256 sqrt(h)) of h,
-   where a linear 8-bit code's is 1/255 of the whole range, wider than a
-   far floor's every height (the yard of build/bench); at h = 1/2 it is
-   1.4 linear steps (docs/MEASUREMENTS.md). Rounded up: the smallest c with
-   1 - lrt__square_height(c) <= d (the kernels' refit takes the same). */
-LRT__FORCE_INLINE float lrt__square_height(uint32_t code)
-{
-    return (float)((code + 1u) * (code + 1u)) * (1.0f / 65536.0f);
-}
-
-static uint32_t lrt__square_code(float d)
-{
-    /* the code is ceil(256 sqrt(h)) - 1: 256 sqrt(1 - d) in float is within
-       2^-16 of 256 sqrt(h), so its floor is the code or one off either way */
-    const uint32_t c = (uint32_t)(sqrtf(1.0f - d) * 256.0f); /* 0 to 256 (256 at d = 0 only: one down) */
-    if (c && 1.0f - lrt__square_height(c - 1u) <= d) return c - 1u;
-    if (1.0f - lrt__square_height(c) > d) return c + 1u;
-    return c;
-}
-
-/* ---- ISA block: a row's float depths to square codes, 4 at a time (SSE2 |
-   scalar: none): lrt__square_code's steps without branches; returns how
-   many it did (the update of an 8-bit tree of float depth: 6.3 ms a
-   1024x1024 frame with the scalar loop, docs/MEASUREMENTS.md) ---- */
-#if LRT__SSE
-static uint32_t lrt__square_codes4(const unsigned char *row, uint32_t x0, uint32_t n, int reversed, uint32_t *codes)
-{
-    const __m128 one = _mm_set1_ps(1.0f), k = _mm_set1_ps(1.0f / 65536.0f);
-    const __m128i zero = _mm_setzero_si128();
-    uint32_t i = 0;
-    for (; n - i >= 4u; i += 4) {
-        __m128 d = _mm_loadu_ps((const float *)(const void *)(row + 4 * (size_t)(x0 + i))), f, f1;
-        __m128i c, down, up;
-        if (reversed) d = _mm_sub_ps(one, d);
-        d = lrt__clamp_depth4(d);
-        /* the guess, 0 to 256 (256 only at d = 0, where the step down makes it 255) */
-        c = _mm_cvttps_epi32(_mm_mul_ps(_mm_sqrt_ps(_mm_sub_ps(one, d)), _mm_set1_ps(256.0f)));
-        f = _mm_cvtepi32_ps(c); /* code c - 1's height is c^2 / 2^16, code c's (c + 1)^2 / 2^16 */
-        f1 = _mm_add_ps(f, one);
-        down = _mm_and_si128(_mm_cmpgt_epi32(c, zero),
-                             _mm_castps_si128(_mm_cmple_ps(_mm_sub_ps(one, _mm_mul_ps(_mm_mul_ps(f, f), k)), d)));
-        up = _mm_castps_si128(_mm_cmpgt_ps(_mm_sub_ps(one, _mm_mul_ps(_mm_mul_ps(f1, f1), k)), d)); /* never with down */
-        _mm_storeu_si128((__m128i *)(void *)(codes + i), _mm_sub_epi32(_mm_add_epi32(c, down), up)); /* masks are -1 */
-    }
-    return i;
-}
-#else
-#define lrt__square_codes4(row, x0, n, reversed, codes) 0u /* the loop does them all */
-#endif
-
 /* Height codes of texels [x0, x0+n) of one row: qmax - floor(depth * qmax).
-   Integer inputs stay in integers, so 8-bit depth in 8- or 16-bit nodes and
-   16-bit depth in 16-bit nodes are exact. One loop per format keeps the
-   per-texel work to a load and a convert (this is the per-frame cost). */
+   Integer inputs stay in integers, so 8- and 16-bit depth are exact. One
+   loop per format keeps the per-texel work to a load and a convert (this
+   is the per-frame cost). */
 static void lrt__row_heights(const lrt_depth *depth, const unsigned char *row, uint32_t x0, uint32_t n,
                              uint32_t qmax, uint32_t *codes)
 {
     const int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
     uint32_t i;
-    if (depth->format == LRT_FORMAT_FLOAT32 && qmax == 255u) { /* squares (above) */
-        for (i = lrt__square_codes4(row, x0, n, reversed, codes); i < n; ++i) {
-            float f;
-            memcpy(&f, row + 4 * (size_t)(x0 + i), 4);
-            if (reversed) f = 1.0f - f;
-            codes[i] = lrt__square_code(lrt__clamp_depth(f));
-        }
-    } else if (depth->format == LRT_FORMAT_FLOAT32) {
+    if (depth->format == LRT_FORMAT_FLOAT32) {
         for (i = lrt__float_heights4(row, x0, n, reversed, qmax, codes); i < n; ++i) {
             float f;
             memcpy(&f, row + 4 * (size_t)(x0 + i), 4);
@@ -1245,7 +1191,7 @@ LINEAR_RT_DEF lrt_result lrt_layout_compute(uint32_t width, uint32_t height, uin
     L.width = width;
     L.height = height;
     L.node_bits = node_bits;
-    L.node_bytes = node_bits; /* 8 children x bits/8 bytes */
+    L.node_bytes = 16u; /* 8 children x 16 bits */
     L.levels[0].width = width;
     L.levels[0].height = height;
     /* Level lv groups 4x2 into lv+1 when lv is even, 2x4 when odd; stop at a
@@ -1276,7 +1222,9 @@ LINEAR_RT_DEF lrt_result lrt_layout_compute(uint32_t width, uint32_t height, uin
         c->count = lv == L.level_count ? 1u : (size_t)L.levels[lv + 1].width * L.levels[lv + 1].height * 8u;
         L.node_count += c->count;
     }
-    L.bytes = L.node_count * L.node_bytes; /* < 2^31 for 16384^2 16-bit nodes */
+    /* a compact level 1 needs a parent to hold its nodes' own heights */
+    L.level1_node_bytes = node_bits == 8 && L.level_count >= 2 ? 4u : 16u;
+    L.bytes = L.levels[1].count * L.level1_node_bytes + (L.node_count - L.levels[1].count) * L.node_bytes; /* < 2^31 */
     *out = L;
     return LRT_SUCCESS;
 }
@@ -1416,59 +1364,136 @@ static void lrt__row_model_back_codes(const lrt_layout *L, const lrt_depth *dept
     }
 }
 
-/* ---- ISA block: a level-1 node's 4 + 4 codes (two texel rows) stored at
-   code index `node` (SSE2: packed; the signed packs see them moved by 2^15
-   when 16-bit | scalar) ---- */
+/* ---- ISA block: a level-1 node's 4 + 4 16-bit codes (two texel rows)
+   stored at code index `node` (SSE2: packed; the signed packs see them moved
+   by 2^15 | scalar) ---- */
 #if LRT__SSE
-LRT__FORCE_INLINE void lrt__store_node4x2(void *nodes, size_t node, uint32_t node_bits, const uint32_t *c0, const uint32_t *c1)
+LRT__FORCE_INLINE void lrt__store_node4x2(void *nodes, size_t node, const uint32_t *c0, const uint32_t *c1)
 {
     const __m128i a = _mm_loadu_si128((const __m128i *)(const void *)c0);
     const __m128i b = _mm_loadu_si128((const __m128i *)(const void *)c1);
-    if (node_bits == 8) {
-        const __m128i p = _mm_packs_epi32(a, b);
-        _mm_storel_epi64((__m128i *)(void *)((uint8_t *)nodes + node), _mm_packus_epi16(p, p));
-    } else {
-        const __m128i h = _mm_set1_epi32(32768);
-        const __m128i p = _mm_packs_epi32(_mm_sub_epi32(a, h), _mm_sub_epi32(b, h));
-        _mm_storeu_si128((__m128i *)(void *)((uint16_t *)nodes + node), _mm_xor_si128(p, _mm_set1_epi16((short)0x8000)));
-    }
+    const __m128i h = _mm_set1_epi32(32768);
+    const __m128i p = _mm_packs_epi32(_mm_sub_epi32(a, h), _mm_sub_epi32(b, h));
+    _mm_storeu_si128((__m128i *)(void *)((uint16_t *)nodes + node), _mm_xor_si128(p, _mm_set1_epi16((short)0x8000)));
 }
 #else
-LRT__FORCE_INLINE void lrt__store_node4x2(void *nodes, size_t node, uint32_t node_bits, const uint32_t *c0, const uint32_t *c1)
+LRT__FORCE_INLINE void lrt__store_node4x2(void *nodes, size_t node, const uint32_t *c0, const uint32_t *c1)
 {
+    uint16_t *out = (uint16_t *)nodes + node;
     uint32_t s;
-    if (node_bits == 8) {
-        uint8_t *out = (uint8_t *)nodes + node;
-        for (s = 0; s < 4; ++s) {
-            out[s] = (uint8_t)c0[s];
-            out[4 + s] = (uint8_t)c1[s];
-        }
-    } else {
-        uint16_t *out = (uint16_t *)nodes + node;
-        for (s = 0; s < 4; ++s) {
-            out[s] = (uint16_t)c0[s];
-            out[4 + s] = (uint16_t)c1[s];
-        }
+    for (s = 0; s < 4; ++s) {
+        out[s] = (uint16_t)c0[s];
+        out[4 + s] = (uint16_t)c1[s];
     }
 }
 #endif
 
+/* A compact level-1 node (8-bit trees) from its 8 texels' 16-bit codes
+   (slots 0-3 in c0, 4-7 in c1): bits 3s..3s+2 hold j_s = (H - code_s) >> e
+   and bits 24..27 e, the least shift with every j_s <= 7, H being the
+   node's own height (the largest code, returned in *height: its parent's
+   code). j_s << e <= H - code_s, so H - (j_s << e) (lrt__compact_code) is
+   at least code_s: never below the texel, and above it by less than 2^e. */
+LRT__FORCE_INLINE uint32_t lrt__compact_shift(uint32_t spread)
+{
+    uint32_t e = 0;
+#if defined(__GNUC__) || defined(__clang__)
+    if (spread > 7u) e = 29u - (uint32_t)__builtin_clz(spread); /* its bit length - 3 */
+#else
+    while ((spread >> e) > 7u) ++e;
+#endif
+    return e; /* at most 13 */
+}
+
+/* ---- ISA block: lrt__compact_word (SSE2: the 8 codes in one register, the
+   max, min and steps in lanes | scalar) ---- */
+#if LRT__SSE
+LRT__FORCE_INLINE uint32_t lrt__compact_word(const uint32_t *c0, const uint32_t *c1, uint32_t *height)
+{
+    const __m128i bias = _mm_set1_epi32(32768);
+    const __m128i x = _mm_packs_epi32(_mm_sub_epi32(_mm_loadu_si128((const __m128i *)(const void *)c0), bias),
+                                      _mm_sub_epi32(_mm_loadu_si128((const __m128i *)(const void *)c1), bias));
+    __m128i hi = _mm_max_epi16(x, _mm_shuffle_epi32(x, _MM_SHUFFLE(1, 0, 3, 2))); /* codes - 2^15, signed: ordered */
+    __m128i lo = _mm_min_epi16(x, _mm_shuffle_epi32(x, _MM_SHUFFLE(1, 0, 3, 2)));
+    __m128i j;
+    uint32_t h, e;
+    hi = _mm_max_epi16(hi, _mm_shuffle_epi32(hi, _MM_SHUFFLE(2, 3, 0, 1)));
+    lo = _mm_min_epi16(lo, _mm_shuffle_epi32(lo, _MM_SHUFFLE(2, 3, 0, 1)));
+    hi = _mm_max_epi16(hi, _mm_srli_epi32(hi, 16));
+    lo = _mm_min_epi16(lo, _mm_srli_epi32(lo, 16));
+    h = ((uint32_t)_mm_cvtsi128_si32(hi) & 0xffffu) ^ 0x8000u; /* undo the bias */
+    e = lrt__compact_shift(h - (((uint32_t)_mm_cvtsi128_si32(lo) & 0xffffu) ^ 0x8000u));
+    /* j_s = (H - code_s) >> e in 16-bit lanes, then j_2k + 8 j_2k+1 in 32-bit ones, then the four 6-bit pairs */
+    j = _mm_srl_epi16(_mm_sub_epi16(_mm_set1_epi16((short)((int)h - 32768)), x), _mm_cvtsi32_si128((int)e));
+    j = _mm_madd_epi16(j, _mm_set1_epi32(8 << 16 | 1));
+    j = _mm_or_si128(j, _mm_srli_epi64(j, 26));
+    *height = h;
+    return (e << 24) | ((uint32_t)_mm_cvtsi128_si32(j) & 0xfffu) | ((uint32_t)_mm_cvtsi128_si32(_mm_srli_si128(j, 8)) & 0xfffu) << 12;
+}
+#else
+LRT__FORCE_INLINE uint32_t lrt__compact_word(const uint32_t *c0, const uint32_t *c1, uint32_t *height)
+{
+    uint32_t h = 0, low = 65535u, e, word, s;
+    for (s = 0; s < 4; ++s) {
+        h = c0[s] > h ? c0[s] : h;
+        h = c1[s] > h ? c1[s] : h;
+        low = c0[s] < low ? c0[s] : low;
+        low = c1[s] < low ? c1[s] : low;
+    }
+    e = lrt__compact_shift(h - low);
+    word = e << 24;
+    for (s = 0; s < 4; ++s) {
+        word |= ((h - c0[s]) >> e) << (3u * s);
+        word |= ((h - c1[s]) >> e) << (3u * (s + 4u));
+    }
+    *height = h;
+    return word;
+}
+#endif
+
+/* The code of slot s of a compact level-1 node whose word is `word` and own
+   height h (the kernels' lrt_compact_words) */
+LRT__FORCE_INLINE uint32_t lrt__compact_code(uint32_t word, uint32_t h, uint32_t s)
+{
+    return h - (((word >> (3u * s)) & 7u) << (word >> 24));
+}
+
+/* Code index (16-bit units) of the first code of node slot `node` >= the
+   level-1 slots, or of any node of a tree without a compact level 1: the
+   compact level-1 nodes before it take 2 units each, not 8 */
+LRT__FORCE_INLINE size_t lrt__code_index(const lrt_layout *L, size_t node)
+{
+    return node * 8u - (L->level1_node_bytes == 4u ? L->levels[1].count * 6u : 0u);
+}
+
+/* The back codes' first code index: after the heights, laid out as they are */
+LRT__FORCE_INLINE size_t lrt__back_code_index(const lrt_layout *L)
+{
+    return L->back_codes ? L->bytes / 4u : 0u;
+}
+
 /* Refit level-1 nodes [nx0,nx1] x [ny0,ny1] from the texels, two texel rows
    at a time: their heights, or (back) their back codes, which a back-map
-   tree keeps node_count * 8 codes after them. Texels outside the map get
-   code 0 (padding: height 0; a back of 0, a box [1, 0] no ray meets). */
+   tree keeps after the heights (lrt__back_code_index). Texels outside the
+   map get code 0 (padding: height 0; a back of 0, a box [1, 0] no ray
+   meets). A compact level 1 stores each node's word and its own height,
+   the code in its level-2 parent (whose refit then has nothing to add). */
 static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_t stride, uint32_t nx0, uint32_t nx1,
                                      uint32_t ny0, uint32_t ny1, int back)
 {
     const lrt_layout *L = &bvh->layout;
-    const uint32_t qmax = L->node_bits == 8 ? 255u : 65535u;
-    const size_t base = L->levels[1].offset, codes_at = back ? L->node_count * 8u : 0u;
+    const uint32_t qmax = 65535u;
+    const size_t codes_at = back ? lrt__back_code_index(L) : 0u;
+    const int compact = L->level1_node_bytes == 4u;
     uint32_t codes[2][64 + 4];
     size_t back_stride = 0;
     uint32_t nx, ny, r, s, chunk;
     if (back) (void)lrt__check_back(depth, L->thickness, &back_stride); /* checked by the caller */
     for (ny = ny0; ny <= ny1; ++ny) {
         const size_t row = lrt_layout_node_index(L, 1, 0, ny);
+        /* a compact node's parent: level 2 groups 4x2, so parent px is (px >> 2) * 8 + (px & 3) after parent 0 */
+        const size_t parents = compact ? L->levels[2].offset + lrt_layout_node_index(L, 2, 0, ny >> 2) : 0u;
+        const uint32_t child_row = (ny & 3u) << 1, parent_step = compact && L->level_count > 2 ? 1u : 0u;
         for (chunk = nx0; chunk <= nx1; chunk += 16) { /* 16 nodes = 64 texels a step */
             uint32_t last = nx1 - chunk < 15 ? nx1 : chunk + 15, tx0 = chunk * 4u;
             uint32_t n = (last - chunk + 1) * 4u, real;
@@ -1487,44 +1512,44 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
             }
             for (nx = chunk; nx <= last; ++nx) {
                 /* level 1 groups 2x4 (lrt_layout_node_index): node nx is 8 slots after nx - 2 */
-                size_t node = codes_at + (base + row + (size_t)(nx >> 1) * 8u + (nx & 1u)) * 8u;
+                const size_t node = L->levels[1].offset + row + (size_t)(nx >> 1) * 8u + (nx & 1u);
                 const uint32_t *c0 = codes[0] + (size_t)(nx - chunk) * 4u, *c1 = codes[1] + (size_t)(nx - chunk) * 4u;
-                lrt__store_node4x2(bvh->nodes, node, L->node_bits, c0, c1);
+                if (compact) {
+                    const uint32_t px = (nx >> 1) * parent_step;
+                    const size_t parent = parents + (size_t)(px >> 2) * 8u + (px & 3u);
+                    uint32_t h, word = lrt__compact_word(c0, c1, &h);
+                    memcpy((uint32_t *)bvh->nodes + codes_at / 2u + node, &word, 4);
+                    ((uint16_t *)bvh->nodes)[codes_at + lrt__code_index(L, parent) + (child_row | (nx & 1u))] = (uint16_t)h;
+                } else {
+                    lrt__store_node4x2(bvh->nodes, codes_at + node * 8u, c0, c1);
+                }
             }
         }
     }
 }
 
-
 /* Refit nodes [nx0,nx1] x [ny0,ny1] of level lv >= 2 from level lv-1, the
-   codes that start at code index `codes` (0: the heights; node_count * 8:
-   the back codes, whose max is the deepest back as the heights' is the
-   highest top). The 8 children of node (x, y) are contiguous: level
-   lv-1's slots (row-major index of (x, y) in level lv) * 8 + s. */
+   codes that start at code index `codes` (0: the heights;
+   lrt__back_code_index: the back codes, whose max is the deepest back as
+   the heights' is the highest top). The 8 children of node (x, y) are
+   contiguous: level lv-1's slots (row-major index of (x, y) in level lv) *
+   8 + s. Level 2 over a compact level 1 has its codes already (written
+   with the words): only its padding nodes are written here. */
 static void lrt__refit_level(lrt_bvh *bvh, size_t codes, uint32_t lv, uint32_t nx0, uint32_t nx1, uint32_t ny0,
                              uint32_t ny1)
 {
     const lrt_layout *L = &bvh->layout;
     const size_t child_base = L->levels[lv - 1].offset, base = L->levels[lv].offset;
+    uint16_t *nodes = (uint16_t *)bvh->nodes;
     uint32_t nx, ny, s, c;
     for (ny = ny0; ny <= ny1; ++ny) {
         for (nx = nx0; nx <= nx1; ++nx) {
-            size_t node = codes + (base + lrt_layout_node_index(L, lv, nx, ny)) * 8u;
-            size_t first_child = codes + (child_base + ((size_t)ny * L->levels[lv].width + nx) * 8u) * 8u;
+            uint16_t *out = nodes + codes + lrt__code_index(L, base + lrt_layout_node_index(L, lv, nx, ny));
             if (nx >= L->levels[lv].width || ny >= L->levels[lv].height) {
                 /* a padding node has no children in memory: height 0 */
-                memset((unsigned char *)bvh->nodes + node * (L->node_bits / 8u), 0, L->node_bytes);
-            } else if (L->node_bits == 8) {
-                const uint8_t *ch = (const uint8_t *)bvh->nodes + first_child;
-                uint8_t *out = (uint8_t *)bvh->nodes + node;
-                for (s = 0; s < 8; ++s) {
-                    uint8_t m = 0;
-                    for (c = 0; c < 8; ++c) m = ch[s * 8 + c] > m ? ch[s * 8 + c] : m;
-                    out[s] = m;
-                }
-            } else {
-                const uint16_t *ch = (const uint16_t *)bvh->nodes + first_child;
-                uint16_t *out = (uint16_t *)bvh->nodes + node;
+                memset(out, 0, 16);
+            } else if (lv > 2 || L->level1_node_bytes == 16u) {
+                const uint16_t *ch = nodes + codes + lrt__code_index(L, child_base + ((size_t)ny * L->levels[lv].width + nx) * 8u);
                 for (s = 0; s < 8; ++s) {
                     uint16_t m = 0;
                     for (c = 0; c < 8; ++c) m = ch[s * 8 + c] > m ? ch[s * 8 + c] : m;
@@ -1561,7 +1586,7 @@ static void lrt__refit(lrt_bvh *bvh, const lrt_depth *depth, size_t stride, uint
             if (L->back_codes) lrt__refit_texel_parents(bvh, depth, stride, nx0, nx1, ny0, ny1, 1);
         } else {
             lrt__refit_level(bvh, 0, lv, nx0, nx1, ny0, ny1);
-            if (L->back_codes) lrt__refit_level(bvh, L->node_count * 8u, lv, nx0, nx1, ny0, ny1);
+            if (L->back_codes) lrt__refit_level(bvh, lrt__back_code_index(L), lv, nx0, nx1, ny0, ny1);
         }
     }
 }
@@ -2473,8 +2498,9 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
    Level lv's children come in 2x4 blocks when lv is even, 4x2 when odd
    (lrt_layout_compute), so a node's shape is a bit of its level. */
 typedef struct lrt__walk_level {
-    size_t offset;                     /* first node slot of the level */
-    size_t children;                   /* first code of the level below: node (x, y)'s children are at children + (y * width + x) * 64 */
+    size_t first;                      /* code index of the level's first node (lrt__code_index) */
+    size_t children;                   /* the level below's: node (x, y)'s children are at children + (y * width + x) * 64
+                                          (a compact level 1's word k is at code index 8 k) */
     uint32_t width, height;            /* the level's grid: nodes per row (the block row of the level below), rows */
     uint32_t span_w_log2, span_h_log2; /* texels per node of this level */
     float child_span_w, child_span_h;  /* texels per child, as float */
@@ -2485,16 +2511,14 @@ typedef struct lrt__walk {
     const void *nodes;
     const lrt_depth *depth;
     size_t stride;
-    uint32_t qmax, wide_codes; /* wide_codes: 16-bit nodes */
+    uint32_t compact1; /* 8-bit trees: level-1 nodes are words (lrt__compact_word) */
     uint32_t row_prefetch_level; /* 3: entering a level-2 node prefetches the depth rows the exact test reads; ~0: never */
-    float decode_scale; /* just below 1/qmax: decoded bounds never exceed the true ones */
+    float decode_scale; /* just below 1/65535: decoded bounds never exceed the true ones */
     size_t back_codes;  /* 0, or the code index of the back codes (a back-map tree) */
     size_t back_stride; /* of the back map (LRT_THICKNESS_BACK_MAP) */
-    float back_scale;   /* just above 1/qmax: a decoded back is never shallower than the true one */
+    float back_scale;   /* just above 1/65535: a decoded back is never shallower than the true one */
     int exact_codes;    /* the level-1 codes are the input depth itself */
-    int square_codes;   /* 8-bit codes of float depth: squares (lrt__square_code) */
-    float code_depth0, code_step; /* a node's depth plane is code_depth0 + value * code_step, value the code
-                                     (linear) or (code + 1)^2 (square): lrt__cull_children's z plane */
+    float code_depth0, code_step; /* a node's depth plane is code_depth0 + code * code_step (lrt__cull_children) */
     int plain_float;    /* float depth, standard Z */
     uint32_t texels8_w, texels8_h; /* plain float: level-1 nodes (x, y) below these lie inside the map (lrt__texels8) */
     float extent[2];    /* the root's span in texels: no node's plane lies beyond it */
@@ -2568,23 +2592,18 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
     w->nodes = bvh->nodes;
     w->depth = depth;
     w->stride = stride;
-    w->qmax = L->node_bits == 8 ? 255u : 65535u;
-    w->wide_codes = L->node_bits == 16;
-    /* 2^-20 below 1/qmax: a node's decoded depth stays below every texel depth
-       under it by more than the float rounding of its plane's t, so culling
-       in float never drops a hit that the texel test (in double) finds */
-    w->decode_scale = (1.0f / (float)w->qmax) * (1.0f - 1.0f / 1048576.0f);
-    /* (square codes decode to 1 - h exactly, at most the depth: the texel
-       test of float depth computes its plane's t the same way, and rounding
-       keeps the order) */
-    w->exact_codes = depth->format != LRT_FORMAT_FLOAT32 && lrt__format_bytes(depth->format) * 8u <= L->node_bits;
-    w->square_codes = depth->format == LRT_FORMAT_FLOAT32 && L->node_bits == 8;
-    w->code_depth0 = w->square_codes ? 1.0f : (float)w->qmax * w->decode_scale;
-    w->code_step = w->square_codes ? -1.0f / 65536.0f : -w->decode_scale;
+    w->compact1 = L->level1_node_bytes == 4u;
+    /* 2^-20 below 1/65535: a node's decoded depth stays below every texel
+       depth under it by more than the float rounding of its plane's t, so
+       culling in float never drops a hit that the texel test (in double) finds */
+    w->decode_scale = (1.0f / 65535.0f) * (1.0f - 1.0f / 1048576.0f);
+    w->exact_codes = depth->format != LRT_FORMAT_FLOAT32 && !w->compact1;
     w->row_prefetch_level = w->exact_codes ? ~0u : 3u;
-    w->back_scale = (1.0f / (float)w->qmax) * (1.0f + 1.0f / 1048576.0f);
+    w->back_scale = (1.0f / 65535.0f) * (1.0f + 1.0f / 1048576.0f);
+    w->code_depth0 = 65535.0f * w->decode_scale;
+    w->code_step = -w->decode_scale;
     if (L->back_codes) {
-        w->back_codes = L->node_count * 8u;
+        w->back_codes = lrt__back_code_index(L);
         (void)lrt__check_back(depth, L->thickness, &w->back_stride); /* checked by lrt_trace */
     }
     w->plain_float = depth->format == LRT_FORMAT_FLOAT32 && !(depth->flags & LRT_DEPTH_REVERSED_Z);
@@ -2592,8 +2611,8 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
     w->texels8_h = w->plain_float ? L->height / 2u : 0u;
     for (i = 1; i <= L->level_count; ++i) {
         lrt__walk_level *v = &w->lv[i];
-        v->offset = L->levels[i].offset;
-        v->children = L->levels[i - 1].offset * 8u;
+        v->first = i == 1 ? L->levels[1].offset * 8u : lrt__code_index(L, L->levels[i].offset); /* level 1: word k at 8 k */
+        v->children = i <= 2 ? L->levels[1].offset * 8u : lrt__code_index(L, L->levels[i - 1].offset); /* (level 1's: unused) */
         v->width = L->levels[i].width;
         v->height = L->levels[i].height;
         v->span_w_log2 = L->levels[i].span_w_log2;
@@ -2734,7 +2753,7 @@ LRT__FORCE_INLINE size_t lrt__node_slot(const lrt__walk *w, uint32_t lv, uint32_
         const size_t block = (size_t)(y >> bh_log2) * w->lv[lv + 1].width + (x >> bw_log2);
         index = block * 8u + (((y & ((1u << bh_log2) - 1u)) << bw_log2) | (x & ((1u << bw_log2) - 1u)));
     }
-    return (w->lv[lv].offset + index) * 8u;
+    return w->lv[lv].first + index * 8u;
 }
 
 /* First code of the children of node (x, y) of level lv >= 2: the nodes of
@@ -2758,19 +2777,17 @@ LRT__FORCE_INLINE uint32_t lrt__order_mask(uint32_t m, uint32_t flip)
 }
 #endif
 
-/* Code `slot` of the node array (a height, or a back code past back_codes). */
-LRT__FORCE_INLINE uint32_t lrt__code(const lrt__walk *w, size_t slot, uint32_t wide)
+/* The codes from code index `slot` on (heights, or back codes past back_codes). */
+LRT__FORCE_INLINE const uint16_t *lrt__codes(const lrt__walk *w, size_t slot)
 {
-    return wide ? ((const uint16_t *)w->nodes)[slot] : ((const uint8_t *)w->nodes)[slot];
+    return (const uint16_t *)w->nodes + slot;
 }
 
 #if LRT__SSE
 /* A node's 8 codes as 16-bit lanes, in slot order. */
-LRT__FORCE_INLINE __m128i lrt__load_codes(const lrt__walk *w, size_t slot0, uint32_t wide)
+LRT__FORCE_INLINE __m128i lrt__load_codes(const uint16_t *codes)
 {
-    if (wide) return _mm_loadu_si128((const __m128i *)(const void *)((const uint16_t *)w->nodes + slot0));
-    return _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)((const uint8_t *)w->nodes + slot0)),
-                             _mm_setzero_si128());
+    return _mm_loadu_si128((const __m128i *)(const void *)codes);
 }
 #endif
 
@@ -2811,13 +2828,6 @@ LRT__FORCE_INLINE void lrt__slabs8(const lrt__ray_setup *s, const lrt__walk_leve
     *exit = _mm256_min_ps(yx, _mm256_min_ps(xx, s->vt_hi));
 }
 
-/* (code + 1)^2 of 8 codes, as floats (exact): square codes (lrt__square_code) */
-LRT__FORCE_INLINE __m256 lrt__squares8(__m256i codes)
-{
-    const __m256i c1 = _mm256_add_epi32(codes, _mm256_set1_epi32(1));
-    return _mm256_cvtepi32_ps(_mm256_mullo_epi32(c1, c1));
-}
-
 /* The z plane at t = tz of each lane: it leaves (v.z < 0) or enters; a NaN
    tz keeps the other operand */
 LRT__FORCE_INLINE void lrt__z_plane8(__m256 tz, uint32_t neg_z, __m256 *enter, __m256 *exit)
@@ -2826,26 +2836,22 @@ LRT__FORCE_INLINE void lrt__z_plane8(__m256 tz, uint32_t neg_z, __m256 *enter, _
     else *enter = _mm256_max_ps(tz, *enter);
 }
 
-/* The exact boxes of node (x0, y0)'s 8 children (codes c16, in slot order)
-   in visiting order. */
+/* The exact boxes of node (x0, y0)'s 8 children (codes c16, in slot order;
+   their back codes at backs) in visiting order. */
 LRT__FORCE_INLINE void lrt__box8(const lrt__walk *w, const lrt__ray_setup *s, const lrt__walk_level *v, float x0, float y0,
-                                 __m128i c16, size_t slot0, uint32_t tall, uint32_t wide, uint32_t neg_z, __m256 *enter,
+                                 __m128i c16, const uint16_t *backs, uint32_t tall, uint32_t neg_z, __m256 *enter,
                                  __m256 *exit, __m256 *enter_xy, __m256 *exit_xy)
 {
     const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(c16), s->sg->order[tall]);
-    /* the decoded depth: (qmax - code) * decode_scale, or 1 - (code + 1)^2 2^-16 */
-    const __m256 dz =
-        !wide && w->square_codes
-            ? _mm256_sub_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(lrt__squares8(codes), _mm256_set1_ps(1.0f / 65536.0f)))
-            : _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32((int)w->qmax), codes)),
-                            _mm256_set1_ps(w->decode_scale));
+    /* the decoded depth: (65535 - code) * decode_scale */
+    const __m256 dz = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_set1_epi32(65535), codes)),
+                                    _mm256_set1_ps(w->decode_scale));
     lrt__slabs8(s, v, x0, y0, tall, enter, exit);
     *enter_xy = *enter;
     *exit_xy = *exit;
     lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(dz, s->vo[2]), s->viv[2]), neg_z, enter, exit);
     if (w->back_codes && !s->zk) { /* the back plane; not for a z scaled by 2^zk: unscaled codes would cut it */
-        const __m256i back = _mm256_permutevar8x32_epi32(
-            _mm256_cvtepu16_epi32(lrt__load_codes(w, w->back_codes + slot0, wide)), s->sg->order[tall]);
+        const __m256i back = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(lrt__load_codes(backs)), s->sg->order[tall]);
         const __m256 bz = _mm256_mul_ps(_mm256_cvtepi32_ps(back), _mm256_set1_ps(w->back_scale));
         lrt__z_plane8(_mm256_mul_ps(_mm256_sub_ps(bz, s->vo[2]), s->viv[2]), neg_z ^ 1u, enter, exit);
     }
@@ -2915,12 +2921,13 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
 }
 
 LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
-                                   size_t slot0, float enter[8], float exit[8], uint32_t tall, uint32_t wide, uint32_t neg_z)
+                                   const uint16_t *codes, const uint16_t *backs, float enter[8], float exit[8], uint32_t tall,
+                                   uint32_t neg_z)
 {
     const lrt__walk_level *v = &w->lv[lv];
     __m256 en, ex, en_xy, ex_xy;
-    lrt__box8(w, s, v, (float)(nx << v->span_w_log2), (float)(ny << v->span_h_log2), lrt__load_codes(w, slot0, wide), slot0,
-              tall, wide, neg_z, &en, &ex, &en_xy, &ex_xy);
+    lrt__box8(w, s, v, (float)(nx << v->span_w_log2), (float)(ny << v->span_h_log2), lrt__load_codes(codes), backs, tall,
+              neg_z, &en, &ex, &en_xy, &ex_xy);
     _mm256_storeu_ps(enter, en_xy);
     _mm256_storeu_ps(exit, ex_xy);
     return (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
@@ -2931,7 +2938,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
    lrt__cull_axis, the z plane straight from the codes, no widening (the
    margins hold it). It keeps every child the exact test keeps. */
 LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx,
-                                              uint32_t ny, size_t slot0, uint32_t tall, uint32_t wide, uint32_t neg_z)
+                                              uint32_t ny, size_t slot0, uint32_t tall, uint32_t neg_z)
 {
     const lrt__walk_level *v = &w->lv[lv];
     const lrt__signs *g = s->sg;
@@ -2941,15 +2948,14 @@ LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray
     const __m256 xx = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->kx_exit[tall], sw, X0), s->cull_iv[0], s->cull_exit[0]);
     const __m256 ye = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->ky_enter[tall], sh, Y0), s->cull_iv[1], s->cull_enter[1]);
     const __m256 yx = LRT__EXACT_MADD8(LRT__EXACT_MADD8(g->ky_exit[tall], sh, Y0), s->cull_iv[1], s->cull_exit[1]);
-    const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(lrt__load_codes(w, slot0, wide)), g->order[tall]);
-    const __m256 tz =
-        LRT__EXACT_MADD8(!wide && w->square_codes ? lrt__squares8(codes) : _mm256_cvtepi32_ps(codes), s->cull_za, s->cull_zb);
+    const __m256i codes = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(lrt__load_codes(lrt__codes(w, slot0))), g->order[tall]);
+    const __m256 tz = LRT__EXACT_MADD8(_mm256_cvtepi32_ps(codes), s->cull_za, s->cull_zb);
     /* X0 and Y0 wait for the parent's test, the codes' load is ahead of them */
     __m256 en = _mm256_max_ps(_mm256_max_ps(xe, ye), neg_z ? s->vt_lo : _mm256_max_ps(tz, s->vt_lo));
     __m256 ex = _mm256_min_ps(_mm256_min_ps(xx, yx), neg_z ? _mm256_min_ps(tz, s->cull_hi) : s->cull_hi);
     if (w->back_codes && !s->zk) { /* the back plane, with margins of its own (lrt__cull_constants) */
-        const __m256i back = _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(lrt__load_codes(w, w->back_codes + slot0, wide)),
-                                                         g->order[tall]);
+        const __m256i back =
+            _mm256_permutevar8x32_epi32(_mm256_cvtepu16_epi32(lrt__load_codes(lrt__codes(w, w->back_codes + slot0))), g->order[tall]);
         const __m256 tb = LRT__EXACT_MADD8(_mm256_cvtepi32_ps(back), s->cull_ba, s->cull_bb);
         if (neg_z) en = _mm256_max_ps(tb, en);
         else ex = _mm256_min_ps(tb, ex);
@@ -2989,29 +2995,21 @@ LRT__FORCE_INLINE void lrt__child_slabs(const lrt__ray_setup *s, const lrt__walk
 }
 
 LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
-                                   size_t slot0, float enter[8], float exit[8], uint32_t tall, uint32_t wide, uint32_t neg_z)
+                                   const uint16_t *codes, const uint16_t *backs, float enter[8], float exit[8], uint32_t tall,
+                                   uint32_t neg_z)
 {
     const lrt__walk_level *v = &w->lv[lv];
     const float x0 = (float)(nx << v->span_w_log2), y0 = (float)(ny << v->span_h_log2);
     uint32_t mask = 0;
-    /* qmax - code in integers, then one conversion: exact, one step shorter */
-    const __m128i c16 = lrt__load_codes(w, slot0, wide);
-    const __m128i zero = _mm_setzero_si128(), qmax = _mm_set1_epi32((int)w->qmax);
+    /* 65535 - code in integers, then one conversion: exact, one step shorter */
+    const __m128i c16 = lrt__load_codes(codes);
+    const __m128i zero = _mm_setzero_si128(), qmax = _mm_set1_epi32(65535);
     __m128 xe[2], xx[2], ye[2], yx[2];
     uint32_t k;
-    __m128 dz[2] = {_mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpacklo_epi16(c16, zero))),
-                    _mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpackhi_epi16(c16, zero)))};
+    const __m128 dz[2] = { /* the decoded depth: (65535 - code) * decode_scale */
+        _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpacklo_epi16(c16, zero))), _mm_set1_ps(w->decode_scale)),
+        _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(qmax, _mm_unpackhi_epi16(c16, zero))), _mm_set1_ps(w->decode_scale))};
     lrt__child_slabs(s, v, x0, y0, tall, xe, xx, ye, yx);
-    for (k = 0; k < 2; ++k) { /* the decoded depth: (qmax - code) * decode_scale, or 1 - lrt__square_height(code) */
-        if (!wide && w->square_codes) { /* (c + 1)^2 <= 2^16, in 32-bit lanes */
-            const __m128i c1 =
-                _mm_add_epi32(k ? _mm_unpackhi_epi16(c16, zero) : _mm_unpacklo_epi16(c16, zero), _mm_set1_epi32(1));
-            const __m128i sq = _mm_madd_epi16(c1, c1); /* c1 < 2^15 in the low half, 0 in the high */
-            dz[k] = _mm_sub_ps(_mm_set1_ps(1.0f), _mm_mul_ps(_mm_cvtepi32_ps(sq), _mm_set1_ps(1.0f / 65536.0f)));
-        } else {
-            dz[k] = _mm_mul_ps(dz[k], _mm_set1_ps(w->decode_scale));
-        }
-    }
     for (k = 0; k < 2; ++k) {
         const __m128 tz = _mm_mul_ps(_mm_sub_ps(dz[k], s->vo[2]), s->viv[2]);
         __m128 en = _mm_max_ps(xe[k], s->vt_lo), ex = _mm_min_ps(xx[k], s->vt_hi); /* maxps/minps keep the 2nd operand on NaN */
@@ -3022,7 +3020,7 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
         if (neg_z) ex = _mm_min_ps(tz, ex); /* the z plane leaves (v.z < 0) or enters */
         else en = _mm_max_ps(tz, en);
         if (w->back_codes && !s->zk) { /* the back plane; not for a z scaled by 2^zk: unscaled codes would cut it */
-            const __m128i b16 = lrt__load_codes(w, w->back_codes + slot0, wide);
+            const __m128i b16 = lrt__load_codes(backs);
             const __m128 bz = _mm_cvtepi32_ps(k ? _mm_unpackhi_epi16(b16, zero) : _mm_unpacklo_epi16(b16, zero));
             const __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(bz, _mm_set1_ps(w->back_scale)), s->vo[2]), s->viv[2]);
             if (neg_z) en = _mm_max_ps(tb, en);
@@ -3039,7 +3037,8 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
 }
 #else
 LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
-                                   size_t slot0, float enter[8], float exit[8], uint32_t tall, uint32_t wide, uint32_t neg_z)
+                                   const uint16_t *codes, const uint16_t *backs, float enter[8], float exit[8], uint32_t tall,
+                                   uint32_t neg_z)
 {
     const lrt__walk_level *v = &w->lv[lv];
     const float x0 = (float)(nx << v->span_w_log2), y0 = (float)(ny << v->span_h_log2);
@@ -3048,10 +3047,8 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
     uint32_t k;
     float dz[8], bz[8], px[5], py[5];
     for (k = 0; k < 8; ++k) {
-        const uint32_t code = lrt__code(w, slot0 + k, wide);
-        dz[k] = !wide && w->square_codes ? 1.0f - lrt__square_height(code)
-                                         : (float)((int)w->qmax - (int)code) * w->decode_scale;
-        bz[k] = w->back_codes ? (float)lrt__code(w, w->back_codes + slot0 + k, wide) * w->back_scale : 0.0f;
+        dz[k] = (float)(65535 - (int)codes[k]) * w->decode_scale;
+        bz[k] = w->back_codes ? (float)backs[k] * w->back_scale : 0.0f;
     }
     for (k = 0; k <= bw; ++k) px[k] = ((x0 + (float)k * v->child_span_w) - s->o[0]) * s->iv[0];
     for (k = 0; k <= bh; ++k) py[k] = ((y0 + (float)k * v->child_span_h) - s->o[1]) * s->iv[1];
@@ -3081,10 +3078,11 @@ LRT__FORCE_INLINE uint32_t lrt__test_children(const lrt__walk *w, const lrt__ray
 /* Above level 1 only the mask is needed: the SSE2 and scalar paths take the
    whole test (AVX2 has a faster one, above). */
 LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx,
-                                              uint32_t ny, size_t slot0, uint32_t tall, uint32_t wide, uint32_t neg_z)
+                                              uint32_t ny, size_t slot0, uint32_t tall, uint32_t neg_z)
 {
     float enter[8], exit[8];
-    return lrt__test_children(w, s, lv, nx, ny, slot0, enter, exit, tall, wide, neg_z);
+    return lrt__test_children(w, s, lv, nx, ny, lrt__codes(w, slot0), lrt__codes(w, w->back_codes + slot0), enter, exit, tall,
+                              neg_z);
 }
 #endif
 
@@ -3118,9 +3116,9 @@ LRT__FORCE_INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *
         memcpy(&d, (const unsigned char *)w->depth->data + w->stride * ty + 4 * (size_t)tx, 4);
         d = lrt__clamp_depth(d);
         tz = (d - s->o[2]) * s->iv[2];
-    } else if (w->exact_codes) { /* the code is the input's own integer, scaled by qmax/vmax (1 or 257) */
+    } else if (w->exact_codes) { /* the code is the input's own integer, scaled by 65535/vmax (1 or 257) */
         const uint32_t vmax = w->depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
-        raw = (w->qmax - code) / (w->qmax / vmax);
+        raw = (65535u - code) / (65535u / vmax);
         tz = lrt__depth_plane(s, w->depth->format, raw);
     } else {
         raw = lrt__depth_raw(w->depth, w->stride, tx, ty);
@@ -3208,8 +3206,7 @@ static void lrt__cull_constants(const lrt__walk *w, const lrt__ray_setup *s, flo
     for (axis = 0; axis < 2; ++axis)
         lrt__cull_axis(s->o[axis], s->iv[axis], w->extent[axis], s->t_hi, &c[LRT__CULL_IV_X + axis],
                        &c[LRT__CULL_ENTER_X + axis], &c[LRT__CULL_EXIT_X + axis]);
-    /* z: a node's plane is (qmax - code) * decode_scale, below 1, or
-       1 - (code + 1)^2 2^-16 (square codes: lrt__squares8), at least 0 */
+    /* z: a node's plane is (65535 - code) * decode_scale, below 1 */
     lrt__cull_axis(s->o[2] - w->code_depth0, s->iv[2], 1.0f, s->t_hi, &c[LRT__CULL_ZA], &zb_enter, &zb_exit);
     c[LRT__CULL_ZA] = w->code_step * c[LRT__CULL_ZA];
     c[LRT__CULL_ZB] = s->neg_z ? zb_exit : zb_enter;
@@ -3309,33 +3306,58 @@ LRT__FORCE_INLINE void lrt__prefetch_rows(const lrt__walk *w, uint32_t nx, uint3
 
 /* The codes of every child the walk may visit (1 or 2 cache lines), while
    the first child is worked on. */
-LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, size_t children, uint32_t wide)
+LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, size_t children)
 {
-    const unsigned char *codes = (const unsigned char *)w->nodes + (children << wide);
+    const unsigned char *codes = (const unsigned char *)w->nodes + children * 2u;
     LRT__PREFETCH(codes);
     /* the 8 children's codes fill 8 whole slots (padding included): 128
-       bytes of 16-bit codes, whose second line this is; of 8-bit codes, 64
-       bytes, and this is at most one past the array's end (never read) */
+       bytes of 16-bit codes, whose second line this is (compact level-1
+       words: 32 bytes, and this a line never read) */
     LRT__PREFETCH(codes + 64);
+}
+
+/* The 8 codes of level-1 node (nx, ny) whose first code index is slot0,
+   and its back codes (a back-map tree): the node's own, or decoded from
+   its compact word (lrt__compact_word) and its height in its parent. */
+LRT__FORCE_INLINE void lrt__level1_codes(const lrt__walk *w, uint32_t nx, uint32_t ny, size_t slot0, uint16_t codes[8],
+                                         uint16_t backs[8])
+{
+    uint32_t k, word, h;
+    if (!w->compact1) {
+        memcpy(codes, lrt__codes(w, slot0), 16);
+        if (w->back_codes) memcpy(backs, lrt__codes(w, w->back_codes + slot0), 16);
+        return;
+    }
+    {   /* the parent's slot for this node: level 1 groups 2x4 */
+        const size_t height = lrt__node_slot(w, 2, nx >> 1, ny >> 2) + (((ny & 3u) << 1) | (nx & 1u));
+        memcpy(&word, (const uint32_t *)w->nodes + (slot0 >> 3), 4);
+        h = *lrt__codes(w, height);
+        for (k = 0; k < 8u; ++k) codes[k] = (uint16_t)lrt__compact_code(word, h, k);
+        if (!w->back_codes) return;
+        memcpy(&word, (const uint32_t *)w->nodes + (w->back_codes >> 1) + (slot0 >> 3), 4);
+        h = *lrt__codes(w, w->back_codes + height);
+        for (k = 0; k < 8u; ++k) backs[k] = (uint16_t)lrt__compact_code(word, h, k);
+    }
 }
 
 /* Level-1 node (nx, ny): the first texel under it that the ray hits, in
    visiting order (returns 0 if none), by its codes, then the exact test of
-   each texel they let through. wide and neg_z are constants where this is
-   inlined. */
+   each texel they let through. neg_z is a constant where this is inlined. */
 LRT__FORCE_INLINE int lrt__level1_codes_hit(const lrt__walk *w, const lrt__ray_setup *s, uint32_t nx, uint32_t ny, size_t slot0,
-                                      uint32_t wide, uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t, float planes[2])
+                                      uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t, float planes[2])
 {
     const uint32_t flip = s->sg->flip[0];
     float enter[8], exit[8];
+    uint16_t codes[8], backs[8];
     uint32_t mask;
-    mask = lrt__test_children(w, s, 1u, nx, ny, slot0, enter, exit, 0u, wide, neg_z);
+    lrt__level1_codes(w, nx, ny, slot0, codes, backs);
+    mask = lrt__test_children(w, s, 1u, nx, ny, codes, backs, enter, exit, 0u, neg_z);
     while (mask) { /* texels: the exact test, front to back */
         const uint32_t vis = lrt__lowest_bit(mask), slot = vis ^ flip, lane = LRT__LANE(vis, slot);
         *tx = nx * 4u + (slot & 3u);
         *ty = ny * 2u + (slot >> 2);
         mask &= mask - 1u;
-        if (lrt__test_texel(w, s, *tx, *ty, enter[lane], exit[lane], lrt__code(w, slot0 + slot, wide), t, planes)) return 1;
+        if (lrt__test_texel(w, s, *tx, *ty, enter[lane], exit[lane], codes[slot], t, planes)) return 1;
     }
     return 0;
 }
@@ -3345,7 +3367,7 @@ LRT__FORCE_INLINE int lrt__level1_codes_hit(const lrt__walk *w, const lrt__ray_s
    depth (lrt__texels8), 8 texels at once, with no codes ---- */
 #if LRT__AVX
 LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *s, uint32_t nx, uint32_t ny, size_t slot0,
-                                      uint32_t wide, uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t, float planes[2])
+                                      uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t, float planes[2])
 {
     if (nx < w->texels8_w && ny < w->texels8_h && !s->zk) {
         const uint32_t slot = lrt__texels8(w, s, nx, ny, neg_z, t, planes);
@@ -3353,13 +3375,13 @@ LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *
         *ty = ny * 2u + (slot >> 2);
         return slot < 8u;
     }
-    return lrt__level1_codes_hit(w, s, nx, ny, slot0, wide, neg_z, tx, ty, t, planes);
+    return lrt__level1_codes_hit(w, s, nx, ny, slot0, neg_z, tx, ty, t, planes);
 }
 #else
 LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *s, uint32_t nx, uint32_t ny, size_t slot0,
-                                      uint32_t wide, uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t, float planes[2])
+                                      uint32_t neg_z, uint32_t *tx, uint32_t *ty, float *t, float planes[2])
 {
-    return lrt__level1_codes_hit(w, s, nx, ny, slot0, wide, neg_z, tx, ty, t, planes);
+    return lrt__level1_codes_hit(w, s, nx, ny, slot0, neg_z, tx, ty, t, planes);
 }
 #endif
 
@@ -3410,12 +3432,12 @@ LRT__FORCE_INLINE void lrt__child(uint32_t lv, uint32_t *nx, uint32_t *ny, uint3
    done, the walk takes the next pending sibling, or climbs; a parent never
    tested (the walk began below it) has only the children after the one
    just walked left to test, unless the segment ends inside that one.
-   Returns 1 once a hit is reported. wide and neg_z are constants where this
-   is inlined, and so is tall in each of the three copies of the node test
+   Returns 1 once a hit is reported. neg_z is a constant where this is
+   inlined, and so is tall in each of the three copies of the node test
    (tall nodes, wide ones above the texels, level 1). */
 LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
                                        float t_scale, uint32_t top, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py,
-                                       uint32_t wide, uint32_t neg_z)
+                                       uint32_t neg_z)
 {
     uint32_t lv = top, eligible = 0xffu, tested = 0u; /* tested: bit lv set when masks[lv] holds level lv's pending children */
     uint8_t masks[LINEAR_RT_MAX_LEVELS + 2];
@@ -3431,7 +3453,7 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
             uint32_t tx, ty;
             float t, planes[2];
             LINEAR_RT_COUNT_NODE_TEST(1u);
-            if (lrt__level1_hit(w, s, nx, ny, slot0, wide, neg_z, &tx, &ty, &t, planes)) {
+            if (lrt__level1_hit(w, s, nx, ny, slot0, neg_z, &tx, &ty, &t, planes)) {
                 lrt__report_hit(w, ray, s, t_scale, t, tx, ty, planes, hit);
                 return 1;
             }
@@ -3439,10 +3461,9 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
             const uint32_t tall = (lv & 1u) ^ 1u;
             const size_t children = lrt__children_slot(w, lv, nx, ny);
             uint32_t m;
-            lrt__prefetch_children(w, children, wide);
+            lrt__prefetch_children(w, children);
             LINEAR_RT_COUNT_NODE_TEST(lv);
-            m = tall ? lrt__cull_children(w, s, lv, nx, ny, slot0, 1u, wide, neg_z)
-                     : lrt__cull_children(w, s, lv, nx, ny, slot0, 0u, wide, neg_z);
+            m = tall ? lrt__cull_children(w, s, lv, nx, ny, slot0, 1u, neg_z) : lrt__cull_children(w, s, lv, nx, ny, slot0, 0u, neg_z);
             /* a padding node (past its level's grid) has no children in
                memory: a ray whose culling is loose there (an axis it does
                not move along, on the map's far edge) must not go down into
@@ -3504,38 +3525,37 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
     }
 }
 
-/* The walk's four copies (node width, sign of v.z), each a function of its
-   own: inlined where the rays are set up, the walk's registers cost the
-   camera rays, which never walk, 7-10% (build/bench --only "linear_rt cpu"
-   --threads 1 --size 512, two alternated runs). */
-#define LRT__WALK_COPY(name, wide, neg_z)                                                                                   \
-    static LRT__NOINLINE int name(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,            \
-                                  float t_scale, uint32_t top, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py)         \
-    {                                                                                                                       \
-        return lrt__walk_origin(w, ray, hit, s, t_scale, top, nx, ny, px, py, wide, neg_z);                                \
-    }
-LRT__WALK_COPY(lrt__walk16_up, 1u, 0u)
-LRT__WALK_COPY(lrt__walk16_down, 1u, 1u)
-LRT__WALK_COPY(lrt__walk8_up, 0u, 0u)
-LRT__WALK_COPY(lrt__walk8_down, 0u, 1u)
-#undef LRT__WALK_COPY
+/* The walk's two copies (sign of v.z), each a function of its own: inlined
+   where the rays are set up, the walk's registers cost the camera rays,
+   which never walk, 7-10% (build/bench --only "linear_rt cpu" --threads 1
+   --size 512, two alternated runs). */
+static LRT__NOINLINE int lrt__walk_up(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
+                                      float t_scale, uint32_t top, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py)
+{
+    return lrt__walk_origin(w, ray, hit, s, t_scale, top, nx, ny, px, py, 0u);
+}
+static LRT__NOINLINE int lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
+                                        float t_scale, uint32_t top, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py)
+{
+    return lrt__walk_origin(w, ray, hit, s, t_scale, top, nx, ny, px, py, 1u);
+}
 
 /* The trace of a set-up ray from node (nx, ny) of level lv (lrt__start_node);
    cull: lrt__cull_constants, stride floats apart, where AVX2 builds them
-   (NULL: made here). wide is a constant where this is inlined. */
+   (NULL: made here). */
 LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, lrt__ray_setup *s, float t_scale,
                                        uint32_t kind, uint32_t lv, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py,
-                                       const float *cull, size_t stride, uint32_t wide)
+                                       const float *cull, size_t stride)
 {
     if (lv == 0) { /* one texel: its box alone decides */
         const float x0 = (float)nx, y0 = (float)ny;
         const uint32_t slot = ((ny & 1u) << 2) | (nx & 3u);
-        const size_t slot0 = lrt__node_slot(w, 1, nx >> 2, ny >> 1);
         float en = s->t_lo, ex = s->t_hi, t, planes[2];
         LINEAR_RT_COUNT_NODE_TEST(0u);
         lrt__slab(x0, x0 + 1.0f, s->o[0], s->iv[0], s->neg_x, &en, &ex);
         lrt__slab(y0, y0 + 1.0f, s->o[1], s->iv[1], s->neg_y, &en, &ex);
-        if (lrt__test_texel(w, s, nx, ny, en, ex, lrt__code(w, slot0 + slot, wide), &t, planes)) {
+        if (lrt__test_texel(w, s, nx, ny, en, ex, w->exact_codes ? *lrt__codes(w, lrt__node_slot(w, 1, nx >> 2, ny >> 1) + slot) : 0u,
+                            &t, planes)) {
             lrt__report_hit(w, ray, s, t_scale, t, nx, ny, planes, hit);
             return;
         }
@@ -3543,16 +3563,13 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
         return;
     }
     lrt__walk_setup(w, s, cull, stride);
-    /* the walk, with the node width and the sign of v.z constants of its node tests */
-    if (!(wide ? (s->neg_z ? lrt__walk16_down(w, ray, hit, s, t_scale, lv, nx, ny, px, py)
-                           : lrt__walk16_up(w, ray, hit, s, t_scale, lv, nx, ny, px, py))
-               : (s->neg_z ? lrt__walk8_down(w, ray, hit, s, t_scale, lv, nx, ny, px, py)
-                           : lrt__walk8_up(w, ray, hit, s, t_scale, lv, nx, ny, px, py))))
+    /* the walk, with the sign of v.z a constant of its node tests */
+    if (!(s->neg_z ? lrt__walk_down(w, ray, hit, s, t_scale, lv, nx, ny, px, py)
+                   : lrt__walk_up(w, ray, hit, s, t_scale, lv, nx, ny, px, py)))
         hit->kind = (uint16_t)kind;
 }
 
-/* wide (16-bit codes) is a constant where this is inlined (lrt__trace_rays) */
-LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, uint32_t wide)
+LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
 {
     const lrt_layout *L = w->L;
     lrt__ray_setup s;
@@ -3566,7 +3583,7 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
         return;
     }
     lv = lrt__start_node(w, &s, &nx, &ny, &px, &py);
-    lrt__trace_from(w, ray, hit, &s, t_scale, kind, lv, nx, ny, px, py, NULL, 0, wide);
+    lrt__trace_from(w, ray, hit, &s, t_scale, kind, lv, nx, ny, px, py, NULL, 0);
 }
 
 #if LRT__AVX
@@ -3789,7 +3806,7 @@ static void lrt__setup8(const lrt__walk *w, const lrt_ray *rays, lrt__batch8 *b)
 }
 
 /* 8 rays: set up together, then walked one by one. */
-LRT__FORCE_INLINE void lrt__trace8(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits, uint32_t wide)
+LRT__FORCE_INLINE void lrt__trace8(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits)
 {
     lrt__batch8 b;
     uint32_t j;
@@ -3799,7 +3816,7 @@ LRT__FORCE_INLINE void lrt__trace8(const lrt__walk *w, const lrt_ray *rays, lrt_
         lrt_hit *hit = &hits[j];
         uint32_t k, lv, nx, ny, px, py;
         if ((b.one_by_one >> j) & 1u) {
-            lrt__trace_one(w, &rays[j], hit, wide);
+            lrt__trace_one(w, &rays[j], hit);
             continue;
         }
         hit->t = 0.0f;
@@ -3830,38 +3847,28 @@ LRT__FORCE_INLINE void lrt__trace8(const lrt__walk *w, const lrt_ray *rays, lrt_
             lv = lrt__start_level(w, i0, i1, s.neg_x, s.neg_y, &nx, &ny, &px, &py);
         }
         lrt__trace_from(w, &rays[j], hit, &s, (b.huge >> j) & 1 ? b.t_scale[j] : 1.0f, b.kind[j], lv, nx, ny, px, py,
-                        &b.cull[0][j], 8, wide);
+                        &b.cull[0][j], 8);
     }
 }
 
 /* Rays first..end in batches of 8 (returns the first ray left over). */
-LRT__FORCE_INLINE size_t lrt__trace_batches(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits, size_t first, size_t end,
-                                            uint32_t wide)
+LRT__FORCE_INLINE size_t lrt__trace_batches(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits, size_t first, size_t end)
 {
-    for (; end - first >= 8u; first += 8) lrt__trace8(w, rays + first, hits + first, wide);
+    for (; end - first >= 8u; first += 8) lrt__trace8(w, rays + first, hits + first);
     return first;
 }
 #else
-#define lrt__trace_batches(w, rays, hits, first, end, wide) (first) /* none: every ray alone (lrt__trace_one) */
+#define lrt__trace_batches(w, rays, hits, first, end) (first) /* none: every ray alone (lrt__trace_one) */
 #endif
-
-/* One walk per node width (wide: a constant where this is inlined), so the
-   width is no test in the loop. */
-LRT__FORCE_INLINE void lrt__trace_rays(const lrt__walk *w, const lrt_ray *rays, lrt_hit *hits, size_t first, size_t end,
-                                       uint32_t wide)
-{
-    size_t i = lrt__trace_batches(w, rays, hits, first, end, wide);
-    for (; i < end; ++i) lrt__trace_one(w, &rays[i], &hits[i], wide);
-}
 
 /* The walk of lrt_trace_range once its arguments are checked. */
 static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t stride, const lrt_ray *rays,
                             lrt_hit *hits, size_t first, size_t end)
 {
     lrt__walk w;
+    size_t i;
     lrt__walk_init(&w, bvh, depth, stride);
-    if (w.wide_codes) lrt__trace_rays(&w, rays, hits, first, end, 1u);
-    else lrt__trace_rays(&w, rays, hits, first, end, 0u);
+    for (i = lrt__trace_batches(&w, rays, hits, first, end); i < end; ++i) lrt__trace_one(&w, &rays[i], &hits[i]);
 }
 
 /* the macros whose text differs between the passes */
@@ -3917,7 +3924,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__child_slabs lrt__child_slabs_avx2
 #define lrt__children_slot lrt__children_slot_avx2
 #define lrt__clip lrt__clip_avx2
-#define lrt__code lrt__code_avx2
+#define lrt__codes lrt__codes_avx2
 #define lrt__crossing lrt__crossing_avx2
 #define lrt__crossing_sum lrt__crossing_sum_avx2
 #define lrt__cull_axis lrt__cull_axis_avx2
@@ -3941,6 +3948,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__huge_direction lrt__huge_direction_avx2
 #define lrt__huge8 lrt__huge8_avx2
 #define lrt__far8 lrt__far8_avx2
+#define lrt__level1_codes lrt__level1_codes_avx2
 #define lrt__level1_codes_hit lrt__level1_codes_hit_avx2
 #define lrt__level1_hit lrt__level1_hit_avx2
 #define lrt__load_codes lrt__load_codes_avx2
@@ -3981,7 +3989,6 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__trace_batches lrt__trace_batches_avx2
 #define lrt__trace_from lrt__trace_from_avx2
 #define lrt__trace_one lrt__trace_one_avx2
-#define lrt__trace_rays lrt__trace_rays_avx2
 #define lrt__trace_walk lrt__trace_walk_avx2
 #define lrt__two_prod lrt__two_prod_avx2
 #define lrt__two_sum lrt__two_sum_avx2
@@ -3990,10 +3997,8 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__walk_level lrt__walk_level_avx2
 #define lrt__walk_origin lrt__walk_origin_avx2
 #define lrt__child lrt__child_avx2
-#define lrt__walk16_up lrt__walk16_up_avx2
-#define lrt__walk16_down lrt__walk16_down_avx2
-#define lrt__walk8_up lrt__walk8_up_avx2
-#define lrt__walk8_down lrt__walk8_down_avx2
+#define lrt__walk_up lrt__walk_up_avx2
+#define lrt__walk_down lrt__walk_down_avx2
 #define lrt__from_origin lrt__from_origin_avx2
 #define lrt__walk_setup lrt__walk_setup_avx2
 #define lrt__widen lrt__widen_avx2
@@ -4009,7 +4014,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__child_slabs
 #undef lrt__children_slot
 #undef lrt__clip
-#undef lrt__code
+#undef lrt__codes
 #undef lrt__crossing
 #undef lrt__crossing_sum
 #undef lrt__cull_axis
@@ -4031,6 +4036,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__huge_direction
 #undef lrt__huge8
 #undef lrt__far8
+#undef lrt__level1_codes
 #undef lrt__level1_codes_hit
 #undef lrt__level1_hit
 #undef lrt__load_codes
@@ -4073,7 +4079,6 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__trace_batches
 #undef lrt__trace_from
 #undef lrt__trace_one
-#undef lrt__trace_rays
 #undef lrt__trace_walk
 #undef lrt__two_prod
 #undef lrt__two_sum
@@ -4082,10 +4087,8 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__walk_level
 #undef lrt__walk_origin
 #undef lrt__child
-#undef lrt__walk16_up
-#undef lrt__walk16_down
-#undef lrt__walk8_up
-#undef lrt__walk8_down
+#undef lrt__walk_up
+#undef lrt__walk_down
 #undef lrt__from_origin
 #undef lrt__walk_setup
 #undef lrt__widen

@@ -7,8 +7,8 @@
 //     numbers host and shader share; the rest of that file is skipped)
 //   #define LRT_DEPTH_IMAGE 0 or 1
 //   #define LRT_NODE_WORD(i)      word i of the node array (uint)
-//   (optional: LRT_NODE_QUAD(i) and LRT_NODE_PAIR(i), the same array read as
-//   uvec4 and uvec2: a node's codes in one load, as lrt_common.glsl does)
+//   (optional: LRT_NODE_QUAD(i), the same array read as uvec4: a node's
+//   codes in one load, as lrt_common.glsl does)
 //   #define LRT_DEPTH_WORD(i)     word i of the depth buffer (LRT_DEPTH_IMAGE 0)
 //   #define LRT_DEPTH_TEXEL(x, y) texelFetch(depth, ivec2(x, y), 0).r (LRT_DEPTH_IMAGE 1)
 // and passes an LrtParams (the first fields of the push constants of the
@@ -104,11 +104,12 @@ uint lrt_child_slot(uint level, uint x, uint y)
     return lrt_bw_log2(level) == 2u ? ((y & 1u) << 2) | (x & 3u) : ((y & 3u) << 1) | (x & 1u);
 }
 
-uint lrt_code(uint node_bits, uint slot)
-{
-    if (node_bits == 16u) return (LRT_NODE_WORD(slot >> 1) >> ((slot & 1u) * 16u)) & 0xffffu;
-    return (LRT_NODE_WORD(slot >> 2) >> ((slot & 3u) * 8u)) & 0xffu;
-}
+// the 16-bit code at code index `slot` of the node array
+uint lrt_code(uint slot) { return (LRT_NODE_WORD(slot >> 1) >> ((slot & 1u) * 16u)) & 0xffffu; }
+
+// 8-bit trees of two levels or more: each level-1 node is one word
+// (linear_rt.h's lrt__compact_word), 16-bit codes above it
+bool lrt_compact(LrtParams p) { return p.node_bits == 8u && p.level_count >= 2u; }
 
 // ============================================================================
 // Depth in: texel (x, y) as the model states it
@@ -275,28 +276,10 @@ bool lrt_scaled_is_whole(uint dbits, uint qmax)
     return (lo & ((1u << uint(sh)) - 1u)) == 0u;
 }
 
-// 8-bit codes of float depth are squares: code c stands for the height
-// h = 1 - d of (c + 1)^2 / 2^16, exact in float, as linear_rt.h's
-// lrt__square_code
-bool lrt_square_codes(LrtParams p) { return p.node_bits == 8u && p.format == LRT_FLOAT32; }
-float lrt_square_depth(uint code) { return 1.0 - float((code + 1u) * (code + 1u)) * (1.0 / 65536.0); } // exact
-
-// the smallest code c with lrt_square_depth(c) <= d: ceil(256 sqrt(h)) - 1,
-// whose guess below is one off at most (two steps each way allowed for a
-// device's less exact sqrt)
-uint lrt_square_code(float d)
-{
-    int c = clamp(int(sqrt(1.0 - d) * 256.0), 0, 255);
-    for (int k = 0; k < 2 && c > 0 && lrt_square_depth(uint(c - 1)) <= d; ++k) c -= 1;
-    for (int k = 0; k < 2 && lrt_square_depth(uint(c)) > d; ++k) c += 1;
-    return uint(c);
-}
-
 uint lrt_texel_code(LrtParams p, uint x, uint y)
 {
-    uint qmax = p.node_bits == 16u ? 65535u : 255u;
+    uint qmax = 65535u;
     uint raw = lrt_depth_raw(p, x, y);
-    if (lrt_square_codes(p)) return lrt_square_code(uintBitsToFloat(raw));
     if (p.format == LRT_UNORM8) return qmax - (raw * qmax) / 255u;
     if (p.format == LRT_UNORM16) return qmax - (raw * qmax) / 65535u; // < 2^32
     return qmax - lrt_floor_scaled(raw, qmax);
@@ -306,7 +289,7 @@ uint lrt_texel_code(LrtParams p, uint x, uint y)
 // so that a node's back is never shallower than a texel's under it
 uint lrt_texel_back_code(LrtParams p, uint x, uint y)
 {
-    uint qmax = p.node_bits == 16u ? 65535u : 255u;
+    uint qmax = 65535u;
     uint format;
     uint raw = lrt_texel_back(p, x, y, format);
     if (format == LRT_UNORM8) return (raw * qmax + 254u) / 255u;
@@ -923,16 +906,18 @@ uint lrt_level_slots(LrtParams p, uint lv)
     return lv >= p.level_count ? 1u : lrt_grid_w(p.width, lv + 1u) * lrt_grid_h(p.height, lv + 1u) * 8u;
 }
 
-// the first back code of a back-map tree: after every node's heights
+// the first back code of a back-map tree: after every node's heights (a
+// compact level-1 node takes 2 code units, not 8)
 uint lrt_back_codes(LrtParams p)
 {
     uint total = 0u;
     for (uint lv = 1u; lv <= p.level_count; ++lv) total += lrt_level_slots(p, lv);
-    return total * 8u;
+    return total * 8u - (lrt_compact(p) ? lrt_level_slots(p, 1u) * 6u : 0u);
 }
 
 // first code of node (nx, ny) of stored level lv, whose first node is at
-// off: its Morton index in the level (no table: from the push constants)
+// off: its Morton index in the level (no table: from the push constants).
+// A compact level-1 node's word is at word index code0 / 8.
 uint lrt_node_code0(LrtParams p, uint lv, uint off, uint nx, uint ny)
 {
     uint index = 0u;
@@ -940,7 +925,7 @@ uint lrt_node_code0(LrtParams p, uint lv, uint off, uint nx, uint ny)
         index = ((ny >> lrt_bh_log2(lv)) * lrt_grid_w(p.width, lv + 1u) + (nx >> lrt_bw_log2(lv))) * 8u +
                 lrt_child_slot(lv, nx, ny);
     }
-    return (off + index) * 8u;
+    return (off + index) * 8u - (lv >= 2u && lrt_compact(p) ? lrt_level_slots(p, 1u) * 6u : 0u);
 }
 
 // ---- the walk: from the ray's origin up and down the tree, no stack ----
@@ -994,29 +979,32 @@ uvec4 lrt_mask_set(uvec4 m, uint lv, uint bits)
     return m;
 }
 
-// the 8 codes from code slot0 on (a node's) in one go: 4 words of 16-bit
-// codes, or 2 of 8-bit; one load of a uvec4 or uvec2 where the includer
-// gives LRT_NODE_QUAD and LRT_NODE_PAIR (lavapipe: secondary rays 1.03-1.10x
-// with 16-bit nodes, 1.00-1.05x with 8-bit, docs/MEASUREMENTS.md)
-uvec4 lrt_node_words(uint node_bits, uint slot0)
+// the 8 codes from code slot0 on (a node's) in one go: 4 words, one load
+// of a uvec4 where the includer gives LRT_NODE_QUAD (lavapipe: secondary
+// rays 1.03-1.10x, docs/MEASUREMENTS.md)
+uvec4 lrt_node_words(uint slot0)
 {
 #ifdef LRT_NODE_QUAD
-    if (node_bits == 16u) return LRT_NODE_QUAD(slot0 >> 3);
-    return uvec4(LRT_NODE_PAIR(slot0 >> 3), 0u, 0u);
+    return LRT_NODE_QUAD(slot0 >> 3);
 #else
-    if (node_bits == 16u)
-        return uvec4(LRT_NODE_WORD(slot0 >> 1), LRT_NODE_WORD((slot0 >> 1) + 1u), LRT_NODE_WORD((slot0 >> 1) + 2u),
-                     LRT_NODE_WORD((slot0 >> 1) + 3u));
-    return uvec4(LRT_NODE_WORD(slot0 >> 2), LRT_NODE_WORD((slot0 >> 2) + 1u), 0u, 0u);
+    return uvec4(LRT_NODE_WORD(slot0 >> 1), LRT_NODE_WORD((slot0 >> 1) + 1u), LRT_NODE_WORD((slot0 >> 1) + 2u),
+                 LRT_NODE_WORD((slot0 >> 1) + 3u));
 #endif
 }
 
-// code slot of a node whose words are w (lrt_code's order)
-uint lrt_code_in(uvec4 w, uint node_bits, uint slot)
+// a compact level-1 node's 8 codes, packed as lrt_node_words gives a
+// node's: h - (j_s << e) for its word's 3-bit steps j_s and shift e, h its
+// own height in its parent (linear_rt.h's lrt__compact_code)
+uvec4 lrt_compact_words(uint word, uint h)
 {
-    if (node_bits == 16u) return (w[slot >> 1] >> ((slot & 1u) * 16u)) & 0xffffu;
-    return (w[slot >> 2] >> ((slot & 3u) * 8u)) & 0xffu;
+    uvec4 at = uvec4(0u, 6u, 12u, 18u), e = uvec4(word >> 24);
+    uvec4 lo = uvec4(h) - (((uvec4(word) >> at) & 7u) << e);
+    uvec4 hi = uvec4(h) - (((uvec4(word) >> (at + 3u)) & 7u) << e);
+    return lo | (hi << 16u);
 }
+
+// code slot of a node whose words are w (lrt_code's order)
+uint lrt_code_in(uvec4 w, uint slot) { return (w[slot >> 1] >> ((slot & 1u) * 16u)) & 0xffffu; }
 
 // The node test's planes, once per walked ray (linear_rt.h's
 // lrt__cull_constants). A node's codes only cull (a texel they let through
@@ -1029,7 +1017,7 @@ uint lrt_code_in(uvec4 w, uint node_bits, uint slot)
 // about 2^-90 of a texel from o culls as it does exactly, a nearer one never.
 struct LrtCull {
     vec2 iv, en, ex; // x and y: plane p is entered at p * iv + en, left at p * iv + ex
-    float za, zb;    // a child's depth plane: t = code * za + zb ((code + 1)^2: lrt_square_codes)
+    float za, zb;    // a child's depth plane: t = code * za + zb
     float ba, bb;    // its back plane: t = back code * ba + bb
     float lo, hi;    // the segment: t_lo, and t_hi widened
 };
@@ -1051,23 +1039,20 @@ void lrt_cull_axis(float o, float iv, uint neg, bool zero, float extent, float t
 
 LrtCull lrt_cull_setup(LrtParams p, LrtSetup s)
 {
-    // just below 1/qmax, the same float as linear_rt.h's decode_scale
-    float decode_scale = p.node_bits == 16u ? uintBitsToFloat(0x37800078u) : uintBitsToFloat(0x3b808079u);
-    float qmaxf = p.node_bits == 16u ? 65535.0 : 255.0;
-    // just above 1/qmax, linear_rt.h's back_scale
-    float back_scale = p.node_bits == 16u ? uintBitsToFloat(0x37800088u) : uintBitsToFloat(0x3b808089u);
+    // just below 1/65535, the same float as linear_rt.h's decode_scale
+    float decode_scale = uintBitsToFloat(0x37800078u);
+    // just above 1/65535, linear_rt.h's back_scale
+    float back_scale = uintBitsToFloat(0x37800088u);
     LrtCull c;
     float zen, zex, za;
     lrt_cull_axis(s.o.x, s.iv.x, s.neg.x, s.zero.x, float(1u << lrt_span_w_log2(p.level_count)), s.t_hi, c.iv.x, c.en.x,
                   c.ex.x);
     lrt_cull_axis(s.o.y, s.iv.y, s.neg.y, s.zero.y, float(1u << lrt_span_h_log2(p.level_count)), s.t_hi, c.iv.y, c.en.y,
                   c.ex.y);
-    // a child's depth plane is (qmax - code) * decode_scale, below 1, or
-    // 1 - (code + 1)^2 2^-16 (lrt_square_codes), at least 0
-    bool square = lrt_square_codes(p);
-    precise float oz = s.o.z - (square ? 1.0 : qmaxf * decode_scale);
+    // a child's depth plane is (65535 - code) * decode_scale, below 1
+    precise float oz = s.o.z - 65535.0 * decode_scale;
     lrt_cull_axis(oz, s.iv.z, s.neg.z, s.zero.z, 1.0, s.t_hi, za, zen, zex);
-    precise float zan = (square ? -1.0 / 65536.0 : -decode_scale) * za;
+    precise float zan = -decode_scale * za;
     c.za = zan;
     c.zb = s.neg.z != 0u ? zex : zen;
     // the back plane is back code * back_scale: entered going up, left going down
@@ -1105,8 +1090,15 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
     float sw = float(1u << lrt_span_w_log2(cl)), sh = float(1u << lrt_span_h_log2(cl));
     float x0 = float((nx << lrt_bw_log2(cl)) << lrt_span_w_log2(cl)), y0 = float((ny << lrt_bh_log2(cl)) << lrt_span_h_log2(cl));
     uint slot0 = lrt_node_code0(p, lv, off, nx, ny);
-    uvec4 w = lrt_node_words(p.node_bits, slot0);
-    uvec4 b = back ? lrt_node_words(p.node_bits, back_base + slot0) : uvec4(0u); // the back codes
+    uvec4 w, b; // the codes and the back codes
+    if (lv == 1u && lrt_compact(p)) { // with the node's own height, in its level-2 parent
+        uint own = lrt_node_code0(p, 2u, lrt_level_slots(p, 1u), nx >> 1, ny >> 2) + lrt_child_slot(1u, nx, ny);
+        w = lrt_compact_words(LRT_NODE_WORD(slot0 >> 3), lrt_code(own));
+        b = back ? lrt_compact_words(LRT_NODE_WORD((back_base >> 1) + (slot0 >> 3)), lrt_code(back_base + own)) : uvec4(0u);
+    } else {
+        w = lrt_node_words(slot0);
+        b = back ? lrt_node_words(back_base + slot0) : uvec4(0u);
+    }
     vec4 cen, cex, ren, rex;
     lrt_cull_slabs4(c, 0, x0, sw, s.neg.x, cen, cex);
     lrt_cull_slabs4(c, 1, y0, sh, s.neg.y, ren, rex);
@@ -1115,12 +1107,11 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
         // (selects between two fixed indices once the loop is unrolled)
         float en = tall ? max(cen[slot & 1u], ren[slot >> 1]) : max(cen[slot & 3u], ren[slot >> 2]);
         float ex = tall ? min(cex[slot & 1u], rex[slot >> 1]) : min(cex[slot & 3u], rex[slot >> 2]);
-        uint code = lrt_code_in(w, p.node_bits, slot);
-        precise float tz = float(lrt_square_codes(p) ? (code + 1u) * (code + 1u) : code) * c.za + c.zb;
+        precise float tz = float(lrt_code_in(w, slot)) * c.za + c.zb;
         if (s.neg.z != 0u) ex = min(tz, ex);
         else en = max(tz, en);
         if (back) { // the back plane
-            precise float tb = float(lrt_code_in(b, p.node_bits, slot)) * c.ba + c.bb;
+            precise float tb = float(lrt_code_in(b, slot)) * c.ba + c.bb;
             if (s.neg.z != 0u) en = max(tb, en);
             else ex = min(tb, ex);
         }

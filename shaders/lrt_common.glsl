@@ -30,20 +30,19 @@ layout(set = 0, binding = LRT_K_VK_BINDING_BACK_BUFFER, std430) readonly buffer 
 layout(set = 0, binding = LRT_K_VK_BINDING_NODES, std430) LRT_NODES_ACCESS buffer LrtNodes { uint words[]; } lrt_nodes;
 #define LRT_NODE_WORD(i) lrt_nodes.words[i]
 // the trace kernel reads a node's codes in one load: the same binding
-// again, as uvec4 (16-bit codes) and uvec2 (8-bit)
+// again, as uvec4
 #ifdef LRT_NODES_QUADS
 layout(set = 0, binding = LRT_K_VK_BINDING_NODES, std430) readonly buffer LrtNodeQuads { uvec4 quads[]; } lrt_node_quads;
 #define LRT_NODE_QUAD(i) lrt_node_quads.quads[i]
-layout(set = 0, binding = LRT_K_VK_BINDING_NODES, std430) readonly buffer LrtNodePairs { uvec2 pairs[]; } lrt_node_pairs;
-#define LRT_NODE_PAIR(i) lrt_node_pairs.pairs[i]
 #endif
 
 // back-map trees get pipelines of their own (the host sets this to true for
 // them): with false the back code folds away, so other trees pay nothing
 layout(constant_id = 0) const bool lrt_back_trees = false;
 #define LRT_BACK_TREES lrt_back_trees
-// and their node width (8 or 16): a constant, the back codes' decoding folds
-// (their secondary rays ran on lavapipe at 1.35-1.75x, docs/MEASUREMENTS.md)
+// and their node width (8: a compact level 1, or 16): a constant, so the
+// decoding folds (back trees' secondary rays ran on lavapipe at 1.35-1.75x
+// with their width a constant, docs/MEASUREMENTS.md)
 layout(constant_id = 1) const uint lrt_back_node_bits = 16u;
 
 #include "linear_rt.glsl"

@@ -15,7 +15,9 @@
 // heights are read back); padding children are written (as 0) on a build.
 // A back-map tree (thickness) refits its back codes (after all the heights,
 // lrt_back_codes) alongside, the same way: a parent's is the max of its
-// children's.
+// children's. An 8-bit tree's level-1 nodes are compact words
+// (lrt_compact_word), each node's own height in its level-2 parent; for a
+// child outside the rectangle that height is read from the parent as it is.
 #include "lrt_common.glsl"
 
 layout(set = 0, binding = LRT_K_VK_BINDING_COUNTERS, std430) coherent buffer LrtCounters { uint c[]; } lrt_counters;
@@ -23,13 +25,7 @@ layout(set = 0, binding = LRT_K_VK_BINDING_COUNTERS, std430) coherent buffer Lrt
 // writes 8 codes as node `slot0` (code units)
 void lrt_store_node(uint slot0, uint codes[8])
 {
-    if (pc.node_bits == 16u) {
-        for (uint k = 0u; k < 4u; ++k) lrt_nodes.words[(slot0 >> 1) + k] = codes[2u * k] | (codes[2u * k + 1u] << 16);
-    } else {
-        for (uint k = 0u; k < 2u; ++k)
-            lrt_nodes.words[(slot0 >> 2) + k] = codes[4u * k] | (codes[4u * k + 1u] << 8) |
-                                                (codes[4u * k + 2u] << 16) | (codes[4u * k + 3u] << 24);
-    }
+    for (uint k = 0u; k < 4u; ++k) lrt_nodes.words[(slot0 >> 1) + k] = codes[2u * k] | (codes[2u * k + 1u] << 16);
 }
 
 // a padding node: all codes 0 (written on a build only)
@@ -43,7 +39,7 @@ void lrt_store_zero_node(uint slot0)
 uint lrt_node_max(uint slot0)
 {
     uint m = 0u;
-    for (uint k = 0u; k < 8u; ++k) m = max(m, lrt_code(pc.node_bits, slot0 + k));
+    for (uint k = 0u; k < 8u; ++k) m = max(m, lrt_code(slot0 + k));
     return m;
 }
 
@@ -53,6 +49,18 @@ uint lrt_codes_max(uint codes[8])
     uint m = 0u;
     for (uint k = 0u; k < 8u; ++k) m = max(m, codes[k]);
     return m;
+}
+
+// a compact level-1 node's word (linear_rt.h's lrt__compact_word): 3-bit
+// steps (h - code) >> e down from its height h, e the least that fits them
+uint lrt_compact_word(uint codes[8], uint h)
+{
+    uint low = 65535u, e = 0u, word;
+    for (uint k = 0u; k < 8u; ++k) low = min(low, codes[k]);
+    while (((h - low) >> e) > 7u) ++e;
+    word = e << 24;
+    for (uint k = 0u; k < 8u; ++k) word |= ((h - codes[k]) >> e) << (3u * k);
+    return word;
 }
 
 void main()
@@ -80,17 +88,27 @@ void main()
     }
     // level 1 starts the node array; node (nx, ny) of level 2 has its 8
     // children (2x4) at block nx + ny * w2 of it
+    // (level offsets and grid sizes by arithmetic, as the walk takes them:
+    // a per-level table is an array lavapipe keeps in memory)
     uint w2 = (w1 + 1u) >> 1;
     uint block = (ny * w2 + nx) * 64u;
+    uint off = lrt_level_slots(p, 1u); // level 2's first node
+    uint node = lrt_node_code0(p, 2u, off, nx, ny);
+    bool compact = lrt_compact(p);
     for (uint c = 0u; c < 8u; ++c) {
         uint cx = nx * 2u + (c & 1u), cy = ny * 4u + (c >> 1), slot0 = block + c * 8u;
         if (cx >= w1 || cy >= h1) { // a padding child: height 0, its node 0 on a build
             heights[c] = bheights[c] = 0u;
-            if (pc.build != 0u) lrt_store_zero_node(slot0);
-            if (pc.build != 0u && back) lrt_store_zero_node(bb + slot0);
+            if (pc.build != 0u && compact) {
+                lrt_nodes.words[slot0 >> 3] = 0u;
+                if (back) lrt_nodes.words[(bb >> 1) + (slot0 >> 3)] = 0u;
+            } else if (pc.build != 0u) {
+                lrt_store_zero_node(slot0);
+                if (back) lrt_store_zero_node(bb + slot0);
+            }
         } else if (cx < x0 || cx > x1 || cy < y0 || cy > y1) { // outside the rectangle: as it is
-            heights[c] = lrt_node_max(slot0);
-            bheights[c] = back ? lrt_node_max(bb + slot0) : 0u;
+            heights[c] = compact ? lrt_code(node + c) : lrt_node_max(slot0);
+            bheights[c] = !back ? 0u : compact ? lrt_code(bb + node + c) : lrt_node_max(bb + slot0);
         } else {
             for (uint s = 0u; s < 8u; ++s) {
                 uint tx = cx * 4u + (s & 3u), ty = cy * 2u + (s >> 2);
@@ -98,16 +116,17 @@ void main()
                 codes[s] = real ? lrt_texel_code(p, tx, ty) : 0u;
                 bcodes[s] = real && back ? lrt_texel_back_code(p, tx, ty) : 0u;
             }
-            lrt_store_node(slot0, codes);
             heights[c] = lrt_codes_max(codes);
-            if (back) lrt_store_node(bb + slot0, bcodes);
             bheights[c] = lrt_codes_max(bcodes);
+            if (compact) {
+                lrt_nodes.words[slot0 >> 3] = lrt_compact_word(codes, heights[c]);
+                if (back) lrt_nodes.words[(bb >> 1) + (slot0 >> 3)] = lrt_compact_word(bcodes, bheights[c]);
+            } else {
+                lrt_store_node(slot0, codes);
+                if (back) lrt_store_node(bb + slot0, bcodes);
+            }
         }
     }
-    // (level offsets and grid sizes by arithmetic, as the walk takes them:
-    // a per-level table is an array lavapipe keeps in memory)
-    uint off = lrt_level_slots(p, 1u); // level 2's first node
-    uint node = lrt_node_code0(p, 2u, off, nx, ny);
     lrt_store_node(node, heights);
     if (back) lrt_store_node(bb + node, bheights);
     if (p.level_count == 2u) return;
@@ -131,7 +150,7 @@ void main()
         atomicExchange(lrt_counters.c[counter], 0u); // ready for the next dispatch
         memoryBarrierBuffer(); // the siblings' nodes after their arrivals
         // children of (px, py) are contiguous: level lv's block of the parent
-        uint first_child = counter * 8u;
+        uint first_child = counter * 8u - (compact ? lrt_level_slots(p, 1u) * 6u : 0u); // (lrt_node_code0)
         for (uint s = 0u; s < 8u; ++s) {
             uint cx = (px << bwl) + (bwl == 2u ? (s & 3u) : (s & 1u));
             uint cy = (py << bhl) + (bwl == 2u ? (s >> 2) : (s >> 1));

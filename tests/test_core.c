@@ -439,11 +439,12 @@ static void test_layout(void)
             ok &= L.levels[lv].offset == offset && L.levels[lv].count == slots;
             offset += slots;
         }
-        ok &= L.node_count == offset && L.bytes == offset * 8;
+        /* 8 bits: a 4-byte level-1 node where it has a parent, 16 bytes for every other */
+        ok &= L.node_count == offset && L.bytes == (L.level_count >= 2 ? L.levels[1].count * 4 + (offset - L.levels[1].count) * 16 : offset * 16);
         CHECK(ok, "level sizes/offsets of %ux%u", w, h);
-        /* memory: about 1.14 bytes per texel at 8 bits for sizes that fill their blocks */
+        /* memory: about 0.79 bytes per texel at 8 bits for sizes that fill their blocks */
         if (w >= 64 && h >= 64 && (w % 64) == 0 && (h % 64) == 0)
-            CHECK((double)L.bytes / ((double)w * h) < 1.2, "%ux%u: %.3f bytes per texel", w, h, (double)L.bytes / ((double)w * h));
+            CHECK((double)L.bytes / ((double)w * h) < 0.82, "%ux%u: %.3f bytes per texel", w, h, (double)L.bytes / ((double)w * h));
         /* Morton: every real node of every level gets a distinct index in its level */
         if ((size_t)w * h <= (size_t)1 << 21) {
             for (lv = 1; lv <= L.level_count; ++lv) {
@@ -492,77 +493,108 @@ static void test_layout(void)
     }
 }
 
-/* ---- 3b. 8-bit codes of float depth: squares --------------------------------- */
-/* Independently of lrt__square_code's own steps: code c stands for the
-   depth 1 - (c + 1)^2 / 2^16 (exact), and a texel's code is the smallest
-   whose depth is at most its own. Then a tree's texel codes. */
-static double square_depth(uint32_t c) { return 1.0 - (double)((c + 1u) * (c + 1u)) / 65536.0; }
-
-static int square_code_right(float d, uint32_t c)
+/* ---- 3b. 8-bit trees: compact level-1 nodes --------------------------------- */
+/* Read against a 16-bit tree of the same map, independently of the
+   library's own decoding: above level 1 the two trees hold the same codes;
+   a level-1 node's own height in its parent is the largest of its texels'
+   16-bit codes, its word holds 3 bits a texel and, in bits 24..27, the least
+   shift e that lets every texel's step (H - code) >> e fit in them, and
+   H - (step << e) is the texel's code or above it by less than 2^e. */
+static int compact_tree_right(const lrt_bvh *b8, const lrt_bvh *b16, const char *what)
 {
-    return c <= 255u && square_depth(c) <= (double)d && (c == 0u || square_depth(c - 1u) > (double)d);
-}
-
-static void test_square_codes(void)
-{
-    uint32_t c, k, bad = 0, seed = 12345u;
-    float probe[4];
-    for (c = 0; c <= 255u; ++c) { /* every code's own depth and its float neighbours */
-        const float d = (float)square_depth(c);
-        probe[0] = d;
-        probe[1] = nextafterf(d, 0.0f);
-        probe[2] = nextafterf(d, 2.0f);
-        probe[3] = (float)(1.0 - (1.0 - d) * 1.03);
-        for (k = 0; k < 4; ++k)
-            if (probe[k] >= 0.0f && probe[k] <= 1.0f && !square_code_right(probe[k], lrt__square_code(probe[k]))) {
-                if (bad++ < 5) printf("FAIL square code of %.9g: %u\n", probe[k], lrt__square_code(probe[k]));
+    const lrt_layout *L = &b16->layout;
+    const size_t count1 = L->levels[1].count, rest = (L->node_count - count1) * 16u;
+    const uint16_t *n16 = (const uint16_t *)b16->nodes;
+    int copies;
+    uint32_t bad = 0, nx, ny, k;
+    if (b8->layout.bytes != (count1 * 4u + rest) * (L->back_codes ? 2u : 1u)) {
+        printf("FAIL %s: %zu bytes\n", what, b8->layout.bytes);
+        return 0;
+    }
+    for (copies = 0; copies < (L->back_codes ? 2 : 1); ++copies) { /* heights, then back codes */
+        const unsigned char *c8 = (const unsigned char *)b8->nodes + copies * (b8->layout.bytes / 2u);
+        const uint16_t *c16 = n16 + copies * (L->bytes / 4u);
+        const uint16_t *up8 = (const uint16_t *)(const void *)(c8 + count1 * 4u); /* levels 2 and up */
+        if (memcmp(up8, c16 + count1 * 8u, rest) != 0) {
+            printf("FAIL %s: codes above level 1 differ from the 16-bit tree's\n", what);
+            return 0;
+        }
+        for (ny = 0; ny < L->levels[1].height; ++ny)
+            for (nx = 0; nx < L->levels[1].width; ++nx) {
+                const size_t node = lrt_layout_node_index(L, 1, nx, ny);
+                const size_t parent = L->levels[2].offset + lrt_layout_node_index(L, 2, nx >> 1, ny >> 2);
+                const uint32_t own = up8[(parent - count1) * 8u + (((ny & 3u) << 1) | (nx & 1u))];
+                uint32_t word, top = 0, e, least = 0;
+                memcpy(&word, c8 + node * 4u, 4);
+                e = word >> 24;
+                for (k = 0; k < 8; ++k) top = c16[node * 8u + k] > top ? c16[node * 8u + k] : top;
+                for (k = 0; k < 8; ++k)
+                    while (((top - c16[node * 8u + k]) >> least) > 7u) ++least;
+                if (own != top || e != least) {
+                    if (bad++ < 5) printf("FAIL %s: level-1 node (%u, %u): height %u (want %u), shift %u (want %u)\n", what, nx, ny, own, top, e, least);
+                    continue;
+                }
+                for (k = 0; k < 8; ++k) {
+                    const uint32_t step = (word >> (3u * k)) & 7u, code = c16[node * 8u + k];
+                    const uint32_t bound = top - (step << e);
+                    if (step << e > top || bound < code || bound - code >= (1u << e))
+                        if (bad++ < 5) printf("FAIL %s: level-1 node (%u, %u) slot %u: %u for the code %u\n", what, nx, ny, k, bound, code);
+                }
             }
     }
-    for (k = 0; k < 4000000u; ++k) { /* random depths, crowded near 1 as a perspective's are */
-        float d;
-        seed = seed * 1664525u + 1013904223u;
-        d = (float)(seed >> 8) / 16777216.0f;
-        if (k & 1u) d = 1.0f - d * d * d * d;
-        if (!square_code_right(d, lrt__square_code(d))) {
-            if (bad++ < 5) printf("FAIL square code of %.9g: %u\n", d, lrt__square_code(d));
-        }
-    }
-    CHECK(bad == 0, "square codes: %u depths coded wrong", bad);
-    CHECK(square_depth(255u) == 0.0 && lrt__square_code(1.0f) == 0u && lrt__square_code(0.0f) == 255u,
-          "square codes: depth 1 is code 0, depth 0 code 255");
-    { /* a tree's texel codes: the texels' own (clamped) depths, rounded up */
-        const int w = 37, h = 21;
-        float *d = (float *)malloc(sizeof(float) * w * h);
-        lrt_depth dm;
-        lrt_bvh bvh;
+    return bad == 0;
+}
+
+static void test_compact_codes(void)
+{
+    static const int sizes[][2] = {{37, 21}, {64, 64}, {130, 67}, {5, 3}};
+    uint32_t seed = 12345u;
+    size_t z, k;
+    for (z = 0; z < sizeof sizes / sizeof sizes[0]; ++z) {
+        const int w = sizes[z][0], h = sizes[z][1];
+        float *d = (float *)malloc(sizeof(float) * w * h), *back = (float *)malloc(sizeof(float) * w * h);
+        lrt_depth dm[2];
+        lrt_bvh b8, b16;
         lrt_build_options opt;
-        int x, y, ok = 1;
-        for (k = 0; k < (uint32_t)(w * h); ++k) {
+        int thick;
+        char what[64];
+        for (k = 0; k < (size_t)(w * h); ++k) { /* a far floor, with objects and holes */
             seed = seed * 1664525u + 1013904223u;
-            d[k] = 1.0f - (float)(seed >> 8) / 16777216.0f * 0.01f;
+            d[k] = 1.0f - (float)(seed >> 8) / 16777216.0f * ((k % 7u) == 0 ? 0.5f : 0.004f);
+            back[k] = d[k] + 0.01f * (float)(seed & 3u);
         }
         d[0] = 0.0f;
         d[1] = 1.0f;
         d[2] = -0.5f; /* clamped to 0 */
         d[3] = 1e-42f; /* subnormal: 0 */
-        memset(&dm, 0, sizeof dm);
-        dm.data = d;
-        dm.width = (uint32_t)w;
-        dm.height = (uint32_t)h;
-        dm.format = LRT_FORMAT_FLOAT32;
-        memset(&opt, 0, sizeof opt);
-        opt.node_bits = 8;
-        CHECK(lrt_bvh_build(&bvh, &dm, &opt, NULL) == LRT_SUCCESS, "square codes: build");
-        for (y = 0; y < h; ++y)
-            for (x = 0; x < w; ++x) {
-                const size_t node = (bvh.layout.levels[1].offset + lrt_layout_node_index(&bvh.layout, 1, (uint32_t)x >> 2, (uint32_t)y >> 1)) * 8u;
-                const uint32_t code = ((const uint8_t *)bvh.nodes)[node + (((uint32_t)y & 1u) << 2 | ((uint32_t)x & 3u))];
-                const float v = d[y * w + x];
-                ok &= square_code_right(v < 1e-38f ? 0.0f : v, code);
+        memset(dm, 0, sizeof dm);
+        dm[0].data = d;
+        dm[0].width = (uint32_t)w;
+        dm[0].height = (uint32_t)h;
+        dm[0].format = LRT_FORMAT_FLOAT32;
+        dm[1] = dm[0];
+        dm[1].data = back;
+        for (thick = 0; thick < 2; ++thick) {
+            memset(&opt, 0, sizeof opt);
+            if (thick) {
+                opt.thickness = LRT_THICKNESS_BACK_MAP;
+                dm[0].flags = LRT_DEPTH_BACK_FOLLOWS;
             }
-        CHECK(ok, "square codes: a texel code of an 8-bit float tree is not its depth rounded up");
-        lrt_bvh_destroy(&bvh);
+            opt.node_bits = 8;
+            CHECK(lrt_bvh_build(&b8, dm, &opt, NULL) == LRT_SUCCESS, "compact codes: 8-bit build");
+            opt.node_bits = 16;
+            CHECK(lrt_bvh_build(&b16, dm, &opt, NULL) == LRT_SUCCESS, "compact codes: 16-bit build");
+            snprintf(what, sizeof what, "%dx%d%s", w, h, thick ? " back map" : "");
+            if (b16.layout.level_count < 2) /* one node: no parent to hold its height, 16-bit codes */
+                CHECK(b8.layout.bytes == b16.layout.bytes && memcmp(b8.nodes, b16.nodes, b8.layout.bytes) == 0,
+                      "compact codes %s: a one-node 8-bit tree is not the 16-bit one", what);
+            else
+                CHECK(compact_tree_right(&b8, &b16, what), "compact codes %s: the 8-bit tree", what);
+            lrt_bvh_destroy(&b8);
+            lrt_bvh_destroy(&b16);
+        }
         free(d);
+        free(back);
     }
 }
 
@@ -986,7 +1018,7 @@ int main(int argc, char **argv)
     RUN_TEST(test_found_cases);
     RUN_TEST(test_huge_directions);
     RUN_TEST(test_layout);
-    RUN_TEST(test_square_codes);
+    RUN_TEST(test_compact_codes);
     RUN_TEST(test_update);
     RUN_TEST(test_bad_arguments);
     RUN_TEST(test_ranges);
