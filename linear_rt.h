@@ -3318,28 +3318,32 @@ LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, size_t childre
     LRT__PREFETCH(codes + 64);
 }
 
-/* The 8 codes of level-1 node (nx, ny) whose first code index is slot0,
-   and its back codes (a back-map tree): the node's own, or decoded from
-   its compact word (lrt__compact_word) and its height in its parent. */
-LRT__FORCE_INLINE void lrt__level1_codes(const lrt__walk *w, uint32_t nx, uint32_t ny, size_t slot0, uint16_t codes[8],
-                                         uint16_t backs[8])
+/* The 8 codes of a compact level-1 node: its word at word index `word`,
+   its own height at code index `height` (lrt__compact_word) */
+LRT__FORCE_INLINE void lrt__compact_codes(const lrt__walk *w, size_t word, size_t height, uint16_t codes[8])
 {
-    uint32_t k, word, h;
-    if (!w->compact1) {
-        memcpy(codes, lrt__codes(w, slot0), 16);
-        if (w->back_codes) memcpy(backs, lrt__codes(w, w->back_codes + slot0), 16);
-        return;
-    }
-    {   /* the parent's slot for this node: level 1 groups 2x4 */
-        const size_t height = lrt__node_slot(w, 2, nx >> 1, ny >> 2) + (((ny & 3u) << 1) | (nx & 1u));
-        memcpy(&word, (const uint32_t *)w->nodes + (slot0 >> 3), 4);
-        h = *lrt__codes(w, height);
-        for (k = 0; k < 8u; ++k) codes[k] = (uint16_t)lrt__compact_code(word, h, k);
-        if (!w->back_codes) return;
-        memcpy(&word, (const uint32_t *)w->nodes + (w->back_codes >> 1) + (slot0 >> 3), 4);
-        h = *lrt__codes(w, w->back_codes + height);
-        for (k = 0; k < 8u; ++k) backs[k] = (uint16_t)lrt__compact_code(word, h, k);
-    }
+    const uint32_t h = *lrt__codes(w, height);
+    uint32_t bits, k;
+    memcpy(&bits, (const uint32_t *)w->nodes + word, 4);
+    for (k = 0; k < 8u; ++k) codes[k] = (uint16_t)lrt__compact_code(bits, h, k);
+}
+
+/* The 8 codes of level-1 node (nx, ny) whose first code index is slot0,
+   and its back codes (a back-map tree), at codes[0] and codes[1]: the
+   node's own in the array, or decoded into buf from its compact word and
+   its height in its parent. */
+LRT__FORCE_INLINE void lrt__level1_codes(const lrt__walk *w, uint32_t nx, uint32_t ny, size_t slot0, uint16_t buf[16],
+                                         const uint16_t *codes[2])
+{
+    size_t height;
+    codes[0] = lrt__codes(w, slot0);
+    codes[1] = lrt__codes(w, w->back_codes + slot0);
+    if (!w->compact1) return;
+    height = lrt__node_slot(w, 2, nx >> 1, ny >> 2) + (((ny & 3u) << 1) | (nx & 1u)); /* level 1 groups 2x4 */
+    lrt__compact_codes(w, slot0 >> 3, height, buf);
+    codes[0] = buf;
+    codes[1] = buf + 8;
+    if (w->back_codes) lrt__compact_codes(w, (w->back_codes >> 1) + (slot0 >> 3), w->back_codes + height, buf + 8);
 }
 
 /* Level-1 node (nx, ny): the first texel under it that the ray hits, in
@@ -3350,16 +3354,17 @@ LRT__FORCE_INLINE int lrt__level1_codes_hit(const lrt__walk *w, const lrt__ray_s
 {
     const uint32_t flip = s->sg->flip[0];
     float enter[8], exit[8];
-    uint16_t codes[8], backs[8];
+    uint16_t buf[16];
+    const uint16_t *codes[2]; /* the heights, the back codes */
     uint32_t mask;
-    lrt__level1_codes(w, nx, ny, slot0, codes, backs);
-    mask = lrt__test_children(w, s, 1u, nx, ny, codes, backs, enter, exit, 0u, neg_z);
+    lrt__level1_codes(w, nx, ny, slot0, buf, codes);
+    mask = lrt__test_children(w, s, 1u, nx, ny, codes[0], codes[1], enter, exit, 0u, neg_z);
     while (mask) { /* texels: the exact test, front to back */
         const uint32_t vis = lrt__lowest_bit(mask), slot = vis ^ flip, lane = LRT__LANE(vis, slot);
         *tx = nx * 4u + (slot & 3u);
         *ty = ny * 2u + (slot >> 2);
         mask &= mask - 1u;
-        if (lrt__test_texel(w, s, *tx, *ty, enter[lane], exit[lane], codes[slot], t, planes)) return 1;
+        if (lrt__test_texel(w, s, *tx, *ty, enter[lane], exit[lane], codes[0][slot], t, planes)) return 1;
     }
     return 0;
 }
@@ -3950,6 +3955,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__huge_direction lrt__huge_direction_avx2
 #define lrt__huge8 lrt__huge8_avx2
 #define lrt__far8 lrt__far8_avx2
+#define lrt__compact_codes lrt__compact_codes_avx2
 #define lrt__level1_codes lrt__level1_codes_avx2
 #define lrt__level1_codes_hit lrt__level1_codes_hit_avx2
 #define lrt__level1_hit lrt__level1_hit_avx2
@@ -4038,6 +4044,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__huge_direction
 #undef lrt__huge8
 #undef lrt__far8
+#undef lrt__compact_codes
 #undef lrt__level1_codes
 #undef lrt__level1_codes_hit
 #undef lrt__level1_hit
