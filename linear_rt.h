@@ -2522,6 +2522,9 @@ typedef struct lrt__walk {
     int exact_codes;    /* the level-1 codes are the input depth itself */
     float code_depth0, code_step; /* a node's depth plane is code_depth0 + code * code_step (lrt__cull_children) */
     int plain_float;    /* float depth, standard Z */
+    int back_after_depth; /* a texel's back plane's t is never before its depth plane's, for v.z > 0:
+                             the same formula (lrt__depth_plane) on a back never in front of the depth
+                             (a back map, or float depth); a model's float back of unorm depth may not be */
     uint32_t texels8_w, texels8_h; /* plain float: level-1 nodes (x, y) below these lie inside the map (lrt__texels8) */
     float extent[2];    /* the root's span in texels: no node's plane lies beyond it */
     lrt__walk_level lv[LINEAR_RT_MAX_LEVELS + 1];
@@ -2607,6 +2610,7 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
     if (L->back_codes) {
         w->back_codes = lrt__back_code_index(L);
         (void)lrt__check_back(depth, L->thickness, &w->back_stride); /* checked by lrt_trace */
+        w->back_after_depth = L->thickness == LRT_THICKNESS_BACK_MAP || depth->format == LRT_FORMAT_FLOAT32;
     }
     w->plain_float = depth->format == LRT_FORMAT_FLOAT32 && !(depth->flags & LRT_DEPTH_REVERSED_Z);
     w->texels8_w = w->plain_float ? L->width / 4u : 0u;
@@ -2891,6 +2895,22 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
     if (w->back_codes) { /* the texels' backs the same way (lrt__back_plane) */
         const float *k = w->L->back_k;
         __m256 b;
+        /* read only where they can decide (lrt__test_texel): not if no
+           texel passes without them, nor if the first that passes, going
+           down, enters through its top */
+        mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
+        if (!mask) return 8u;
+        if (!neg_z && w->back_after_depth) {
+            float top[8];
+            mask = lrt__lowest_bit(mask);
+            _mm256_storeu_ps(lanes, en);
+            _mm256_storeu_ps(top, tz);
+            if (lanes[mask] == top[mask]) {
+                *t = planes[0] = lanes[mask];
+                planes[1] = 0.0f;
+                return mask ^ s->sg->flip[0];
+            }
+        }
         if (w->L->thickness == LRT_THICKNESS_BACK_MAP) { /* b = max(depth, back) */
             const unsigned char *brow = (const unsigned char *)w->depth[1].data + w->back_stride * 2u * ny + 16u * (size_t)nx;
             const __m128 b0 = _mm_loadu_ps((const float *)(const void *)brow);
@@ -3130,7 +3150,10 @@ LRT__FORCE_INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *
     planes[1] = 0.0f;
     if (s->neg_z) exit = LRT__MIN_KEEP(tz, exit);
     else enter = LRT__MAX_KEEP(tz, enter);
-    if (w->back_codes) { /* the back plane: entered going up (v.z < 0), left going down */
+    /* the back plane (entered going up, v.z < 0; left going down) only
+       narrows [enter, exit]: not read after a miss, nor for a ray going
+       down that enters through the top, whose back plane comes no earlier */
+    if (w->back_codes && enter <= lrt__widen(exit) && (s->neg_z || enter != tz || !w->back_after_depth)) {
         const float tb = lrt__back_plane(w, s, tx, ty);
         planes[1] = tb;
         if (s->neg_z) enter = LRT__MAX_KEEP(tb, enter);

@@ -855,7 +855,12 @@ bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float e
     planes.x = tz;
     if (s.neg.z != 0u) ex = min(tz, ex);
     else en = max(tz, en);
-    if (lrt_has_back(p)) { // the back plane: entered going up (v.z < 0), left going down
+    // the back plane (entered going up, v.z < 0; left going down) only
+    // narrows [en, ex]: not read after a miss, nor for a ray going down
+    // that enters through the top, whose back plane comes no earlier (the
+    // same plane on a back never in front: a back map, or float depth)
+    bool back_after_depth = p.thickness == LRT_THICKNESS_BACK_MAP || p.format == LRT_FLOAT32;
+    if (lrt_has_back(p) && en <= lrt_widen(ex) && (s.neg.z != 0u || en != tz || !back_after_depth)) {
         uint format;
         uint raw = lrt_texel_back(p, tx, ty, format);
         float tb = lrt_back_plane(s, format, raw);
