@@ -2906,7 +2906,8 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
             _mm256_storeu_ps(lanes, en);
             _mm256_storeu_ps(top, tz);
             if (lanes[mask] == top[mask]) {
-                *t = planes[0] = lanes[mask];
+                *t = lanes[mask];
+                planes[0] = top[mask];
                 planes[1] = 0.0f;
                 return mask ^ s->sg->flip[0];
             }
