@@ -2892,26 +2892,15 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
     d = lrt__clamp_depth8(d);
     tz = _mm256_mul_ps(_mm256_sub_ps(d, s->vo[2]), s->viv[2]);
     lrt__z_plane8(tz, neg_z, &en, &ex);
-    if (w->back_codes) { /* the texels' backs the same way (lrt__back_plane) */
+    mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
+    /* the texels' backs the same way (lrt__back_plane), read only where they
+       can decide (lrt__test_texel): some texel passes without them, and the
+       first that does is not one entered through its top going down */
+    if (mask && w->back_codes &&
+        (neg_z || !w->back_after_depth ||
+         !((uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, tz, _CMP_EQ_OQ)) >> lrt__lowest_bit(mask) & 1u))) {
         const float *k = w->L->back_k;
         __m256 b;
-        /* read only where they can decide (lrt__test_texel): not if no
-           texel passes without them, nor if the first that passes, going
-           down, enters through its top */
-        mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
-        if (!mask) return 8u;
-        if (!neg_z && w->back_after_depth) {
-            float top[8];
-            mask = lrt__lowest_bit(mask);
-            _mm256_storeu_ps(lanes, en);
-            _mm256_storeu_ps(top, tz);
-            if (lanes[mask] == top[mask]) {
-                *t = lanes[mask];
-                planes[0] = top[mask];
-                planes[1] = 0.0f;
-                return mask ^ s->sg->flip[0];
-            }
-        }
         if (w->L->thickness == LRT_THICKNESS_BACK_MAP) { /* b = max(depth, back) */
             const unsigned char *brow = (const unsigned char *)w->depth[1].data + w->back_stride * 2u * ny + 16u * (size_t)nx;
             const __m128 b0 = _mm_loadu_ps((const float *)(const void *)brow);
@@ -2930,8 +2919,8 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
         b = _mm256_max_ps(b, d);
         tb = _mm256_mul_ps(_mm256_sub_ps(b, s->vo[2]), s->viv[2]);
         lrt__z_plane8(tb, neg_z ^ 1u, &en, &ex);
+        mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
     }
-    mask = (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, lrt__widen8(ex), _CMP_LE_OQ));
     if (!mask) return 8u;
     mask = lrt__lowest_bit(mask);
     _mm256_storeu_ps(lanes, en);
@@ -3132,6 +3121,7 @@ LRT__FORCE_INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *
                            float exit, uint32_t code, float *t, float planes[2])
 {
     uint32_t raw;
+    int hit;
     float tz;
     if (tx >= w->L->width || ty >= w->L->height) return 0; /* padding */
     if (w->plain_float && !s->zk) { /* the common case, straight: lrt__depth_raw, then lrt__depth_plane */
@@ -3151,17 +3141,19 @@ LRT__FORCE_INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *
     planes[1] = 0.0f;
     if (s->neg_z) exit = LRT__MIN_KEEP(tz, exit);
     else enter = LRT__MAX_KEEP(tz, enter);
+    hit = enter <= lrt__widen(exit);
     /* the back plane (entered going up, v.z < 0; left going down) only
        narrows [enter, exit]: not read after a miss, nor for a ray going
        down that enters through the top, whose back plane comes no earlier */
-    if (w->back_codes && enter <= lrt__widen(exit) && (s->neg_z || enter != tz || !w->back_after_depth)) {
+    if (hit && w->back_codes && (s->neg_z || enter != tz || !w->back_after_depth)) {
         const float tb = lrt__back_plane(w, s, tx, ty);
         planes[1] = tb;
         if (s->neg_z) enter = LRT__MAX_KEEP(tb, enter);
         else exit = LRT__MIN_KEEP(tb, exit);
+        hit = enter <= lrt__widen(exit);
     }
     *t = enter;
-    return enter <= lrt__widen(exit);
+    return hit;
 }
 
 /* The face of a hit at t (lrt_hit_face): which plane of texel (tx, ty)'s

@@ -860,16 +860,18 @@ bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float e
     // that enters through the top, whose back plane comes no earlier (the
     // same plane on a back never in front: a back map, or float depth)
     bool back_after_depth = p.thickness == LRT_THICKNESS_BACK_MAP || p.format == LRT_FLOAT32;
-    if (lrt_has_back(p) && en <= lrt_widen(ex) && (s.neg.z != 0u || en != tz || !back_after_depth)) {
+    bool hit = en <= lrt_widen(ex);
+    if (hit && lrt_has_back(p) && (s.neg.z != 0u || en != tz || !back_after_depth)) {
         uint format;
         uint raw = lrt_texel_back(p, tx, ty, format);
         float tb = lrt_back_plane(s, format, raw);
         planes.y = tb;
         if (s.neg.z != 0u) en = max(tb, en);
         else ex = min(tb, ex);
+        hit = en <= lrt_widen(ex);
     }
     t = en;
-    return en <= lrt_widen(ex);
+    return hit;
 }
 
 // the face of a hit at t in texel (tx, ty), as linear_rt.h's lrt__face:
