@@ -187,14 +187,17 @@
      16 bits (c / 65535, so a compressed bound never cuts off a hit); a
      node's own height is the max of its children's and lives in its parent.
    - 8-bit trees (node_bits 8) keep those 16-bit codes above level 1 and
-     make each level-1 node one 32-bit word: its 8 texels' codes as 3-bit
-     steps down from the node's own height H (in its parent), code = H -
-     (j << e) with one shift e (4 bits) per node, the least that reaches
-     the node's lowest texel (>>nodes: lrt__compact_word). A far floor,
-     whose 8 texels differ by a few 16-bit steps, keeps them exactly; a
-     node's update needs its 8 texels alone.
+     make each level-1 node one 32-bit word and a 16-bit scale: its 8
+     texels' codes as 4-bit steps j down from the node's own height H (in
+     its parent), code = H - ((j * scale) >> 4), the scale 16/15 of the
+     node's spread, so step 15 lands on its lowest texel (>>nodes:
+     lrt__compact_steps). The scales follow the level's words. A far floor,
+     whose 8 texels differ by a few 16-bit steps, keeps them exactly; a node
+     across an edge (a pole or a slab over a floor) keeps its highest and
+     lowest texels within one code; a node's update needs its 8 texels
+     alone.
    - the texel level is not stored (its heights sit in the level-1 nodes), so
-     the tree costs about 2.29 bytes per texel with 16-bit nodes and 0.79
+     the tree costs about 2.29 bytes per texel with 16-bit nodes and 1.04
      with 8-bit nodes (each level has 1/8 of the nodes of the one below): a
      stored leaf level of one height per texel would add 2 bytes more, so
      skipping it saves about half.
@@ -375,7 +378,8 @@ typedef struct lrt_layout {
     uint32_t thickness;           /* lrt_thickness of the tree (set by the build options) */
     float back_k[2];              /* LRT_THICKNESS_CONSTANT: f / (f - n), T / n; RELATIVE: k f / (f - n),
                                      1 + k (in float: the kernels compute b(d) from the same two) */
-    uint32_t level1_node_bytes;   /* 16, or 4: a compact level-1 node (node_bits 8, two levels or more) */
+    uint32_t level1_node_bytes;   /* 16, or 6: a compact level-1 node (node_bits 8, two levels or more):
+                                     a word, and a scale after the level's words */
 } lrt_layout;
 
 enum { LRT_NODE_BITS_AUTO = 0 };
@@ -1223,7 +1227,7 @@ LINEAR_RT_DEF lrt_result lrt_layout_compute(uint32_t width, uint32_t height, uin
         L.node_count += c->count;
     }
     /* a compact level 1 needs a parent to hold its nodes' own heights */
-    L.level1_node_bytes = node_bits == 8 && L.level_count >= 2 ? 4u : 16u;
+    L.level1_node_bytes = node_bits == 8 && L.level_count >= 2 ? 6u : 16u;
     L.bytes = L.levels[1].count * L.level1_node_bytes + (L.node_count - L.levels[1].count) * L.node_bytes; /* < 2^31 */
     *out = L;
     return LRT_SUCCESS;
@@ -1388,84 +1392,133 @@ LRT__FORCE_INLINE void lrt__store_node4x2(void *nodes, size_t node, const uint32
 }
 #endif
 
-/* The least shift e with spread >> e <= 7 (lrt__compact_word) */
-LRT__FORCE_INLINE uint32_t lrt__compact_shift(uint32_t spread)
+/* The scale of a compact level-1 node whose codes span d = H - lowest:
+   16 d / 15 (the 15th step lands within one code of the lowest texel),
+   but at least 16 (steps of one code: a spread of up to 15 stays exact)
+   and at most 65535 (16 bits; a spread past 61439 ends a little above). */
+LRT__FORCE_INLINE uint32_t lrt__compact_scale(uint32_t spread)
 {
-    uint32_t e = 0;
-#if defined(__GNUC__) || defined(__clang__)
-    if (spread > 7u) e = 29u - (uint32_t)__builtin_clz(spread); /* its bit length - 3 */
-#else
-    while ((spread >> e) > 7u) ++e;
-#endif
-    return e; /* at most 13 */
+    const uint32_t s = spread * 16u / 15u;
+    return s < 16u ? 16u : s > 65535u ? 65535u : s;
 }
 
 /* A compact level-1 node (8-bit trees) from its 8 texels' 16-bit codes
-   (slots 0-3 in c0, 4-7 in c1): bits 3s..3s+2 hold j_s = (H - code_s) >> e
-   and bits 24..27 e, the least shift with every j_s <= 7, H being the
-   node's own height (the largest code, returned in *height: its parent's
-   code). j_s << e <= H - code_s, so H - (j_s << e) (lrt__compact_code) is
-   at least code_s: never below the texel, and above it by less than 2^e.
-   ---- ISA block: lrt__compact_word (SSE2: the 8 codes in one register, the
-   max, min and steps in lanes; the 1024x1024 update of a scalar first
-   version took 3.8-4.3 ms, this one's 1.6-2.6 | scalar) ---- */
+   (slots 0-3 in c0, 4-7 in c1): lrt__compact_bounds gives its own height H
+   (the largest code: its parent's code for it) and its scale
+   (lrt__compact_scale of the spread: the node's 16-bit code after the
+   level's words); lrt__compact_steps its word, whose bits 4s..4s+3 hold
+   step j_s, the largest j <= 15 with (j * scale) >> 4 <= H - code_s,
+   that is min(15, floor((16 (H - code_s) + 15) / scale)).
+   H - ((j_s * scale) >> 4) (lrt__compact_code) is at least code_s: never
+   below the texel, and above it by at most scale / 16, about a fifteenth
+   of the spread, with the node's highest and lowest texels within one
+   code of their own (where the shift of the 3-bit steps before them left
+   a lowest texel under a pole or a slab as far as half the spread above
+   it). The refit finds every node's height and scale first, then the
+   steps, so that the reciprocals (four at a time) stay out of the steps'
+   chain: a 1024x1024 8-bit update on one thread took 1.64 ms with both in
+   one function, 1.39-1.50 ms split (the 3-bit steps before them: 1.29-1.33
+   ms; best of 400, alternated runs).
+   ---- ISA block: lrt__compact_bounds and lrt__compact_steps (SSE2: the 8
+   codes in one register, the max, min and steps in lanes; the steps'
+   quotients by a reciprocal | scalar) ---- */
 #if LRT__SSE
-LRT__FORCE_INLINE uint32_t lrt__compact_word(const uint32_t *c0, const uint32_t *c1, uint32_t *height)
+LRT__FORCE_INLINE uint32_t lrt__compact_bounds(const uint32_t *c0, const uint32_t *c1, uint32_t *height)
 {
     const __m128i bias = _mm_set1_epi32(32768);
     const __m128i x = _mm_packs_epi32(_mm_sub_epi32(_mm_loadu_si128((const __m128i *)(const void *)c0), bias),
                                       _mm_sub_epi32(_mm_loadu_si128((const __m128i *)(const void *)c1), bias));
     __m128i hi = _mm_max_epi16(x, _mm_shuffle_epi32(x, _MM_SHUFFLE(1, 0, 3, 2))); /* codes - 2^15, signed: ordered */
     __m128i lo = _mm_min_epi16(x, _mm_shuffle_epi32(x, _MM_SHUFFLE(1, 0, 3, 2)));
-    __m128i j;
-    uint32_t h, e;
     hi = _mm_max_epi16(hi, _mm_shuffle_epi32(hi, _MM_SHUFFLE(2, 3, 0, 1)));
     lo = _mm_min_epi16(lo, _mm_shuffle_epi32(lo, _MM_SHUFFLE(2, 3, 0, 1)));
     hi = _mm_max_epi16(hi, _mm_srli_epi32(hi, 16));
     lo = _mm_min_epi16(lo, _mm_srli_epi32(lo, 16));
-    h = ((uint32_t)_mm_cvtsi128_si32(hi) & 0xffffu) ^ 0x8000u; /* undo the bias */
-    e = lrt__compact_shift(h - (((uint32_t)_mm_cvtsi128_si32(lo) & 0xffffu) ^ 0x8000u));
-    /* j_s = (H - code_s) >> e in 16-bit lanes, then j_2k + 8 j_2k+1 in 32-bit ones, then the four 6-bit pairs */
-    j = _mm_srl_epi16(_mm_sub_epi16(_mm_set1_epi16((short)((int)h - 32768)), x), _mm_cvtsi32_si128((int)e));
-    j = _mm_madd_epi16(j, _mm_set1_epi32(8 << 16 | 1));
-    j = _mm_or_si128(j, _mm_srli_epi64(j, 26));
-    *height = h;
-    return (e << 24) | ((uint32_t)_mm_cvtsi128_si32(j) & 0xfffu) | ((uint32_t)_mm_cvtsi128_si32(_mm_srli_si128(j, 8)) & 0xfffu) << 12;
+    *height = ((uint32_t)_mm_cvtsi128_si32(hi) & 0xffffu) ^ 0x8000u; /* undo the bias */
+    return lrt__compact_scale(*height - (((uint32_t)_mm_cvtsi128_si32(lo) & 0xffffu) ^ 0x8000u));
+}
+
+/* floor((16 (H - code) + 15.5) * inv) with inv = 1 / scale in float: the
+   quotient below 16, where it counts: the half moves an integer quotient
+   0.5 / scale (at least 7.6e-6) above its integer and leaves any other as
+   far below the next one, and the two roundings err by at most 2^-23 of a
+   quotient below 16 (1.9e-6) */
+LRT__FORCE_INLINE uint32_t lrt__compact_steps(const uint32_t *c0, const uint32_t *c1, uint32_t h, uint32_t scale, float inv)
+{
+    const __m128i top = _mm_set1_epi32((int)h); /* 16 (H - code) in 32-bit lanes, then in float */
+    const __m128i g0 = _mm_slli_epi32(_mm_sub_epi32(top, _mm_loadu_si128((const __m128i *)(const void *)c0)), 4);
+    const __m128i g1 = _mm_slli_epi32(_mm_sub_epi32(top, _mm_loadu_si128((const __m128i *)(const void *)c1)), 4);
+    const __m128 d = _mm_set1_ps(inv), half = _mm_set1_ps(15.5f);
+    const __m128 q0 = _mm_mul_ps(_mm_add_ps(_mm_cvtepi32_ps(g0), half), d);
+    const __m128 q1 = _mm_mul_ps(_mm_add_ps(_mm_cvtepi32_ps(g1), half), d);
+    __m128i j = _mm_min_epi16(_mm_packs_epi32(_mm_cvttps_epi32(q0), _mm_cvttps_epi32(q1)), _mm_set1_epi16(15));
+    (void)scale;
+    /* j_2k + 16 j_2k+1 in 32-bit lanes, then those 4 bytes in one word */
+    j = _mm_madd_epi16(j, _mm_set1_epi32(16 << 16 | 1));
+    j = _mm_packus_epi16(_mm_packs_epi32(j, j), _mm_setzero_si128());
+    return (uint32_t)_mm_cvtsi128_si32(j);
+}
+/* 1 / scale of n <= 16 nodes, four at a time */
+LRT__FORCE_INLINE void lrt__compact_inverses(const uint32_t scales[16], float inv[16], uint32_t n)
+{
+    uint32_t k;
+    for (k = 0; k < n; k += 4)
+        _mm_storeu_ps(inv + k, _mm_div_ps(_mm_set1_ps(1.0f), _mm_cvtepi32_ps(_mm_loadu_si128((const __m128i *)(const void *)(scales + k)))));
 }
 #else
-LRT__FORCE_INLINE uint32_t lrt__compact_word(const uint32_t *c0, const uint32_t *c1, uint32_t *height)
+LRT__FORCE_INLINE void lrt__compact_inverses(const uint32_t scales[16], float inv[16], uint32_t n)
 {
-    uint32_t h = 0, low = 65535u, e, word, s;
+    (void)scales;
+    (void)inv;
+    (void)n;
+}
+
+LRT__FORCE_INLINE uint32_t lrt__compact_bounds(const uint32_t *c0, const uint32_t *c1, uint32_t *height)
+{
+    uint32_t h = 0, low = 65535u, s;
     for (s = 0; s < 4; ++s) {
         h = c0[s] > h ? c0[s] : h;
         h = c1[s] > h ? c1[s] : h;
         low = c0[s] < low ? c0[s] : low;
         low = c1[s] < low ? c1[s] : low;
     }
-    e = lrt__compact_shift(h - low);
-    word = e << 24;
-    for (s = 0; s < 4; ++s) {
-        word |= ((h - c0[s]) >> e) << (3u * s);
-        word |= ((h - c1[s]) >> e) << (3u * (s + 4u));
-    }
     *height = h;
+    return lrt__compact_scale(h - low);
+}
+
+LRT__FORCE_INLINE uint32_t lrt__compact_steps(const uint32_t *c0, const uint32_t *c1, uint32_t h, uint32_t scale, float inv)
+{
+    uint32_t word = 0, s;
+    (void)inv;
+    for (s = 0; s < 4; ++s) {
+        const uint32_t j0 = (16u * (h - c0[s]) + 15u) / scale, j1 = (16u * (h - c1[s]) + 15u) / scale;
+        word |= (j0 < 15u ? j0 : 15u) << (4u * s);
+        word |= (j1 < 15u ? j1 : 15u) << (4u * (s + 4u));
+    }
     return word;
 }
 #endif
 
-/* The code of slot s of a compact level-1 node whose word is `word` and own
-   height h (the kernels' lrt_compact_words) */
-LRT__FORCE_INLINE uint32_t lrt__compact_code(uint32_t word, uint32_t h, uint32_t s)
+/* The code of slot s of a compact level-1 node whose word is `word`, own
+   height h and scale `scale` (the kernels' lrt_compact_words) */
+LRT__FORCE_INLINE uint32_t lrt__compact_code(uint32_t word, uint32_t h, uint32_t scale, uint32_t s)
 {
-    return h - (((word >> (3u * s)) & 7u) << (word >> 24));
+    return h - ((((word >> (4u * s)) & 15u) * scale) >> 4);
 }
 
 /* Code index (16-bit units) of the first code of node slot `node` >= the
    level-1 slots, or of any node of a tree without a compact level 1: the
-   compact level-1 nodes before it take 2 units each, not 8 */
+   compact level-1 nodes before it take 3 units each, not 8 (a word and a
+   scale) */
 LRT__FORCE_INLINE size_t lrt__code_index(const lrt_layout *L, size_t node)
 {
-    return node * 8u - (L->level1_node_bytes == 4u ? L->levels[1].count * 6u : 0u);
+    return node * 8u - (L->level1_node_bytes == 6u ? L->levels[1].count * 5u : 0u);
+}
+
+/* Code index of compact level-1 node k's scale: after the level's words */
+LRT__FORCE_INLINE size_t lrt__compact_scale_index(const lrt_layout *L, size_t k)
+{
+    return L->levels[1].count * 2u + k;
 }
 
 /* The back codes' first code index: after the heights, laid out as they are */
@@ -1486,7 +1539,7 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
     const lrt_layout *L = &bvh->layout;
     const uint32_t qmax = 65535u;
     const size_t codes_at = back ? lrt__back_code_index(L) : 0u;
-    const int compact = L->level1_node_bytes == 4u;
+    const int compact = L->level1_node_bytes == 6u;
     uint32_t codes[2][64 + 4];
     size_t back_stride = 0;
     uint32_t nx, ny, r, s, chunk;
@@ -1512,18 +1565,30 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
                     lrt__row_heights(depth, (const unsigned char *)depth->data + stride * ty, tx0, real, qmax, codes[r]);
                 for (s = real; s < n; ++s) codes[r][s] = 0;
             }
-            for (nx = chunk; nx <= last; ++nx) {
-                /* level 1 groups 2x4 (lrt_layout_node_index): node nx is 8 slots after nx - 2 */
-                const size_t node = L->levels[1].offset + row + (size_t)(nx >> 1) * 8u + (nx & 1u);
-                const uint32_t *c0 = codes[0] + (size_t)(nx - chunk) * 4u, *c1 = codes[1] + (size_t)(nx - chunk) * 4u;
-                if (compact) {
-                    const uint32_t px = (nx >> 1) * parent_step;
+            if (compact) {
+                uint32_t heights[16], scales[16] = {16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16};
+                float inv[16];
+                for (nx = chunk; nx <= last; ++nx) { /* heights and scales first (lrt__compact_bounds) */
+                    const uint32_t px = (nx >> 1) * parent_step, k = nx - chunk;
+                    const size_t node = L->levels[1].offset + row + (size_t)(nx >> 1) * 8u + (nx & 1u);
                     const size_t parent = parents + (size_t)(px >> 2) * 8u + (px & 3u);
-                    uint32_t h, word = lrt__compact_word(c0, c1, &h);
+                    scales[k] = lrt__compact_bounds(codes[0] + k * 4u, codes[1] + k * 4u, &heights[k]);
+                    ((uint16_t *)bvh->nodes)[codes_at + lrt__compact_scale_index(L, node)] = (uint16_t)scales[k];
+                    ((uint16_t *)bvh->nodes)[codes_at + lrt__code_index(L, parent) + (child_row | (nx & 1u))] = (uint16_t)heights[k];
+                }
+                lrt__compact_inverses(scales, inv, last - chunk + 1u);
+                for (nx = chunk; nx <= last; ++nx) {
+                    const uint32_t k = nx - chunk;
+                    const size_t node = L->levels[1].offset + row + (size_t)(nx >> 1) * 8u + (nx & 1u);
+                    const uint32_t word = lrt__compact_steps(codes[0] + k * 4u, codes[1] + k * 4u, heights[k], scales[k], inv[k]);
                     memcpy((uint32_t *)bvh->nodes + codes_at / 2u + node, &word, 4);
-                    ((uint16_t *)bvh->nodes)[codes_at + lrt__code_index(L, parent) + (child_row | (nx & 1u))] = (uint16_t)h;
-                } else {
-                    lrt__store_node4x2(bvh->nodes, codes_at + node * 8u, c0, c1);
+                }
+            } else {
+                for (nx = chunk; nx <= last; ++nx) {
+                    /* level 1 groups 2x4 (lrt_layout_node_index): node nx is 8 slots after nx - 2 */
+                    const size_t node = L->levels[1].offset + row + (size_t)(nx >> 1) * 8u + (nx & 1u);
+                    lrt__store_node4x2(bvh->nodes, codes_at + node * 8u, codes[0] + (size_t)(nx - chunk) * 4u,
+                                       codes[1] + (size_t)(nx - chunk) * 4u);
                 }
             }
         }
@@ -2513,7 +2578,7 @@ typedef struct lrt__walk {
     const void *nodes;
     const lrt_depth *depth;
     size_t stride;
-    uint32_t compact1; /* 8-bit trees: level-1 nodes are words (lrt__compact_word) */
+    uint32_t compact1; /* 8-bit trees: level-1 nodes are words (lrt__compact_steps) */
     uint32_t row_prefetch_level; /* 3: entering a level-2 node prefetches the depth rows the exact test reads; ~0: never */
     float decode_scale; /* just below 1/65535: decoded bounds never exceed the true ones */
     size_t back_codes;  /* 0, or the code index of the back codes (a back-map tree) */
@@ -2597,7 +2662,7 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
     w->nodes = bvh->nodes;
     w->depth = depth;
     w->stride = stride;
-    w->compact1 = L->level1_node_bytes == 4u;
+    w->compact1 = L->level1_node_bytes == 6u;
     /* 2^-20 below 1/65535: a node's decoded depth stays below every texel
        depth under it by more than the float rounding of its plane's t, so
        culling in float never drops a hit that the texel test (in double) finds */
@@ -3334,14 +3399,15 @@ LRT__FORCE_INLINE void lrt__prefetch_children(const lrt__walk *w, size_t childre
     LRT__PREFETCH(codes + 64);
 }
 
-/* The 8 codes of a compact level-1 node: its word at word index `word`,
-   its own height at code index `height` (lrt__compact_word) */
-LRT__FORCE_INLINE void lrt__compact_codes(const lrt__walk *w, size_t word, size_t height, uint16_t codes[8])
+/* The 8 codes of compact level-1 node k of the codes at code index `at`
+   (the heights, or the back codes): its word, its scale, and its own
+   height at code index at + `height` (lrt__compact_steps) */
+LRT__FORCE_INLINE void lrt__compact_codes(const lrt__walk *w, size_t at, size_t k, size_t height, uint16_t codes[8])
 {
-    const uint32_t h = *lrt__codes(w, height);
-    uint32_t bits, k;
-    memcpy(&bits, (const uint32_t *)w->nodes + word, 4);
-    for (k = 0; k < 8u; ++k) codes[k] = (uint16_t)lrt__compact_code(bits, h, k);
+    const uint32_t h = *lrt__codes(w, at + height), scale = *lrt__codes(w, at + lrt__compact_scale_index(w->L, k));
+    uint32_t bits, s;
+    memcpy(&bits, (const uint32_t *)w->nodes + at / 2u + k, 4);
+    for (s = 0; s < 8u; ++s) codes[s] = (uint16_t)lrt__compact_code(bits, h, scale, s);
 }
 
 /* The 8 codes of level-1 node (nx, ny) whose first code index is slot0,
@@ -3356,10 +3422,10 @@ LRT__FORCE_INLINE void lrt__level1_codes(const lrt__walk *w, uint32_t nx, uint32
     codes[1] = lrt__codes(w, w->back_codes + slot0);
     if (!w->compact1) return;
     height = lrt__node_slot(w, 2, nx >> 1, ny >> 2) + (((ny & 3u) << 1) | (nx & 1u)); /* level 1 groups 2x4 */
-    lrt__compact_codes(w, slot0 >> 3, height, buf);
+    lrt__compact_codes(w, 0, slot0 >> 3, height, buf);
     codes[0] = buf;
     codes[1] = buf + 8;
-    if (w->back_codes) lrt__compact_codes(w, (w->back_codes >> 1) + (slot0 >> 3), w->back_codes + height, buf + 8);
+    if (w->back_codes) lrt__compact_codes(w, w->back_codes, slot0 >> 3, height, buf + 8);
 }
 
 /* Level-1 node (nx, ny): the first texel under it that the ray hits, in

@@ -107,8 +107,8 @@ uint lrt_child_slot(uint level, uint x, uint y)
 // the 16-bit code at code index `slot` of the node array
 uint lrt_code(uint slot) { return (LRT_NODE_WORD(slot >> 1) >> ((slot & 1u) * 16u)) & 0xffffu; }
 
-// 8-bit trees of two levels or more: each level-1 node is one word
-// (linear_rt.h's lrt__compact_word), 16-bit codes above it
+// 8-bit trees of two levels or more: each level-1 node is one word and a
+// scale (linear_rt.h's lrt__compact_steps), 16-bit codes above it
 bool lrt_compact(LrtParams p) { return p.node_bits == 8u && p.level_count >= 2u; }
 
 // ============================================================================
@@ -919,7 +919,7 @@ uint lrt_back_codes(LrtParams p)
 {
     uint total = 0u;
     for (uint lv = 1u; lv <= p.level_count; ++lv) total += lrt_level_slots(p, lv);
-    return total * 8u - (lrt_compact(p) ? lrt_level_slots(p, 1u) * 6u : 0u);
+    return total * 8u - (lrt_compact(p) ? lrt_level_slots(p, 1u) * 5u : 0u);
 }
 
 // first code of node (nx, ny) of stored level lv, whose first node is at
@@ -932,7 +932,7 @@ uint lrt_node_code0(LrtParams p, uint lv, uint off, uint nx, uint ny)
         index = ((ny >> lrt_bh_log2(lv)) * lrt_grid_w(p.width, lv + 1u) + (nx >> lrt_bw_log2(lv))) * 8u +
                 lrt_child_slot(lv, nx, ny);
     }
-    return (off + index) * 8u - (lv >= 2u && lrt_compact(p) ? lrt_level_slots(p, 1u) * 6u : 0u);
+    return (off + index) * 8u - (lv >= 2u && lrt_compact(p) ? lrt_level_slots(p, 1u) * 5u : 0u);
 }
 
 // ---- the walk: from the ray's origin up and down the tree, no stack ----
@@ -1000,15 +1000,18 @@ uvec4 lrt_node_words(uint slot0)
 }
 
 // a compact level-1 node's 8 codes, packed as lrt_node_words gives a
-// node's: h - (j_s << e) for its word's 3-bit steps j_s and shift e, h its
+// node's: h - ((j_s * scale) >> 4) for its word's 4-bit steps j_s, h its
 // own height in its parent (linear_rt.h's lrt__compact_code)
-uvec4 lrt_compact_words(uint word, uint h)
+uvec4 lrt_compact_words(uint word, uint h, uint scale)
 {
-    uvec4 at = uvec4(0u, 6u, 12u, 18u), e = uvec4(word >> 24);
-    uvec4 lo = uvec4(h) - (((uvec4(word) >> at) & 7u) << e);
-    uvec4 hi = uvec4(h) - (((uvec4(word) >> (at + 3u)) & 7u) << e);
+    uvec4 at = uvec4(0u, 8u, 16u, 24u);
+    uvec4 lo = uvec4(h) - ((((uvec4(word) >> at) & 15u) * scale) >> 4u);
+    uvec4 hi = uvec4(h) - ((((uvec4(word) >> (at + 4u)) & 15u) * scale) >> 4u);
     return lo | (hi << 16u);
 }
+
+// code index of compact level-1 node k's scale: after the level's words
+uint lrt_compact_scale_slot(LrtParams p, uint k) { return lrt_level_slots(p, 1u) * 2u + k; }
 
 // code slot of a node whose words are w (lrt_code's order)
 uint lrt_code_in(uvec4 w, uint slot) { return (w[slot >> 1] >> ((slot & 1u) * 16u)) & 0xffffu; }
@@ -1100,8 +1103,10 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
     uvec4 w, b; // the codes and the back codes
     if (lv == 1u && lrt_compact(p)) { // with the node's own height, in its level-2 parent
         uint own = lrt_node_code0(p, 2u, lrt_level_slots(p, 1u), nx >> 1, ny >> 2) + lrt_child_slot(1u, nx, ny);
-        w = lrt_compact_words(LRT_NODE_WORD(slot0 >> 3), lrt_code(own));
-        b = back ? lrt_compact_words(LRT_NODE_WORD((back_base >> 1) + (slot0 >> 3)), lrt_code(back_base + own)) : uvec4(0u);
+        uint k = slot0 >> 3, scale = lrt_compact_scale_slot(p, k);
+        w = lrt_compact_words(LRT_NODE_WORD(k), lrt_code(own), lrt_code(scale));
+        b = back ? lrt_compact_words(LRT_NODE_WORD((back_base >> 1) + k), lrt_code(back_base + own), lrt_code(back_base + scale))
+                 : uvec4(0u);
     } else {
         w = lrt_node_words(slot0);
         b = back ? lrt_node_words(back_base + slot0) : uvec4(0u);

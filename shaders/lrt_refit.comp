@@ -51,16 +51,35 @@ uint lrt_codes_max(uint codes[8])
     return m;
 }
 
-// a compact level-1 node's word (linear_rt.h's lrt__compact_word): 3-bit
-// steps (h - code) >> e down from its height h, e the least that fits them
-uint lrt_compact_word(uint codes[8], uint h)
+// a compact level-1 node's scale and word (linear_rt.h's
+// lrt__compact_scale and lrt__compact_bounds / _steps): the scale 16 (h -
+// lowest) / 15 within [16, 65535], and per texel the greatest 4-bit step j
+// with (j * scale) >> 4 <= h - code, down from its height h
+uint lrt_compact_scale(uint codes[8], uint h)
 {
-    uint low = 65535u, e = 0u, word;
+    uint low = 65535u;
     for (uint k = 0u; k < 8u; ++k) low = min(low, codes[k]);
-    while (((h - low) >> e) > 7u) ++e;
-    word = e << 24;
-    for (uint k = 0u; k < 8u; ++k) word |= ((h - codes[k]) >> e) << (3u * k);
+    return clamp((h - low) * 16u / 15u, 16u, 65535u);
+}
+
+uint lrt_compact_word(uint codes[8], uint h, uint scale)
+{
+    uint word = 0u;
+    for (uint k = 0u; k < 8u; ++k) {
+        // bit by bit from the top: no integer division (lavapipe runs one per lane)
+        uint j = 0u;
+        for (uint b = 8u; b != 0u; b >>= 1) j += ((j + b) * scale) >> 4 <= h - codes[k] ? b : 0u;
+        word |= j << (4u * k);
+    }
     return word;
+}
+
+// the 8 scales of level-2 node's children from level-1 slot k0 on (k0 a
+// multiple of 8: four whole words, this invocation's alone), the codes at at
+void lrt_store_scales(LrtParams p, uint at, uint k0, uint scales[8])
+{
+    uint slot = at + lrt_compact_scale_slot(p, k0);
+    for (uint k = 0u; k < 4u; ++k) lrt_nodes.words[(slot >> 1) + k] = scales[2u * k] | (scales[2u * k + 1u] << 16);
 }
 
 void main()
@@ -74,7 +93,7 @@ void main()
     uint cols = (x1 >> 1) - (x0 >> 1) + 1u, idx = lrt_invocation();
     if (idx >= cols * ((y1 >> 2) - (y0 >> 2) + 1u)) return;
     uint nx = (x0 >> 1) + idx % cols, ny = (y0 >> 2) + idx / cols;
-    uint w1 = (p.width + 3u) >> 2, h1 = (p.height + 1u) >> 1, codes[8], heights[8];
+    uint w1 = (p.width + 3u) >> 2, h1 = (p.height + 1u) >> 1, codes[8], heights[8], scales[8], bscales[8];
     if (p.level_count == 1u) { // the one level-1 node is the root
         for (uint s = 0u; s < 8u; ++s) {
             uint tx = s & 3u, ty = s >> 2;
@@ -99,6 +118,7 @@ void main()
         uint cx = nx * 2u + (c & 1u), cy = ny * 4u + (c >> 1), slot0 = block + c * 8u;
         if (cx >= w1 || cy >= h1) { // a padding child: height 0, its node 0 on a build
             heights[c] = bheights[c] = 0u;
+            scales[c] = bscales[c] = 16u; // (lrt_compact_scale of 8 codes 0, as the CPU's build writes it)
             if (pc.build != 0u && compact) {
                 lrt_nodes.words[slot0 >> 3] = 0u;
                 if (back) lrt_nodes.words[(bb >> 1) + (slot0 >> 3)] = 0u;
@@ -109,6 +129,8 @@ void main()
         } else if (cx < x0 || cx > x1 || cy < y0 || cy > y1) { // outside the rectangle: as it is
             heights[c] = compact ? lrt_code(node + c) : lrt_node_max(slot0);
             bheights[c] = !back ? 0u : compact ? lrt_code(bb + node + c) : lrt_node_max(bb + slot0);
+            scales[c] = compact ? lrt_code(lrt_compact_scale_slot(p, slot0 >> 3)) : 0u;
+            bscales[c] = compact && back ? lrt_code(bb + lrt_compact_scale_slot(p, slot0 >> 3)) : 0u;
         } else {
             for (uint s = 0u; s < 8u; ++s) {
                 uint tx = cx * 4u + (s & 3u), ty = cy * 2u + (s >> 2);
@@ -119,13 +141,19 @@ void main()
             heights[c] = lrt_codes_max(codes);
             bheights[c] = lrt_codes_max(bcodes);
             if (compact) {
-                lrt_nodes.words[slot0 >> 3] = lrt_compact_word(codes, heights[c]);
-                if (back) lrt_nodes.words[(bb >> 1) + (slot0 >> 3)] = lrt_compact_word(bcodes, bheights[c]);
+                scales[c] = lrt_compact_scale(codes, heights[c]);
+                bscales[c] = back ? lrt_compact_scale(bcodes, bheights[c]) : 0u;
+                lrt_nodes.words[slot0 >> 3] = lrt_compact_word(codes, heights[c], scales[c]);
+                if (back) lrt_nodes.words[(bb >> 1) + (slot0 >> 3)] = lrt_compact_word(bcodes, bheights[c], bscales[c]);
             } else {
                 lrt_store_node(slot0, codes);
                 if (back) lrt_store_node(bb + slot0, bcodes);
             }
         }
+    }
+    if (compact) { // the 8 children's scales, those outside the rectangle as they were
+        lrt_store_scales(p, 0u, block >> 3, scales);
+        if (back) lrt_store_scales(p, bb, block >> 3, bscales);
     }
     lrt_store_node(node, heights);
     if (back) lrt_store_node(bb + node, bheights);
@@ -150,7 +178,7 @@ void main()
         atomicExchange(lrt_counters.c[counter], 0u); // ready for the next dispatch
         memoryBarrierBuffer(); // the siblings' nodes after their arrivals
         // children of (px, py) are contiguous: level lv's block of the parent
-        uint first_child = counter * 8u - (compact ? lrt_level_slots(p, 1u) * 6u : 0u); // (lrt_node_code0)
+        uint first_child = counter * 8u - (compact ? lrt_level_slots(p, 1u) * 5u : 0u); // (lrt_node_code0)
         for (uint s = 0u; s < 8u; ++s) {
             uint cx = (px << bwl) + (bwl == 2u ? (s & 3u) : (s & 1u));
             uint cy = (py << bhl) + (bwl == 2u ? (s >> 2) : (s >> 1));

@@ -675,7 +675,7 @@ static void test_bad_arguments_no_device(void)
     CHECK(lrt_vk_bvh_buffer_sizes(3, 2, LRT_FORMAT_UNORM8, NULL, &a, &b) == LRT_SUCCESS && a == 16 && b == 4,
           "buffer sizes of 3x2 unorm8 (one node, 16-bit codes: no parent for a compact one): %u %u", (unsigned)a,
           (unsigned)b);
-    CHECK(lrt_vk_bvh_buffer_sizes(5, 2, LRT_FORMAT_UNORM8, NULL, &a, &b) == LRT_SUCCESS && a == 8 * 4 + 16 && b == 36,
+    CHECK(lrt_vk_bvh_buffer_sizes(5, 2, LRT_FORMAT_UNORM8, NULL, &a, &b) == LRT_SUCCESS && a == 8 * 6 + 16 && b == 36,
           "buffer sizes of 5x2 unorm8 (8 compact level-1 slots and a root): %u %u", (unsigned)a, (unsigned)b);
     CHECK(lrt_vk_bvh_buffer_sizes(0, 2, LRT_FORMAT_FLOAT32, NULL, &a, &b) == LRT_ERROR_INVALID_SIZE, "buffer sizes: 0 wide");
     CHECK(lrt_vk_bvh_buffer_sizes(3, 2, (lrt_format)0, NULL, &a, &b) == LRT_ERROR_INVALID_FORMAT, "buffer sizes: format 0");
