@@ -563,6 +563,68 @@ static int compact_tree_right(const lrt_bvh *b8, const lrt_bvh *b16, const char 
     return bad == 0;
 }
 
+/* Every step boundary of every spread: for each spread d (a node whose
+   texels include H and H - d, so its scale is d's), texels at H - g for g
+   on both sides of each step's drop (j * scale) >> 4, the only places where
+   a step found by a reciprocal (the SSE2 refit) could differ from the
+   greatest step by the definition (compact_tree_right) */
+static void test_compact_boundaries(void)
+{
+    const uint32_t w = 2048, per_node = 6, spreads = 65535;
+    uint32_t h, d, j, k, n = 0, node;
+    uint32_t *gs = (uint32_t *)malloc(sizeof(uint32_t) * 32u * spreads);
+    uint16_t *map;
+    size_t nodes = 0, cap = 0;
+    lrt_depth dm;
+    lrt_build_options opt;
+    lrt_bvh b8, b16;
+    for (d = 1; d <= spreads; ++d) { /* the g values of spread d, then padded to whole nodes */
+        uint32_t scale = d * 16u / 15u, m = 0;
+        scale = scale < 16u ? 16u : scale > 65535u ? 65535u : scale;
+        for (j = 1; j < 16u; ++j) {
+            const uint32_t drop = (j * scale) >> 4;
+            if (drop - 1u <= d) gs[n + m++] = drop - 1u;
+            if (drop <= d) gs[n + m++] = drop;
+        }
+        while (m % per_node) gs[n + m++] = d;
+        n += m;
+    }
+    cap = n / per_node;
+    h = (uint32_t)((cap + w / 4u - 1u) / (w / 4u)) * 2u; /* 4x2 texels a node */
+    map = (uint16_t *)calloc((size_t)w * h, sizeof(uint16_t));
+    /* codes are 65535 - v for unorm16 v: H = 65535 (v = 0) */
+    for (d = 1, k = 0; d <= spreads; ++d) {
+        uint32_t scale = d * 16u / 15u, m = 0;
+        scale = scale < 16u ? 16u : scale > 65535u ? 65535u : scale;
+        for (j = 1; j < 16u; ++j) m += (((j * scale) >> 4) - 1u <= d) + (((j * scale) >> 4) <= d);
+        m += (per_node - m % per_node) % per_node;
+        for (j = 0; j < m; j += per_node, ++nodes) {
+            const uint32_t x = (uint32_t)(nodes % (w / 4u)) * 4u, y = (uint32_t)(nodes / (w / 4u)) * 2u;
+            map[(size_t)y * w + x + 1] = (uint16_t)d; /* the lowest: H - d */
+            for (node = 0; node < per_node; ++node) {
+                const uint32_t s = node + 2u; /* slots 2..7 */
+                map[(size_t)(y + (s >> 2)) * w + x + (s & 3u)] = (uint16_t)gs[k + j + node];
+            }
+        }
+        k += m;
+    }
+    memset(&dm, 0, sizeof dm);
+    dm.data = map;
+    dm.width = w;
+    dm.height = h;
+    dm.format = LRT_FORMAT_UNORM16;
+    memset(&opt, 0, sizeof opt);
+    opt.node_bits = 8;
+    CHECK(lrt_bvh_build(&b8, &dm, &opt, NULL) == LRT_SUCCESS, "compact boundaries: 8-bit build");
+    opt.node_bits = 16;
+    CHECK(lrt_bvh_build(&b16, &dm, &opt, NULL) == LRT_SUCCESS, "compact boundaries: 16-bit build");
+    CHECK(compact_tree_right(&b8, &b16, "compact boundaries"), "compact boundaries: %zu nodes, %u texels at a boundary", nodes, n);
+    lrt_bvh_destroy(&b8);
+    lrt_bvh_destroy(&b16);
+    free(map);
+    free(gs);
+}
+
 static void test_compact_codes(void)
 {
     static const int sizes[][2] = {{37, 21}, {64, 64}, {130, 67}, {5, 3}};
@@ -1037,6 +1099,7 @@ int main(int argc, char **argv)
     RUN_TEST(test_huge_directions);
     RUN_TEST(test_layout);
     RUN_TEST(test_compact_codes);
+    RUN_TEST(test_compact_boundaries);
     RUN_TEST(test_update);
     RUN_TEST(test_bad_arguments);
     RUN_TEST(test_ranges);
