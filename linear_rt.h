@@ -165,6 +165,11 @@
                                    level-1 node's texels, 2 and up for a
                                    node's children (default: nothing; the
                                    benchmark's counts, bench/visits.c)
+       LINEAR_RT_COUNT_TEXEL_TEST()  profiling: at each exact test of a
+                                   texel that a level-1 node's codes let
+                                   through (the SSE2 and scalar walk; the
+                                   kernels make the same tests; the AVX2
+                                   walk reads float depth with no codes)
    Memory: lrt_bvh_build allocates once (allocator hooks or the macros);
    lrt_bvh_build_in uses caller-owned memory sized by lrt_bvh_memory_size.
    Update and trace never allocate.
@@ -874,6 +879,9 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
 #ifndef LINEAR_RT_COUNT_NODE_TEST
 #define LINEAR_RT_COUNT_NODE_TEST(level) ((void)0)
 #endif
+#ifndef LINEAR_RT_COUNT_TEXEL_TEST
+#define LINEAR_RT_COUNT_TEXEL_TEST() ((void)0)
+#endif
 
 #ifndef LINEAR_RT_ASSERT
 #include <assert.h>
@@ -1442,7 +1450,9 @@ LRT__FORCE_INLINE uint32_t lrt__compact_bounds(const uint32_t *c0, const uint32_
    quotient below 16, where it counts: the half moves an integer quotient
    0.5 / scale (at least 7.6e-6) above its integer and leaves any other as
    far below the next one, and the two roundings err by at most 2^-23 of a
-   quotient below 16 (1.9e-6) */
+   quotient below 16 (1.9e-6); checked for all 2.27e9 pairs of a scale and
+   an H - code with a quotient up to 17 (docs/MEASUREMENTS.md), and at
+   every step's edge by test_core.c:test_compact_boundaries */
 LRT__FORCE_INLINE uint32_t lrt__compact_steps(const uint32_t *c0, const uint32_t *c1, uint32_t h, uint32_t scale, float inv)
 {
     const __m128i top = _mm_set1_epi32((int)h); /* 16 (H - code) in 32-bit lanes, then in float */
@@ -1458,6 +1468,7 @@ LRT__FORCE_INLINE uint32_t lrt__compact_steps(const uint32_t *c0, const uint32_t
     j = _mm_packus_epi16(_mm_packs_epi32(j, j), _mm_setzero_si128());
     return (uint32_t)_mm_cvtsi128_si32(j);
 }
+
 /* 1 / scale of n <= 16 nodes, four at a time */
 LRT__FORCE_INLINE void lrt__compact_inverses(const uint32_t scales[16], float inv[16], uint32_t n)
 {
@@ -3446,6 +3457,7 @@ LRT__FORCE_INLINE int lrt__level1_codes_hit(const lrt__walk *w, const lrt__ray_s
         *tx = nx * 4u + (slot & 3u);
         *ty = ny * 2u + (slot >> 2);
         mask &= mask - 1u;
+        LINEAR_RT_COUNT_TEXEL_TEST();
         if (lrt__test_texel(w, s, *tx, *ty, enter[lane], exit[lane], codes[0][slot], t, planes)) return 1;
     }
     return 0;

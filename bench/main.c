@@ -482,12 +482,13 @@ typedef struct result {
 static result g_res[MAX_RESULTS];
 static int g_nres;
 
-/* what linear_rt's CPU walk costs per ray on each set, by node width:
-   node tests per ray at level 0, level 1 and above (bench_visits) */
+/* what linear_rt's walk costs per ray on each set, by node width: node
+   tests per ray at level 0, level 1 and above, and the exact tests of the
+   texels the level-1 codes let through (bench_visits) */
 typedef struct visits_row {
     const char *scene, *set;
     uint32_t node_bits;
-    double per_ray[3];
+    double per_ray[4];
 } visits_row;
 #define MAX_VISITS 256
 static visits_row g_visits[MAX_VISITS];
@@ -858,11 +859,11 @@ static void write_csv(const options *o)
         fprintf(stderr, "bench: cannot write into %s\n", o->out_dir);
         exit(1);
     }
-    fprintf(csv, "scene,rays,node_bits,level0_per_ray,level1_per_ray,above_per_ray,all_per_ray\n");
+    fprintf(csv, "scene,rays,node_bits,level0_per_ray,level1_per_ray,above_per_ray,all_per_ray,texels_per_ray\n");
     for (i = 0; i < g_nvisits; ++i) {
         const visits_row *v = &g_visits[i];
-        fprintf(csv, "%s,%s,%u,%.3f,%.3f,%.3f,%.3f\n", v->scene, v->set, v->node_bits, v->per_ray[0], v->per_ray[1],
-                v->per_ray[2], v->per_ray[0] + v->per_ray[1] + v->per_ray[2]);
+        fprintf(csv, "%s,%s,%u,%.3f,%.3f,%.3f,%.3f,%.3f\n", v->scene, v->set, v->node_bits, v->per_ray[0], v->per_ray[1],
+                v->per_ray[2], v->per_ray[0] + v->per_ray[1] + v->per_ray[2], v->per_ray[3]);
     }
     fclose(csv);
 }
@@ -967,9 +968,11 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
         }
     }
     if (g_nvisits) {
-        fprintf(md, "\n## What linear_rt's CPU walk costs per ray\n\nNode tests per ray (bench/visits.c, one thread): "
+        fprintf(md, "\n## What linear_rt's walk costs per ray\n\nNode tests per ray (bench/visits.c, one thread): "
                     "level 0 (the one texel of a ray that needs no walk) / level 1 (a level-1 node's 8 texels) / above "
-                    "(a node's 8 children); the same counts are in visits.csv.\n\n");
+                    "(a node's 8 children), then the exact tests of texels that the level-1 codes let through (as the "
+                    "kernels make them; the CPU's AVX2 walk reads float depth instead); the same counts are in "
+                    "visits.csv.\n\n");
         fprintf(md, "| scene | rays | 16-bit nodes | 8-bit nodes |\n|---|---|---|---|\n");
         for (i = 0; i < g_nvisits; ++i) { /* each set's 16-bit row, and its 8-bit row where there is one */
             const visits_row *a = &g_visits[i], *b = NULL;
@@ -977,8 +980,9 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
             for (k = 0; k < g_nvisits; ++k)
                 if (g_visits[k].node_bits == 8u && !strcmp(g_visits[k].scene, a->scene) && !strcmp(g_visits[k].set, a->set))
                     b = &g_visits[k];
-            fprintf(md, "| %s | %s | %.2f / %.2f / %.2f |", a->scene, a->set, a->per_ray[0], a->per_ray[1], a->per_ray[2]);
-            if (b) fprintf(md, " %.2f / %.2f / %.2f |\n", b->per_ray[0], b->per_ray[1], b->per_ray[2]);
+            fprintf(md, "| %s | %s | %.2f / %.2f / %.2f; %.2f |", a->scene, a->set, a->per_ray[0], a->per_ray[1], a->per_ray[2],
+                    a->per_ray[3]);
+            if (b) fprintf(md, " %.2f / %.2f / %.2f; %.2f |\n", b->per_ray[0], b->per_ray[1], b->per_ray[2], b->per_ray[3]);
             else fprintf(md, " - |\n");
         }
     }

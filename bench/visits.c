@@ -1,12 +1,18 @@
-/* bench/visits.c - what linear_rt's CPU walk costs per ray: its node tests
-   by level, counted through the library's profiling hook
-   (LINEAR_RT_COUNT_NODE_TEST) in a copy of the library of this file's own
-   (LINEAR_RT_STATIC), so the timed copy (m_linear_rt.c) counts nothing.
-   The counters are this file's: one thread at a time. */
+/* bench/visits.c - what linear_rt's walk costs per ray: its node tests by
+   level, and the exact tests of the texels that the level-1 codes let
+   through, counted through the library's profiling hooks
+   (LINEAR_RT_COUNT_NODE_TEST, LINEAR_RT_COUNT_TEXEL_TEST) in a copy of the
+   library of this file's own (LINEAR_RT_STATIC), so the timed copy
+   (m_linear_rt.c) counts nothing. The copy walks as SSE2 (LINEAR_RT_NO_AVX):
+   its level-1 tests read the codes, as the kernels' do, where the AVX2
+   walk reads float depth; the node tests are the same in both. The
+   counters are this file's: one thread at a time. */
 #include <stddef.h>
 
-static size_t visits_tests[3]; /* level 0, level 1, above */
+static size_t visits_tests[4]; /* level 0, level 1, above; texels through the level-1 codes */
 #define LINEAR_RT_COUNT_NODE_TEST(level) (++visits_tests[(level) > 1u ? 2 : (level)])
+#define LINEAR_RT_COUNT_TEXEL_TEST() (++visits_tests[3])
+#define LINEAR_RT_NO_AVX
 #define LINEAR_RT_STATIC
 #define LINEAR_RT_IMPLEMENTATION
 #include "../tests/support/bench.h"
@@ -14,7 +20,7 @@ static size_t visits_tests[3]; /* level 0, level 1, above */
 #include <stdlib.h>
 #include <string.h>
 
-int bench_visits(const bench_scene *sc, const bench_rays *rs, uint32_t node_bits, double per_ray[3])
+int bench_visits(const bench_scene *sc, const bench_rays *rs, uint32_t node_bits, double per_ray[4])
 {
     const lrt_depth *depth = bench_lrt_depth(sc);
     lrt_build_options o;
@@ -22,7 +28,7 @@ int bench_visits(const bench_scene *sc, const bench_rays *rs, uint32_t node_bits
     lrt_hit *hits;
     lrt_result r;
     int k;
-    memset(per_ray, 0, 3 * sizeof *per_ray);
+    memset(per_ray, 0, 4 * sizeof *per_ray);
     if (!rs->count) return 0;
     memset(&o, 0, sizeof o);
     o.node_bits = node_bits;
@@ -34,7 +40,7 @@ int bench_visits(const bench_scene *sc, const bench_rays *rs, uint32_t node_bits
     }
     memset(visits_tests, 0, sizeof visits_tests);
     r = lrt_trace(&bvh, depth, rs->rays, hits, rs->count, 0);
-    for (k = 0; k < 3; ++k) per_ray[k] = (double)visits_tests[k] / (double)rs->count;
+    for (k = 0; k < 4; ++k) per_ray[k] = (double)visits_tests[k] / (double)rs->count;
     free(hits);
     lrt_bvh_destroy(&bvh);
     return r != LRT_SUCCESS;

@@ -121,10 +121,11 @@ static inline void bench_gpu_batch_timed(bench_gpu_batch *b, double ms)
     b->size = n >= (double)BENCH_GPU_BATCH_MAX ? BENCH_GPU_BATCH_MAX : n > 1.0 ? (uint32_t)n + 1u : 1u;
 }
 
-/* What linear_rt's CPU walk costs per ray on a set (bench/visits.c): node
+/* What linear_rt's walk costs per ray on a set (bench/visits.c): node
    tests per ray at level 0 (the one texel of a ray that needs no walk),
-   level 1 (a level-1 node's texels) and above (a node's children), by a
-   copy of the library that counts them, on one thread. 0 on success. */
-int bench_visits(const bench_scene *scene, const bench_rays *rays, uint32_t node_bits, double per_ray[3]);
+   level 1 (a level-1 node's texels) and above (a node's children), and the
+   exact tests of texels the level-1 codes let through (as in the kernels),
+   by a copy of the library that counts them, on one thread. 0 on success. */
+int bench_visits(const bench_scene *scene, const bench_rays *rays, uint32_t node_bits, double per_ray[4]);
 
 #endif
