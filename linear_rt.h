@@ -1583,7 +1583,7 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
                     const uint32_t px = (nx >> 1) * parent_step, k = nx - chunk;
                     const size_t node = L->levels[1].offset + row + (size_t)(nx >> 1) * 8u + (nx & 1u);
                     const size_t parent = parents + (size_t)(px >> 2) * 8u + (px & 3u);
-                    scales[k] = lrt__compact_bounds(codes[0] + k * 4u, codes[1] + k * 4u, &heights[k]);
+                    scales[k] = lrt__compact_bounds(codes[0] + (size_t)k * 4u, codes[1] + (size_t)k * 4u, &heights[k]);
                     ((uint16_t *)bvh->nodes)[codes_at + lrt__compact_scale_index(L, node)] = (uint16_t)scales[k];
                     ((uint16_t *)bvh->nodes)[codes_at + lrt__code_index(L, parent) + (child_row | (nx & 1u))] = (uint16_t)heights[k];
                 }
@@ -1591,7 +1591,8 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
                 for (nx = chunk; nx <= last; ++nx) {
                     const uint32_t k = nx - chunk;
                     const size_t node = L->levels[1].offset + row + (size_t)(nx >> 1) * 8u + (nx & 1u);
-                    const uint32_t word = lrt__compact_steps(codes[0] + k * 4u, codes[1] + k * 4u, heights[k], scales[k], inv[k]);
+                    const uint32_t word = lrt__compact_steps(codes[0] + (size_t)k * 4u, codes[1] + (size_t)k * 4u, heights[k],
+                                                             scales[k], inv[k]);
                     memcpy((uint32_t *)bvh->nodes + codes_at / 2u + node, &word, 4);
                 }
             } else {

@@ -74,8 +74,9 @@ uint lrt_compact_word(uint codes[8], uint h, uint scale)
     return word;
 }
 
-// the 8 scales of level-2 node's children from level-1 slot k0 on (k0 a
-// multiple of 8: four whole words, this invocation's alone), the codes at at
+// the scales of a level-2 node's 8 children, level-1 nodes k0 to k0 + 7
+// (k0 a multiple of 8: four whole words, this invocation's alone), of the
+// codes that start at code index `at` (0, or the back codes')
 void lrt_store_scales(LrtParams p, uint at, uint k0, uint scales[8])
 {
     uint slot = at + lrt_compact_scale_slot(p, k0);

@@ -64,7 +64,8 @@ typedef struct want_layout {
 /* Level k groups 4x2 into k+1 when k is even, 2x4 when odd, up to the first
    1x1 level above the texels; level k (1..n) has 8 slots per node of level
    k+1 (the root: 1); a slot is 16 bytes (8 children of 16 bits), but
-   with 8 bits a level-1 slot is 4 where the tree has two levels or more. */
+   with 8 bits a level-1 slot is 6 (a word of steps and a 16-bit scale)
+   where the tree has two levels or more. */
 static int want_layout_of(uint64_t width, uint64_t height, uint64_t bits, want_layout *o)
 {
     uint32_t k = 0, lv;
@@ -84,7 +85,7 @@ static int want_layout_of(uint64_t width, uint64_t height, uint64_t bits, want_l
         o->count[lv] = lv == k ? 1 : 8 * o->w[lv + 1] * o->h[lv + 1];
         o->node_count += o->count[lv];
     }
-    o->bytes = bits == 8 && k >= 2 ? o->count[1] * 4 + (o->node_count - o->count[1]) * 16 : o->node_count * 16;
+    o->bytes = bits == 8 && k >= 2 ? o->count[1] * 6 + (o->node_count - o->count[1]) * 16 : o->node_count * 16;
     return 1;
 }
 
@@ -149,8 +150,8 @@ static void test_layout_sizes(void)
         for (lv = 1; ok && lv <= 10; ++lv) ok = (uint64_t)L.levels[lv].count == counts[lv];
         CHECK(ok, "16384^2 16-bit: %u levels, %zu slots, %zu bytes (want 10, 38347929, 613566864)", L.level_count,
               L.node_count, L.bytes);
-        CHECK(lrt_layout_compute(16384, 16384, 8, &L) == LRT_SUCCESS && (uint64_t)L.bytes == 210913680u,
-              "16384^2 8-bit: %zu bytes (want 210913680: 33554432 level-1 nodes of 4 bytes, 4793497 of 16)", L.bytes);
+        CHECK(lrt_layout_compute(16384, 16384, 8, &L) == LRT_SUCCESS && (uint64_t)L.bytes == 278022544u,
+              "16384^2 8-bit: %zu bytes (want 278022544: 33554432 level-1 nodes of 6 bytes, 4793497 of 16)", L.bytes);
         /* 1 x 16384: 1x8192, 1x2048, 1x1024, 1x256, 1x128, 1x32, 1x16, 1x4, 1x2, 1x1 */
         CHECK(lrt_layout_compute(1, 16384, 8, &L) == LRT_SUCCESS && L.level_count == 10 &&
                   L.levels[1].width == 1 && L.levels[1].height == 8192,
