@@ -167,8 +167,8 @@
                                    benchmark's counts, bench/visits.c)
        LINEAR_RT_COUNT_TEXEL_TEST()  profiling: at each exact test of a
                                    texel that a level-1 node's codes let
-                                   through (the SSE2 and scalar walk; the
-                                   kernels make the same tests; the AVX2
+                                   through (the SSE2 and scalar walk, whose
+                                   level-1 test is the kernels'; the AVX2
                                    walk reads float depth with no codes)
    Memory: lrt_bvh_build allocates once (allocator hooks or the macros);
    lrt_bvh_build_in uses caller-owned memory sized by lrt_bvh_memory_size.

@@ -5,8 +5,11 @@
    library of this file's own (LINEAR_RT_STATIC), so the timed copy
    (m_linear_rt.c) counts nothing. The copy walks as SSE2 (LINEAR_RT_NO_AVX):
    its level-1 tests read the codes, as the kernels' do, where the AVX2
-   walk reads float depth; the node tests are the same in both. The
-   counters are this file's: one thread at a time. */
+   walk reads float depth. Its node tests come within 3% of the AVX2
+   walk's, which the counts before this copy came from (at 512x512: the
+   yard's shadows 1.538 level-1 tests a ray against 1.583, the pole
+   edge-on 37.779 against 37.805). The counters are this file's: one
+   thread at a time. */
 #include <stddef.h>
 
 static size_t visits_tests[4]; /* level 0, level 1, above; texels through the level-1 codes */
