@@ -1577,6 +1577,7 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
                 for (s = real; s < n; ++s) codes[r][s] = 0;
             }
             if (compact) {
+                /* scales past the chunk's last node stay 16: their reciprocals (four at a time) are never used */
                 uint32_t heights[16], scales[16] = {16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16};
                 float inv[16];
                 for (nx = chunk; nx <= last; ++nx) { /* heights and scales first (lrt__compact_bounds) */

@@ -570,43 +570,32 @@ static int compact_tree_right(const lrt_bvh *b8, const lrt_bvh *b16, const char 
    greatest step by the definition (compact_tree_right) */
 static void test_compact_boundaries(void)
 {
-    const uint32_t w = 2048, per_node = 6, spreads = 65535;
-    uint32_t h, d, j, k, n = 0, node;
-    uint32_t *gs = (uint32_t *)malloc(sizeof(uint32_t) * 32u * spreads);
-    uint16_t *map;
-    size_t nodes = 0, cap = 0;
+    /* at most 30 boundary texels a spread: 5 nodes of 6 free slots (slot 0
+       is H, slot 1 H - d); codes are 65535 - v for unorm16 v, so H = 65535
+       (v = 0) and a texel at H - g holds g */
+    const uint32_t w = 2048, per_node = 6, spreads = 65535, nodes_max = spreads * 5u;
+    const uint32_t h = (nodes_max + w / 4u - 1u) / (w / 4u) * 2u; /* 4x2 texels a node */
+    uint16_t *map = (uint16_t *)calloc((size_t)w * h, sizeof(uint16_t));
+    uint32_t d, j, n = 0, s;
+    size_t nodes = 0;
     lrt_depth dm;
     lrt_build_options opt;
     lrt_bvh b8, b16;
-    for (d = 1; d <= spreads; ++d) { /* the g values of spread d, then padded to whole nodes */
-        uint32_t scale = d * 16u / 15u, m = 0;
+    for (d = 1; d <= spreads; ++d) {
+        uint32_t scale = d * 16u / 15u, gs[30], m = 0;
         scale = scale < 16u ? 16u : scale > 65535u ? 65535u : scale;
-        for (j = 1; j < 16u; ++j) {
+        for (j = 1; j < 16u; ++j) { /* both sides of step j's drop, within the spread */
             const uint32_t drop = (j * scale) >> 4;
-            if (drop - 1u <= d) gs[n + m++] = drop - 1u;
-            if (drop <= d) gs[n + m++] = drop;
+            if (drop - 1u <= d) gs[m++] = drop - 1u;
+            if (drop <= d) gs[m++] = drop;
         }
-        while (m % per_node) gs[n + m++] = d;
         n += m;
-    }
-    cap = n / per_node;
-    h = (uint32_t)((cap + w / 4u - 1u) / (w / 4u)) * 2u; /* 4x2 texels a node */
-    map = (uint16_t *)calloc((size_t)w * h, sizeof(uint16_t));
-    /* codes are 65535 - v for unorm16 v: H = 65535 (v = 0) */
-    for (d = 1, k = 0; d <= spreads; ++d) {
-        uint32_t scale = d * 16u / 15u, m = 0;
-        scale = scale < 16u ? 16u : scale > 65535u ? 65535u : scale;
-        for (j = 1; j < 16u; ++j) m += (((j * scale) >> 4) - 1u <= d) + (((j * scale) >> 4) <= d);
-        m += (per_node - m % per_node) % per_node;
-        for (j = 0; j < m; j += per_node, ++nodes) {
+        for (j = 0; j < m; j += per_node, ++nodes) { /* the last node padded with the lowest */
             const uint32_t x = (uint32_t)(nodes % (w / 4u)) * 4u, y = (uint32_t)(nodes / (w / 4u)) * 2u;
-            map[(size_t)y * w + x + 1] = (uint16_t)d; /* the lowest: H - d */
-            for (node = 0; node < per_node; ++node) {
-                const uint32_t s = node + 2u; /* slots 2..7 */
-                map[(size_t)(y + (s >> 2)) * w + x + (s & 3u)] = (uint16_t)gs[k + j + node];
-            }
+            map[(size_t)y * w + x + 1] = (uint16_t)d;
+            for (s = 2; s < 8u; ++s)
+                map[(size_t)(y + (s >> 2)) * w + x + (s & 3u)] = (uint16_t)(j + s - 2u < m ? gs[j + s - 2u] : d);
         }
-        k += m;
     }
     memset(&dm, 0, sizeof dm);
     dm.data = map;
@@ -622,7 +611,6 @@ static void test_compact_boundaries(void)
     lrt_bvh_destroy(&b8);
     lrt_bvh_destroy(&b16);
     free(map);
-    free(gs);
 }
 
 static void test_compact_codes(void)
