@@ -494,10 +494,25 @@ typedef struct visits_row {
 static visits_row g_visits[MAX_VISITS];
 static int g_nvisits;
 
+/* a scene with a back map: each set's node tests, thick against infinite
+   (bench_visits_thickness) */
+typedef struct thick_row {
+    const char *scene, *set;
+    double v[6];
+} thick_row;
+static thick_row g_thick[MAX_VISITS];
+static int g_nthick;
+
 static void count_visits(const scene *sc, const ray_set *sets, int nsets)
 {
     static const uint32_t bits[2] = {16u, 8u};
     int s, b;
+    for (s = 0; s < nsets && sc->s.back; ++s)
+        if (strcmp(sets[s].r.name, "primary") != 0 && g_nthick < MAX_VISITS &&
+            bench_visits_thickness(&sc->s, &sets[s].r, g_thick[g_nthick].v) == 0) {
+            g_thick[g_nthick].scene = sc->s.name;
+            g_thick[g_nthick++].set = sets[s].r.name;
+        }
     for (s = 0; s < nsets; ++s)
         for (b = 0; b < 2 && g_nvisits < MAX_VISITS; ++b) {
             visits_row *v = &g_visits[g_nvisits];
@@ -986,6 +1001,22 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
             else fprintf(md, " - |\n");
         }
     }
+    if (g_nthick) {
+        fprintf(md, "\n## What thickness costs the walk\n\nNode tests per ray (bench/visits.c, 16-bit nodes, one ray at "
+                    "a time), each ray traced with the back-map tree and with the infinite tree of the same depth. On the "
+                    "rays both answer alike the two counts are equal, ray by ray (the benchmark fails otherwise); the "
+                    "others pass behind an object and go on. So thick / infinite node tests, the last column, bound "
+                    "how fast a thick walk can be against the infinite one on the same rays "
+                    "([docs/MEASUREMENTS.md](../docs/MEASUREMENTS.md#thickness-cannot-be-faster-on-the-same-rays-tenth-session)).\n\n");
+        fprintf(md, "| scene | rays | answered alike | their tests, thick / infinite | the others' | all: infinite / thick |\n"
+                    "|---|---|---|---|---|---|\n");
+        for (i = 0; i < g_nthick; ++i) {
+            const double *v = g_thick[i].v, a = v[0] / 100.0;
+            const double all_thick = a * v[1] + (1.0 - a) * v[3], all_inf = a * v[2] + (1.0 - a) * v[4];
+            fprintf(md, "| %s | %s | %.1f%% | %.2f / %.2f | %.2f / %.2f | %.2f |\n", g_thick[i].scene, g_thick[i].set, v[0],
+                    v[1], v[2], v[3], v[4], all_thick > 0.0 ? all_inf / all_thick : 1.0);
+        }
+    }
     (void)nstab;
     fclose(md);
     fclose(dat);
@@ -1382,6 +1413,12 @@ int main(int argc, char **argv)
                 printf("NODE TESTS WRONG: %s primary rays, %u-bit nodes: %.3f / %.3f / %.3f per ray, not 1 / 0 / 0\n",
                        g_visits[k].scene, g_visits[k].node_bits, g_visits[k].per_ray[0], g_visits[k].per_ray[1],
                        g_visits[k].per_ray[2]);
+                bad = 1;
+            }
+        for (k = 0; k < g_nthick; ++k) /* thickness culls nothing the infinite walk visits on a ray answered alike */
+            if (g_thick[k].v[5] != 0.0) {
+                printf("NODE TESTS WRONG: %s %s, %.0f rays answered alike by the thick and infinite trees with other node tests\n",
+                       g_thick[k].scene, g_thick[k].set, g_thick[k].v[5]);
                 bad = 1;
             }
         for (k = 0; k < g_nres; ++k)

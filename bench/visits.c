@@ -48,3 +48,47 @@ int bench_visits(const bench_scene *sc, const bench_rays *rs, uint32_t node_bits
     lrt_bvh_destroy(&bvh);
     return r != LRT_SUCCESS;
 }
+
+/* The node tests of one ray (lrt_trace of a single ray): the sum over levels */
+static size_t visits_of_ray(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *ray, lrt_hit *hit)
+{
+    memset(visits_tests, 0, sizeof visits_tests);
+    if (lrt_trace(bvh, depth, ray, hit, 1, 0) != LRT_SUCCESS) hit->kind = 0xffffu; /* never alike */
+    return visits_tests[0] + visits_tests[1] + visits_tests[2];
+}
+
+int bench_visits_thickness(const bench_scene *sc, const bench_rays *rs, double out[6])
+{
+    lrt_build_options o;
+    lrt_bvh thick, inf;
+    size_t i, n[2], alike = 0, differ = 0, sums[4] = {0, 0, 0, 0}; /* alike thick, alike infinite, other thick, other infinite */
+    memset(out, 0, 6 * sizeof *out);
+    if (!sc->back || !rs->count) return 1;
+    memset(&o, 0, sizeof o);
+    o.node_bits = 16u;
+    o.thickness = LRT_THICKNESS_BACK_MAP;
+    if (lrt_bvh_build(&thick, bench_lrt_depth(sc), &o, NULL) != LRT_SUCCESS) return 1;
+    o.thickness = LRT_THICKNESS_INFINITE;
+    if (lrt_bvh_build(&inf, &sc->lrt, &o, NULL) != LRT_SUCCESS) {
+        lrt_bvh_destroy(&thick);
+        return 1;
+    }
+    for (i = 0; i < rs->count; ++i) {
+        lrt_hit a, b;
+        const size_t ct = visits_of_ray(&thick, bench_lrt_depth(sc), rs->rays + i, &a);
+        const size_t ci = visits_of_ray(&inf, &sc->lrt, rs->rays + i, &b);
+        const int same = a.kind == b.kind && a.kind != 0xffffu && (a.kind != LRT_HIT || (a.x == b.x && a.y == b.y));
+        sums[same ? 0 : 2] += ct;
+        sums[same ? 1 : 3] += ci;
+        alike += (size_t)same;
+        differ += (size_t)(same && ct != ci);
+    }
+    n[0] = alike;
+    n[1] = rs->count - alike;
+    out[0] = 100.0 * (double)alike / (double)rs->count;
+    for (i = 0; i < 4; ++i) out[1 + i] = n[i / 2] ? (double)sums[i] / (double)n[i / 2] : 0.0;
+    out[5] = (double)differ;
+    lrt_bvh_destroy(&inf);
+    lrt_bvh_destroy(&thick);
+    return 0;
+}

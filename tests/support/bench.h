@@ -128,4 +128,13 @@ static inline void bench_gpu_batch_timed(bench_gpu_batch *b, double ms)
    by a copy of the library that counts them, on one thread. 0 on success. */
 int bench_visits(const bench_scene *scene, const bench_rays *rays, uint32_t node_bits, double per_ray[4]);
 
+/* What thickness costs a scene with a back map (16-bit nodes, one ray at a
+   time): each ray traced with the back-map tree and with the infinite tree
+   of the same depth, its node tests counted in both. out: [0] % of rays
+   answered alike (the same kind, and for a hit the same texel); their node
+   tests per ray, [1] thick and [2] infinite; the other rays' [3] thick and
+   [4] infinite; [5] the rays answered alike whose two counts differ (0 by
+   design: docs/MEASUREMENTS.md, "Thickness cannot be faster"). 0 on success. */
+int bench_visits_thickness(const bench_scene *scene, const bench_rays *rays, double out[6]);
+
 #endif
