@@ -1114,22 +1114,29 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
     vec4 cen, cex, ren, rex;
     lrt_cull_slabs4(c, 0, x0, sw, s.neg.x, cen, cex);
     lrt_cull_slabs4(c, 1, y0, sh, s.neg.y, ren, rex);
-    uint mask = 0u;
+    // the depth plane bounds a child's entry where the ray goes away from
+    // the camera, its exit where it comes nearer; the back plane the other
+    // way round. Selects, no branch in the slot loop: llvmpipe branches on
+    // every if a lane may take (1.05-1.09x on lavapipe, docs/MEASUREMENTS.md
+    // "The kernels' node test without per-slot branches")
+    bool nz = s.neg.z != 0u;
+    uint met = 0u; // bit slot: the child of that slot met
     for (uint slot = 0u; slot < 8u; ++slot) { // 4x2: slot = row << 2 | column; 2x4: row << 1 | column
-        // (selects between two fixed indices once the loop is unrolled)
-        float en = tall ? max(cen[slot & 1u], ren[slot >> 1]) : max(cen[slot & 3u], ren[slot >> 2]);
-        float ex = tall ? min(cex[slot & 1u], rex[slot >> 1]) : min(cex[slot & 3u], rex[slot >> 2]);
+        // a child's column and row planes, picked before the max and min
+        // (two fixed indices a slot once the loop is unrolled)
+        float ce = tall ? cen[slot & 1u] : cen[slot & 3u], cx = tall ? cex[slot & 1u] : cex[slot & 3u];
+        float re = tall ? ren[slot >> 1] : ren[slot >> 2], rx = tall ? rex[slot >> 1] : rex[slot >> 2];
         precise float tz = float(lrt_code_in(w, slot)) * c.za + c.zb;
-        if (s.neg.z != 0u) ex = min(tz, ex);
-        else en = max(tz, en);
-        if (back) { // the back plane
-            precise float tb = float(lrt_code_in(b, slot)) * c.ba + c.bb;
-            if (s.neg.z != 0u) en = max(tb, en);
-            else ex = min(tb, ex);
-        }
-        if (en <= ex) mask |= 1u << (slot ^ flip);
+        precise float tb = float(lrt_code_in(b, slot)) * c.ba + c.bb;
+        float en = max(max(ce, re), max(nz ? -LRT_INF : tz, back && nz ? tb : -LRT_INF));
+        float ex = min(min(cx, rx), min(nz ? tz : LRT_INF, back && !nz ? tb : LRT_INF));
+        met |= (en <= ex ? 1u : 0u) << slot;
     }
-    return mask;
+    // into visiting order: bit k for slot k ^ flip
+    met = (flip & 1u) != 0u ? ((met & 0x55u) << 1) | ((met >> 1) & 0x55u) : met;
+    met = (flip & 2u) != 0u ? ((met & 0x33u) << 2) | ((met >> 2) & 0x33u) : met;
+    met = (flip & 4u) != 0u ? ((met & 0x0fu) << 4) | (met >> 4) : met;
+    return met;
 }
 
 // The walk (linear_rt.h's lrt__walk_origin, the same steps under the same
