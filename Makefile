@@ -436,20 +436,21 @@ TEST_PROGRAMS = $(addprefix $(FB)/,$(FUZZERS)) \
 
 test-programs: $(TEST_PROGRAMS)
 
+# Then the tests, two at a time (tools/run_tests.sh: each one's output whole
+# when it ends), the longest first so that both queues end together: in a
+# fresh-clone run, one at a time, valgrind of test_core took 132 s, the
+# Vulkan test under ASan 118 s and test-vulkan 92 s of 635 s of tests. Where
+# the build failed, one at a time: two tests must not build one program.
+TESTS_FIRST := test-valgrind-core test-sanitize-clang-vulkan test-vulkan
+TEST_SLOTS ?= 2
 test-all: | $(B)
-	@pass=0; fail=0; failed=; start=$$(date +%s); \
+	@start=$$(date +%s); slots=$(TEST_SLOTS); \
 	echo "== build: the tests' programs, two at a time"; \
 	$(MAKE) --no-print-directory -j2 -k -Otarget test-programs || \
-	  echo "== build: not all of them built (above): each test builds its own again, and fails or skips there"; \
-	for t in $(TESTS); do \
-	  echo "== $$t"; \
-	  if $(MAKE) --no-print-directory $$t; then pass=$$((pass + 1)); \
-	  else fail=$$((fail + 1)); failed="$$failed $$t"; fi; \
-	done; \
-	echo "== done in $$(( $$(date +%s) - start )) s"; \
-	if [ $$fail -ne 0 ]; then echo "failed:$$failed"; fi; \
-	echo "$$pass passed, $$fail failed"; \
-	[ $$fail -eq 0 ]
+	  { slots=1; echo "== build: not all of them built (above): each test builds its own again, and fails or skips there"; }; \
+	echo "== the tests, $$slots at a time, each one's output when it ends"; \
+	MAKE="$(MAKE)" TESTS_START=$$start tools/run_tests.sh $$slots $(B)/test_logs \
+	  $(filter $(TESTS_FIRST),$(TESTS)) $(filter-out $(TESTS_FIRST),$(TESTS))
 
 clean:
 	rm -rf $(B)

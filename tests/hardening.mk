@@ -50,9 +50,9 @@ test-hardening: $(HARDENING_TESTS)
 need = if ! ( $(2) ) >/dev/null 2>&1; then \
   if [ "$$CI" = "true" ]; then echo "$(1): FAIL under CI=true: $(3)"; exit 1; fi; \
   echo "$(1): skipped: $(3)"; exit 0; fi
-HAVE_CLANG_SAN = $(call need,$@,printf 'int main(void) { return 0; }\n' | $(CLANG) -x c $(CLANG_SAN) - -o $(B)/probe_clang_san,clang with its sanitizer runtime (libclang-rt-14-dev) is not installed: tools/install-deps.sh installs it)
-HAVE_INT_SAN = $(call need,$@,printf 'int main(void) { return 0; }\n' | $(CLANG) -x c $(INT_SAN) - -o $(B)/probe_int_san,clang with its sanitizer runtime (libclang-rt-14-dev) is not installed: tools/install-deps.sh installs it)
-HAVE_M32 = $(call need,$@,printf '\043include <stdio.h>\nint main(void) { return 0; }\n' | $(GCC) -x c $(M32) - -o $(B)/probe_m32,gcc cannot build 32-bit programs (gcc-multilib): tools/install-deps.sh installs it)
+HAVE_CLANG_SAN = $(call need,$@,printf 'int main(void) { return 0; }\n' | $(CLANG) -x c $(CLANG_SAN) - -o $(B)/probe_clang_san_$@,clang with its sanitizer runtime (libclang-rt-14-dev) is not installed: tools/install-deps.sh installs it)
+HAVE_INT_SAN = $(call need,$@,printf 'int main(void) { return 0; }\n' | $(CLANG) -x c $(INT_SAN) - -o $(B)/probe_int_san_$@,clang with its sanitizer runtime (libclang-rt-14-dev) is not installed: tools/install-deps.sh installs it)
+HAVE_M32 = $(call need,$@,printf '\043include <stdio.h>\nint main(void) { return 0; }\n' | $(GCC) -x c $(M32) - -o $(B)/probe_m32_$@,gcc cannot build 32-bit programs (gcc-multilib): tools/install-deps.sh installs it)
 HAVE_TOOL = $(call need,$@,command -v $(1),$(1) is not installed: tools/install-deps.sh installs it)
 
 # ---- clang ASan + UBSan ----------------------------------------------------------

@@ -46,7 +46,7 @@ test-threads-all: $(THREADS_TESTS)
 
 # the probe runs the program too: a TSan runtime that cannot map its shadow
 # memory on this kernel fails here, not in the test
-HAVE_TSAN = $(call need,$@,printf 'int main(void) { return 0; }\n' | $(CLANG) -x c $(TSAN) - -o $(B)/probe_tsan && $(B)/probe_tsan,clang with its ThreadSanitizer runtime (libclang-rt-14-dev) is not installed or cannot run here: tools/install-deps.sh installs it)
+HAVE_TSAN = $(call need,$@,printf 'int main(void) { return 0; }\n' | $(CLANG) -x c $(TSAN) - -o $(B)/probe_tsan_$@ && $(B)/probe_tsan_$@,clang with its ThreadSanitizer runtime (libclang-rt-14-dev) is not installed or cannot run here: tools/install-deps.sh installs it)
 NEED_VULKAN = if [ "$(HAVE_VULKAN)" != 1 ]; then \
   if [ "$$CI" = "true" ]; then echo "$@: FAIL under CI=true: <vulkan/vulkan.h> not found"; exit 1; fi; \
   echo "$@: skipped: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"; exit 0; fi
