@@ -3,8 +3,9 @@
 #
 # Before/after speed of two builds of the benchmark (OLD and NEW: paths to
 # build/bench binaries, e.g. one built in a `git worktree` of the commit
-# before). Runs them alternated RUNS times (default 11) with BENCH ARGS
-# (default: --only "linear_rt vulkan" --size 128 --runs 3), then prints for
+# before). Runs them alternated RUNS times (default 11), each first in every
+# other run, with BENCH ARGS (default: --only "linear_rt vulkan" --size 128
+# --runs 3), then prints for
 # every (method, scene, rays) row the median M rays/s of each build and
 # NEW / OLD, and per method the geometric mean of those ratios.
 #
@@ -15,7 +16,7 @@
 # "Medians on lavapipe"). Set LP_NUM_THREADS=1 for lavapipe rows.
 # Results stay in $BENCH_AB_DIR (default: a new directory under /tmp).
 set -eu
-if [ $# -lt 2 ]; then sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 2; fi
+if [ $# -lt 2 ]; then sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 2; fi
 old=$1 new=$2
 shift 2
 runs=11
@@ -25,7 +26,11 @@ dir=${BENCH_AB_DIR:-$(mktemp -d /tmp/bench_ab.XXXXXX)}
 mkdir -p "$dir"
 i=1
 while [ "$i" -le "$runs" ]; do
-    for b in old new; do
+    # each build first in every other run: the order may tilt a row by a few
+    # percent (a change of no effect read 1.039 with the new build always
+    # second and 0.998 with it first, docs/MEASUREMENTS.md)
+    if [ $((i % 2)) -eq 1 ]; then order="old new"; else order="new old"; fi
+    for b in $order; do
         if [ "$b" = old ]; then exe=$old; else exe=$new; fi
         "$exe" "$@" --out "$dir/$b$i" >"$dir/$b$i.log" 2>&1 || { echo "bench_ab: $exe failed (log: $dir/$b$i.log)" >&2; exit 1; }
     done
