@@ -1166,7 +1166,10 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
     uint px = uint(lrt_first_texel(s.o.x, s.v.x, s.iv.x, s.neg.x, s.zero.x, s.t_lo, int(p.width)));
     uint py = uint(lrt_first_texel(s.o.y, s.v.y, s.iv.y, s.neg.y, s.zero.y, s.t_lo, int(p.height)));
     uint lv = 1u, nx = px >> 2, ny = py >> 1, off = 0u; // the node, and its level's first node
-    uint eligible = 0xffu, tested = 0u; // tested: bit lv set when masks holds level lv's pending children
+    // the levels above lv up to reached (the highest the walk has climbed
+    // to) were tested: masks holds their pending children, a byte a level,
+    // and bit L of busy says level L's byte is not empty
+    uint eligible = 0xffu, reached = 1u, busy = 0u;
     uvec4 masks = uvec4(0u);
     for (;;) {
         uint flip = lrt_bw_log2(lv - 1u) == 1u ? flip_tall : flip_wide;
@@ -1191,8 +1194,9 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
             }
         } else if (m != 0u) { // down into the first child met; the others wait in masks
             uint slot = uint(findLSB(m)) ^ flip;
-            masks = lrt_mask_set(masks, lv, m & (m - 1u));
-            tested |= 1u << lv;
+            uint rest = m & (m - 1u);
+            masks = lrt_mask_set(masks, lv, rest);
+            busy |= (rest != 0u ? 1u : 0u) << lv;
             uvec2 c = lrt_child(lv, nx, ny, slot);
             nx = c.x;
             ny = c.y;
@@ -1201,47 +1205,49 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
             eligible = 0xffu;
             continue;
         }
-        // this node is done: its next pending sibling, or up
-        for (;;) {
-            uint up = lv + 1u, bwl = lrt_bw_log2(lv), ufl = bwl == 1u ? flip_tall : flip_wide; // the parent's block
-            uint ux = nx >> bwl, uy = ny >> (3u - bwl);
-            if (lv >= top) return false; // the start node, which holds the segment, is done
-            if ((tested & (1u << up)) != 0u) {
-                uint pend = lrt_mask_get(masks, up);
-                if (pend != 0u) { // the next sibling
-                    uint slot = uint(findLSB(pend)) ^ ufl;
-                    masks = lrt_mask_set(masks, up, pend & (pend - 1u));
-                    uvec2 c = lrt_child(up, ux, uy, slot);
-                    nx = c.x;
-                    ny = c.y;
-                    eligible = 0xffu;
-                    break;
-                }
-                tested &= ~(1u << up);
-                off += lrt_level_slots(p, lv);
-                lv = up; // the parent is done too
-                nx = ux;
-                ny = uy;
-                continue;
-            }
-            // the parent's children were never tested (the walk began below
-            // it): unless the segment ends inside this node, take those after it
-            // (an axis the ray does not move along: never left, unless the
-            // ray lies on the far edge, where the next node is touched too)
-            uint sw = lrt_span_w_log2(lv), sh = lrt_span_h_log2(lv);
-            float fx = float((s.neg.x != 0u ? nx : nx + 1u) << sw), fy = float((s.neg.y != 0u ? ny : ny + 1u) << sh);
+        // this node is done. The next node in one step, not a loop over the
+        // levels climbed: a SIMD group would run such a loop as often as its
+        // slowest lane climbs. It is the next pending child of the lowest
+        // level that has one (the levels between hold none: they are done),
+        // or where none has, the children after this node's ancestor of
+        // level reached in that ancestor's parent, never tested (the walk
+        // began below it), unless the segment ends inside the ancestor
+        uint to; // the level of the next node
+        uint x0 = nx << lrt_span_w_log2(lv), y0 = ny << lrt_span_h_log2(lv); // this node's first texel
+        if (busy != 0u) {
+            uint up = uint(findLSB(busy));
+            to = up - 1u;
+            uint ux = x0 >> lrt_span_w_log2(up), uy = y0 >> lrt_span_h_log2(up);
+            uint pend = lrt_mask_get(masks, up);
+            uint slot = uint(findLSB(pend)) ^ (lrt_bw_log2(to) == 1u ? flip_tall : flip_wide);
+            pend &= pend - 1u;
+            masks = lrt_mask_set(masks, up, pend);
+            busy &= pend != 0u ? ~0u : ~(1u << up);
+            uvec2 c = lrt_child(up, ux, uy, slot);
+            nx = c.x;
+            ny = c.y;
+            eligible = 0xffu;
+        } else {
+            if (reached >= top) return false; // the start node, which holds the segment, is done
+            // the ancestor of level reached; an axis the ray does not move
+            // along: never left, unless the ray lies on the far edge, where
+            // the next node is touched too
+            uint sw = lrt_span_w_log2(reached), sh = lrt_span_h_log2(reached);
+            uint ax = x0 >> sw, ay = y0 >> sh;
+            float fx = float((s.neg.x != 0u ? ax : ax + 1u) << sw), fy = float((s.neg.y != 0u ? ay : ay + 1u) << sh);
             float ex_x = fx == s.o.x ? -LRT_INF : LRT_INF, ex_y = fy == s.o.y ? -LRT_INF : LRT_INF;
             if (!s.zero.x) { precise float e = (fx - s.o.x) * s.iv.x; ex_x = e; }
             if (!s.zero.y) { precise float e = (fy - s.o.y) * s.iv.y; ex_y = e; }
             if (min(ex_x, ex_y) > lrt_widen(s.t_hi)) return false;
-            uint k = lrt_child_slot(lv, nx, ny) ^ ufl;
+            uint bwl = lrt_bw_log2(reached);
+            uint k = lrt_child_slot(reached, ax, ay) ^ (bwl == 1u ? flip_tall : flip_wide);
             eligible = ~((2u << k) - 1u) & 0xffu;
-            off += lrt_level_slots(p, lv);
-            lv = up;
-            nx = ux;
-            ny = uy;
-            break;
+            to = reached + 1u;
+            reached = to;
+            nx = ax >> bwl;
+            ny = ay >> (3u - bwl);
         }
+        for (; lv < to; ++lv) off += lrt_level_slots(p, lv);
     }
     return false;
 }
