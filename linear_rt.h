@@ -1845,7 +1845,8 @@ typedef char lrt__hit_is_16_bytes[sizeof(lrt_hit) == 16 && sizeof(lrt_ray) == 32
       front to back (row-major order with the axes flipped by the ray's
       direction signs is front to back for any straight line), so the first
       texel hit found is the closest and the walk stops there. One walk
-      (lrt__walk_origin, the kernels' lrt_walk_origin step for step) starts
+      (lrt__walk_origin; the kernels' lrt_walk_origin visits the same nodes
+      in the same order, climbing several levels in one step) starts
       at the lowest node holding the whole segment and goes down, or, for a
       long ray that starts on the surface, at the level-1 node where it
       starts and climbs: the same order, the same first hit.

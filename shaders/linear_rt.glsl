@@ -1139,8 +1139,8 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
     return met;
 }
 
-// The walk (linear_rt.h's lrt__walk_origin, the same steps under the same
-// names): from the level-1 node of the texel where the segment starts, up to
+// The walk (linear_rt.h's lrt__walk_origin: the same nodes in the same
+// order, its climb over several levels one step here): from the level-1 node of the texel where the segment starts, up to
 // the start node of level top, which holds the whole segment. A step tests
 // the current node's children; at level 1 the texels the codes let through
 // get their exact test, in visiting order; above it the walk goes down into
