@@ -1845,8 +1845,7 @@ typedef char lrt__hit_is_16_bytes[sizeof(lrt_hit) == 16 && sizeof(lrt_ray) == 32
       front to back (row-major order with the axes flipped by the ray's
       direction signs is front to back for any straight line), so the first
       texel hit found is the closest and the walk stops there. One walk
-      (lrt__walk_origin; the kernels' lrt_walk_origin visits the same nodes
-      in the same order, climbing several levels in one step) starts
+      (lrt__walk_origin, the kernels' lrt_walk_origin step for step) starts
       at the lowest node holding the whole segment and goes down, or, for a
       long ray that starts on the surface, at the level-1 node where it
       starts and climbs: the same order, the same first hit.
@@ -3533,9 +3532,12 @@ LRT__FORCE_INLINE void lrt__child(uint32_t lv, uint32_t *nx, uint32_t *ny, uint3
    get their exact test, in visiting order; above it the walk goes down into
    the first child met, and the others wait in masks[lv] (one byte a level:
    the state is a few registers and these bytes, no stack of nodes). A node
-   done, the walk takes the next pending sibling, or climbs; a parent never
-   tested (the walk began below it) has only the children after the one
-   just walked left to test, unless the segment ends inside that one.
+   done, the walk takes the next pending child of the lowest level that has
+   one, in one step (busy: a bit a level whose byte is not empty); where
+   none has, it climbs to the parent of the current node's ancestor of
+   level reached (the highest it has climbed to), never tested (the walk
+   began below it), whose children after that ancestor are all that is
+   left to test, unless the segment ends inside the ancestor.
    Returns 1 once a hit is reported. neg_z is a constant where this is
    inlined, and so is tall in each of the three copies of the node test
    (tall nodes, wide ones above the texels, level 1). */
@@ -3543,7 +3545,9 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
                                        float t_scale, uint32_t top, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py,
                                        uint32_t neg_z)
 {
-    uint32_t lv = top, eligible = 0xffu, tested = 0u; /* tested: bit lv set when masks[lv] holds level lv's pending children */
+    /* the levels above lv up to reached were tested: masks[] holds their
+       pending children, and bit L of busy says masks[L] is not empty */
+    uint32_t lv = top, eligible = 0xffu, reached, busy = 0u;
     uint8_t masks[LINEAR_RT_MAX_LEVELS + 2];
     size_t slot0;
     if (lrt__from_origin(w, s, top, px, py)) {
@@ -3551,6 +3555,7 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
         nx = px >> 2;
         ny = py >> 1;
     }
+    reached = lv;
     slot0 = lrt__node_slot(w, lv, nx, ny);
     for (;;) {
         if (lv == 1u) { /* texels: the exact test, in visiting order */
@@ -3574,9 +3579,9 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
                it (fuzz_core: a read past the nodes) */
             m &= eligible & (uint32_t)-(int32_t)((nx < w->lv[lv].width) & (ny < w->lv[lv].height));
             if (m) { /* down into the first child met; the others wait in masks */
-                const uint32_t slot = lrt__lowest_bit(m) ^ s->sg->flip[tall];
-                masks[lv] = (uint8_t)(m & (m - 1u));
-                tested |= 1u << lv;
+                const uint32_t slot = lrt__lowest_bit(m) ^ s->sg->flip[tall], rest = m & (m - 1u);
+                masks[lv] = (uint8_t)rest;
+                busy |= (uint32_t)(rest != 0u) << lv;
                 lrt__child(lv, &nx, &ny, slot);
                 slot0 = children + (size_t)slot * 8u;
                 if (lv == w->row_prefetch_level) lrt__prefetch_rows(w, nx, ny); /* level 3 is wide */
@@ -3585,46 +3590,45 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
                 continue;
             }
         }
-        /* this node is done: its next pending sibling, or up */
-        for (;;) {
-            const uint32_t up = lv + 1u, tall = (up & 1u) ^ 1u, bw_log2 = tall ? 1u : 2u; /* the parent's block */
-            const uint32_t ux = nx >> bw_log2, uy = ny >> (3u - bw_log2);
-            uint32_t k, sw, sh;
-            float fx, fy;
-            if (lv >= top) return 0; /* the start node, which holds the segment, is done */
-            if (tested & (1u << up)) {
-                const uint32_t pend = masks[up];
-                if (pend) { /* the next sibling */
-                    const uint32_t slot = lrt__lowest_bit(pend) ^ s->sg->flip[tall];
-                    masks[up] = (uint8_t)(pend & (pend - 1u));
-                    nx = ux;
-                    ny = uy;
-                    lrt__child(up, &nx, &ny, slot);
-                    slot0 = lrt__children_slot(w, up, ux, uy) + (size_t)slot * 8u;
-                    if (up == w->row_prefetch_level) lrt__prefetch_rows(w, nx, ny);
-                    eligible = 0xffu;
-                    break;
-                }
-                tested &= ~(1u << up);
-                lv = up; /* the parent is done too */
+        /* this node is done: the next pending child of the lowest busy
+           level (the levels between are done), or up past reached */
+        {
+            const uint32_t x0 = nx << w->lv[lv].span_w_log2, y0 = ny << w->lv[lv].span_h_log2; /* its first texel */
+            if (busy) {
+                const uint32_t up = lrt__lowest_bit(busy), tall = (up & 1u) ^ 1u; /* up's children are tall */
+                const uint32_t ux = x0 >> w->lv[up].span_w_log2, uy = y0 >> w->lv[up].span_h_log2;
+                const uint32_t pend = masks[up], slot = lrt__lowest_bit(pend) ^ s->sg->flip[tall];
+                masks[up] = (uint8_t)(pend & (pend - 1u));
+                busy &= masks[up] ? ~0u : ~(1u << up);
                 nx = ux;
                 ny = uy;
-                continue;
+                lrt__child(up, &nx, &ny, slot);
+                slot0 = lrt__children_slot(w, up, ux, uy) + (size_t)slot * 8u;
+                if (up == w->row_prefetch_level) lrt__prefetch_rows(w, nx, ny);
+                lv = up - 1u;
+                eligible = 0xffu;
+            } else {
+                /* the parent of the ancestor of level reached was never
+                   tested (the walk began below it): unless the segment ends
+                   inside that ancestor, the children after it */
+                const uint32_t up = reached + 1u, tall = (up & 1u) ^ 1u, bw_log2 = tall ? 1u : 2u; /* the parent's block */
+                uint32_t sw, sh, ax, ay, k;
+                float fx, fy;
+                if (reached >= top) return 0; /* the start node, which holds the segment, is done */
+                sw = w->lv[reached].span_w_log2;
+                sh = w->lv[reached].span_h_log2;
+                ax = x0 >> sw;
+                ay = y0 >> sh;
+                fx = (float)((s->neg_x ? ax : ax + 1u) << sw);
+                fy = (float)((s->neg_y ? ay : ay + 1u) << sh);
+                if (LRT__MIN_KEEP((fx - s->o[0]) * s->iv[0], (fy - s->o[1]) * s->iv[1]) > lrt__widen(s->t_hi)) return 0;
+                k = lrt__child_slot(&w->L->levels[reached], ax, ay) ^ s->sg->flip[tall];
+                eligible = ~((2u << k) - 1u) & 0xffu;
+                lv = reached = up;
+                nx = ax >> bw_log2;
+                ny = ay >> (3u - bw_log2);
+                slot0 = lrt__node_slot(w, lv, nx, ny);
             }
-            /* the parent's children were never tested (the walk began below
-               it): unless the segment ends inside this node, take those after it */
-            sw = w->lv[lv].span_w_log2;
-            sh = w->lv[lv].span_h_log2;
-            fx = (float)((s->neg_x ? nx : nx + 1u) << sw);
-            fy = (float)((s->neg_y ? ny : ny + 1u) << sh);
-            if (LRT__MIN_KEEP((fx - s->o[0]) * s->iv[0], (fy - s->o[1]) * s->iv[1]) > lrt__widen(s->t_hi)) return 0;
-            k = lrt__child_slot(&w->L->levels[lv], nx, ny) ^ s->sg->flip[tall];
-            eligible = ~((2u << k) - 1u) & 0xffu;
-            lv = up;
-            nx = ux;
-            ny = uy;
-            slot0 = lrt__node_slot(w, lv, nx, ny);
-            break;
         }
     }
 }

@@ -1139,16 +1139,17 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
     return met;
 }
 
-// The walk (linear_rt.h's lrt__walk_origin: the same nodes in the same
-// order, its climb over several levels one step here): from the level-1 node of the texel where the segment starts, up to
+// The walk (linear_rt.h's lrt__walk_origin, the same steps under the same
+// names): from the level-1 node of the texel where the segment starts, up to
 // the start node of level top, which holds the whole segment. A step tests
 // the current node's children; at level 1 the texels the codes let through
 // get their exact test, in visiting order; above it the walk goes down into
 // the first child met, and the others wait in masks (8 bits a level: the
 // state is a few registers, no stack). A node done, the walk takes the next
-// pending sibling, or climbs; a parent never tested (the walk began below
-// it) has only the children after the one just walked left to test, unless
-// the segment ends inside that one. True with the first texel hit (hx, hy)
+// pending child of the lowest level that has one, in one step, or climbs
+// past the levels it has tested; a parent never tested (the walk began
+// below it) has only the children after the one just walked left to test,
+// unless the segment ends inside that one. True with the first texel hit (hx, hy)
 // and its t, false for a miss (lrt_trace_ray reports either).
 bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy, out float ht, out vec2 hplanes)
 {
