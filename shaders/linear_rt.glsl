@@ -1149,8 +1149,8 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
 // pending child of the lowest level that has one, in one step, or climbs
 // past the levels it has tested; a parent never tested (the walk began
 // below it) has only the children after the one just walked left to test,
-// unless the segment ends inside that one. True with the first texel hit (hx, hy)
-// and its t, false for a miss (lrt_trace_ray reports either).
+// unless the segment ends inside that one. True with the first texel hit
+// (hx, hy) and its t, false for a miss (lrt_trace_ray reports either).
 bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy, out float ht, out vec2 hplanes)
 {
     hplanes = vec2(0.0);
