@@ -3591,7 +3591,9 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
             }
         }
         /* this node is done: the next pending child of the lowest busy
-           level (the levels between are done), or up past reached */
+           level (the levels between are done), or up past reached (a block
+           of its own: in C++ the continue above may not jump past x0's
+           initialisation into its scope) */
         {
             const uint32_t x0 = nx << w->lv[lv].span_w_log2, y0 = ny << w->lv[lv].span_h_log2; /* its first texel */
             if (busy) {
