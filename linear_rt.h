@@ -266,6 +266,7 @@
 #define LRT_K_VK_BINDING_HITS 5u
 #define LRT_K_VK_BINDING_BACK_BUFFER 6u
 #define LRT_K_VK_BINDING_BACK_IMAGE 7u
+#define LRT_K_VK_BINDING_NODE_TEXELS 8u /* the nodes again, as R32G32B32A32_UINT texels: the trace's reads */
 /* The push constants of every kernel, in this order (84 bytes), U32 and
    F32 being the language's 32-bit unsigned and float types: the map
    (texels, format, flags, node bits, levels; a buffer depth's byte offset
@@ -652,8 +653,10 @@ typedef struct lrt_vk_context lrt_vk_context; /* opaque; immutable after create 
    one descriptor set layout (push descriptors), one pipeline layout (84 bytes
    of push constants), 12 compute pipelines (refit and trace, of buffer and of
    image depth; for infinite trees, and for trees with a thickness model of
-   16-bit and of 8-bit nodes) and one sampler. On error *out is untouched and
-   nothing is left created. */
+   16-bit and of 8-bit nodes) and one sampler. The trace pipelines read the
+   nodes through lrt_vk_bvh.node_texels where maxTexelBufferElements holds
+   every tree the device can trace, else through the storage buffer. On
+   error *out is untouched and nothing is left created. */
 LINEAR_RT_API lrt_result lrt_vk_context_create(const lrt_vk_context_desc *desc, lrt_vk_context **out);
 /* Destroys what create made. The caller makes sure the GPU no longer uses
    it (no command buffer recorded with it is pending). NULL is fine. */
@@ -678,8 +681,10 @@ typedef struct lrt_vk_bvh_desc {
     uint32_t flags;              /* LRT_VK_BVH_* */
     /* Your buffers (both set), or none (both VK_NULL_HANDLE: the library makes
        one buffer for both). Sizes from lrt_vk_bvh_buffer_sizes; usage
-       STORAGE_BUFFER for both and TRANSFER_DST for the counters (build fills
-       them with 0); offsets multiples of minStorageBufferOffsetAlignment and
+       STORAGE_BUFFER for both, UNIFORM_TEXEL_BUFFER for the nodes (the trace
+       kernel reads them through lrt_vk_bvh.node_texels) and TRANSFER_DST for
+       the counters (build fills them with 0); offsets multiples of
+       minStorageBufferOffsetAlignment, of minTexelBufferOffsetAlignment and
        of 4. */
     VkBuffer nodes;
     VkDeviceSize nodes_offset;
@@ -696,6 +701,9 @@ typedef struct lrt_vk_bvh {      /* fields are read-only to callers */
     VkDeviceSize counters_offset;
     VkDeviceSize counters_bytes;
     VkDeviceMemory memory;       /* library-made memory; VK_NULL_HANDLE with your buffers */
+    VkBufferView node_texels;    /* the nodes as R32G32B32A32_UINT texels (the first
+                                    maxTexelBufferElements of them): llvmpipe reads a texel
+                                    buffer without a branch per lane, a storage buffer not */
     void *mapped;                /* the nodes in host memory when the library's memory is
                                     HOST_VISIBLE | HOST_COHERENT (always with LRT_VK_BVH_HOST_VISIBLE),
                                     else NULL; read after the HOST barrier of BARRIERS and the fence */
@@ -706,12 +714,12 @@ typedef struct lrt_vk_bvh {      /* fields are read-only to callers */
 LINEAR_RT_API lrt_result lrt_vk_bvh_buffer_sizes(uint32_t width, uint32_t height, lrt_format format,
                                                  const lrt_build_options *options, VkDeviceSize *out_nodes_bytes,
                                                  VkDeviceSize *out_counters_bytes);
-/* Lays out the tree and binds (or creates) its buffers; records nothing: the
-   tree is filled by lrt_vk_cmd_build. Library memory: DEVICE_LOCAL preferred,
-   else HOST_VISIBLE. A node or counter range past the device's
-   maxStorageBufferRange (a 16384x16384 map has 585 MiB of 16-bit nodes) is
-   LRT_ERROR_LIMIT_EXCEEDED. On error *out is untouched and nothing is left
-   created. */
+/* Lays out the tree, binds (or creates) its buffers and makes the nodes'
+   texel view; records nothing: the tree is filled by lrt_vk_cmd_build.
+   Library memory: DEVICE_LOCAL preferred, else HOST_VISIBLE. A node or
+   counter range past the device's maxStorageBufferRange (a 16384x16384 map
+   has 585 MiB of 16-bit nodes) is LRT_ERROR_LIMIT_EXCEEDED. On error *out
+   is untouched and nothing is left created. */
 LINEAR_RT_API lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh_desc *desc, lrt_vk_bvh *out);
 /* Frees what create made (never your buffers); safe on a zeroed or
    destroyed lrt_vk_bvh. The GPU must be done with it. */
@@ -4581,9 +4589,10 @@ LINEAR_RT_DEF lrt_result lrt_vk_get_requirements(lrt_vk_requirements *out)
     X(vkCreateShaderModule) X(vkDestroyShaderModule) X(vkCreateDescriptorSetLayout)                              \
     X(vkDestroyDescriptorSetLayout) X(vkCreatePipelineLayout) X(vkDestroyPipelineLayout)                         \
     X(vkCreateComputePipelines) X(vkDestroyPipeline) X(vkCreateSampler) X(vkDestroySampler) X(vkCreateBuffer)   \
-    X(vkDestroyBuffer) X(vkGetBufferMemoryRequirements) X(vkAllocateMemory) X(vkFreeMemory)                      \
-    X(vkBindBufferMemory) X(vkMapMemory) X(vkUnmapMemory) X(vkCmdBindPipeline) X(vkCmdPushDescriptorSetKHR)      \
-    X(vkCmdPushConstants) X(vkCmdDispatch) X(vkCmdFillBuffer) X(vkCmdPipelineBarrier)
+    X(vkDestroyBuffer) X(vkCreateBufferView) X(vkDestroyBufferView) X(vkGetBufferMemoryRequirements)            \
+    X(vkAllocateMemory) X(vkFreeMemory) X(vkBindBufferMemory) X(vkMapMemory) X(vkUnmapMemory)                    \
+    X(vkCmdBindPipeline) X(vkCmdPushDescriptorSetKHR) X(vkCmdPushConstants) X(vkCmdDispatch) X(vkCmdFillBuffer)  \
+    X(vkCmdPipelineBarrier)
 
 struct lrt_vk_context {
     VkDevice device;
@@ -4598,6 +4607,7 @@ struct lrt_vk_context {
     VkSampler sampler;
     VkPipeline pipelines[LRT__VK_PIPELINES];
     uint32_t float_modes; /* LRT__VK_FLOAT_*: what lrt__vk_float_controls adds to the kernels */
+    uint32_t node_texels; /* 1: the trace reads lrt_vk_bvh.node_texels (lrt__vk_node_texels) */
 #define LRT__VK_MEMBER(name) PFN_##name p_##name;
     LRT__VK_INSTANCE_FUNCS(LRT__VK_MEMBER)
     LRT__VK_DEVICE_FUNCS(LRT__VK_MEMBER)
@@ -4617,7 +4627,8 @@ enum {
     LRT__VK_BIND_NODES = LRT_K_VK_BINDING_NODES, LRT__VK_BIND_COUNTERS = LRT_K_VK_BINDING_COUNTERS,
     LRT__VK_BIND_RAYS = LRT_K_VK_BINDING_RAYS, LRT__VK_BIND_HITS = LRT_K_VK_BINDING_HITS,
     LRT__VK_BIND_BACK_BUFFER = LRT_K_VK_BINDING_BACK_BUFFER, LRT__VK_BIND_BACK_IMAGE = LRT_K_VK_BINDING_BACK_IMAGE,
-    LRT__VK_BINDINGS = 8
+    LRT__VK_BIND_NODE_TEXELS = LRT_K_VK_BINDING_NODE_TEXELS,
+    LRT__VK_BINDINGS = 9
 };
 #define LRT__VK_GROUP LRT_K_VK_GROUP_SIZE /* invocations per workgroup, in x */
 #define LRT__VK_GROUPS_PER_ROW 65535u /* above this many groups the dispatch is 2D */
@@ -4775,6 +4786,27 @@ static void lrt__vk_destroy_objects(lrt_vk_context *c)
     if (c->sampler != VK_NULL_HANDLE) c->p_vkDestroySampler(c->device, c->sampler, c->callbacks);
 }
 
+/* Whether the trace kernel reads nodes through a uniform texel buffer, which
+   llvmpipe loads without a branch per lane as it does not a storage buffer
+   (lavapipe: secondary rays 0.96-1.33x, geometric mean 1.08x,
+   docs/MEASUREMENTS.md "Nodes read as texels"): where the device's texel
+   buffers hold every tree it can trace, the largest of LINEAR_RT_MAX_DIM
+   squared texels (16-bit nodes, back codes) or maxStorageBufferRange. Else
+   (the Vulkan minimum is 65536 texels) the storage buffer. */
+static uint32_t lrt__vk_node_texels(const VkPhysicalDeviceLimits *limits)
+{
+    lrt_build_options o;
+    lrt_layout L;
+    VkDeviceSize most = limits->maxStorageBufferRange;
+    memset(&o, 0, sizeof o);
+    o.node_bits = 16;
+    o.thickness = LRT_THICKNESS_BACK_MAP;
+    if (lrt__options_layout(LINEAR_RT_MAX_DIM, LINEAR_RT_MAX_DIM, LRT_FORMAT_FLOAT32, &o, &L) == LRT_SUCCESS &&
+        (VkDeviceSize)L.bytes < most)
+        most = (VkDeviceSize)L.bytes;
+    return most / 16u <= limits->maxTexelBufferElements;
+}
+
 /* Creates the Vulkan objects; on failure returns the VkResult (objects made
    so far are left for lrt__vk_destroy_objects). */
 static VkResult lrt__vk_create_objects(lrt_vk_context *c, VkPipelineCache cache)
@@ -4808,6 +4840,7 @@ static VkResult lrt__vk_create_objects(lrt_vk_context *c, VkPipelineCache cache)
     b[LRT__VK_BIND_DEPTH_IMAGE].pImmutableSamplers = &c->sampler; /* pushes give the view alone */
     b[LRT__VK_BIND_BACK_IMAGE].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     b[LRT__VK_BIND_BACK_IMAGE].pImmutableSamplers = &c->sampler;
+    b[LRT__VK_BIND_NODE_TEXELS].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     memset(&li, 0, sizeof li);
     li.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
     li.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
@@ -4828,8 +4861,9 @@ static VkResult lrt__vk_create_objects(lrt_vk_context *c, VkPipelineCache cache)
 
     for (p = 0; p < LRT__VK_PIPELINES; ++p) {
         lrt__vk_module m = lrt__vk_module_at(p % LRT__VK_MODULES);
-        const uint32_t consts[2] = {p >= LRT__VK_MODULES, p >= 2 * LRT__VK_MODULES ? 8u : 16u}; /* VkBool32, node bits */
-        VkSpecializationMapEntry entry[2];
+        /* VkBool32 lrt_back_trees, node bits, VkBool32 lrt_node_texels */
+        const uint32_t consts[3] = {p >= LRT__VK_MODULES, p >= 2 * LRT__VK_MODULES ? 8u : 16u, c->node_texels};
+        VkSpecializationMapEntry entry[3];
         VkSpecializationInfo spec;
         VkShaderModuleCreateInfo mi;
         VkComputePipelineCreateInfo ci;
@@ -4840,7 +4874,10 @@ static VkResult lrt__vk_create_objects(lrt_vk_context *c, VkPipelineCache cache)
         entry[1].constantID = 1;
         entry[1].offset = sizeof consts[0];
         entry[1].size = sizeof consts[1];
-        spec.mapEntryCount = 2;
+        entry[2].constantID = 2;
+        entry[2].offset = 2 * sizeof consts[0];
+        entry[2].size = sizeof consts[2];
+        spec.mapEntryCount = 3;
         spec.pMapEntries = entry;
         spec.dataSize = sizeof consts;
         spec.pData = consts;
@@ -4924,6 +4961,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_context_create(const lrt_vk_context_desc *desc, 
     }
     c->p_vkGetPhysicalDeviceProperties(c->physical_device, &props);
     c->limits = props.limits;
+    c->node_texels = lrt__vk_node_texels(&c->limits);
     c->p_vkGetPhysicalDeviceMemoryProperties(c->physical_device, &c->memory_properties);
     lrt_vk_get_requirements(&req);
     if (props.apiVersion < req.api_version || !lrt__vk_supports(c, &req) ||
@@ -5011,6 +5049,8 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
     lrt_vk_bvh bvh;
     lrt_layout L;
     VkDeviceSize align, nodes_bytes, counters_bytes, max_range;
+    VkBufferViewCreateInfo vi;
+    VkResult vr;
     lrt_result r;
     if (!ctx || !desc || !out) return LRT_ERROR_NULL_POINTER;
     if ((r = lrt__vk_layout(desc->width, desc->height, desc->format, &desc->options, &L)) != LRT_SUCCESS) return r;
@@ -5026,7 +5066,9 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
     bvh.counters_bytes = counters_bytes;
     if (desc->nodes != VK_NULL_HANDLE) { /* the caller's buffers */
         if (desc->flags & LRT_VK_BVH_HOST_VISIBLE) return LRT_ERROR_INVALID_OPTION;
-        if (desc->nodes_offset % align || desc->counters_offset % align) return LRT_ERROR_MISALIGNED;
+        if (desc->nodes_offset % align || desc->counters_offset % align ||
+            desc->nodes_offset % ctx->limits.minTexelBufferOffsetAlignment)
+            return LRT_ERROR_MISALIGNED;
         bvh.nodes = desc->nodes;
         bvh.nodes_offset = desc->nodes_offset;
         bvh.counters = desc->counters;
@@ -5036,13 +5078,12 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
         VkMemoryRequirements mr;
         VkMemoryAllocateInfo ai;
         VkMemoryPropertyFlags wishes[4];
-        VkResult vr;
         int type, n = 0;
         memset(&bi, 0, sizeof bi);
         bi.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
         bi.size = lrt__vk_align_up(nodes_bytes, align) + counters_bytes;
-        bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                   VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+        bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                   VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
         bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
         if ((vr = ctx->p_vkCreateBuffer(ctx->device, &bi, ctx->callbacks, &bvh.nodes)) != VK_SUCCESS) {
             ctx->vk_result = vr;
@@ -5080,6 +5121,20 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
         bvh.counters_offset = lrt__vk_align_up(nodes_bytes, align);
     }
     bvh.created = 1;
+    memset(&vi, 0, sizeof vi);
+    vi.sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO;
+    vi.buffer = bvh.nodes;
+    vi.format = VK_FORMAT_R32G32B32A32_UINT;
+    vi.offset = bvh.nodes_offset;
+    vi.range = nodes_bytes; /* a multiple of 16 (whole nodes) */
+    if (vi.range / 16u > ctx->limits.maxTexelBufferElements) /* then the trace reads the storage buffer */
+        vi.range = (VkDeviceSize)ctx->limits.maxTexelBufferElements * 16u;
+    if ((vr = ctx->p_vkCreateBufferView(ctx->device, &vi, ctx->callbacks, &bvh.node_texels)) != VK_SUCCESS) {
+        bvh.node_texels = VK_NULL_HANDLE;
+        lrt_vk_bvh_destroy(ctx, &bvh);
+        ctx->vk_result = vr;
+        return LRT_ERROR_VULKAN;
+    }
     *out = bvh;
     return LRT_SUCCESS;
 }
@@ -5087,6 +5142,8 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
 LINEAR_RT_DEF void lrt_vk_bvh_destroy(lrt_vk_context *ctx, lrt_vk_bvh *bvh)
 {
     if (!bvh) return;
+    if (ctx && bvh->created && bvh->node_texels != VK_NULL_HANDLE)
+        ctx->p_vkDestroyBufferView(ctx->device, bvh->node_texels, ctx->callbacks);
     if (ctx && bvh->created && bvh->memory != VK_NULL_HANDLE) {
         if (bvh->mapped) ctx->p_vkUnmapMemory(ctx->device, bvh->memory);
         ctx->p_vkDestroyBuffer(ctx->device, bvh->nodes, ctx->callbacks);
@@ -5243,17 +5300,18 @@ static void lrt__vk_push_common(const lrt_vk_bvh *bvh, const lrt_vk_depth *depth
     pc->back_k1 = bvh->layout.back_k[1];
 }
 
-/* Binds, pushes descriptors (depth, nodes, then two more: counters, or rays
-   and hits) and constants, and dispatches gx x gy groups. */
+/* Binds, pushes descriptors (depth, nodes, the extra ones: the refit's
+   counters or the trace's rays and hits, the back map, and for the trace the
+   nodes' texel view) and constants, and dispatches gx x gy groups. */
 static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, int pipeline, const lrt_vk_bvh *bvh,
                            const lrt__vk_source *src, const VkDescriptorBufferInfo *extra, const uint32_t *extra_binding,
                            uint32_t extra_count, const lrt__vk_push *pc, uint32_t gx, uint32_t gy)
 {
-    VkWriteDescriptorSet w[5];
+    VkWriteDescriptorSet w[6];
     VkDescriptorBufferInfo nodes;
-    uint32_t k;
+    uint32_t k, n = 3 + extra_count;
     memset(w, 0, sizeof w);
-    for (k = 0; k < 3 + extra_count; ++k) {
+    for (k = 0; k < n + 1; ++k) {
         w[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
         w[k].descriptorCount = 1;
         w[k].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -5283,10 +5341,15 @@ static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, int pipeline,
         w[2 + k].dstBinding = LRT__VK_BIND_BACK_BUFFER;
         w[2 + k].pBufferInfo = &src->back_buffer;
     }
+    if (pipeline == LRT__VK_TRACE_BUFFER || pipeline == LRT__VK_TRACE_IMAGE) {
+        w[n].dstBinding = LRT__VK_BIND_NODE_TEXELS;
+        w[n].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+        w[n++].pTexelBufferView = &bvh->node_texels;
+    }
     c->p_vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
                            c->pipelines[pipeline + (!bvh->layout.back_codes ? 0 : bvh->layout.node_bits == 16 ? LRT__VK_MODULES
                                                                                                    : 2 * LRT__VK_MODULES)]);
-    c->p_vkCmdPushDescriptorSetKHR(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipeline_layout, 0, 3 + extra_count, w);
+    c->p_vkCmdPushDescriptorSetKHR(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipeline_layout, 0, n, w);
     c->p_vkCmdPushConstants(cmd, c->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, (uint32_t)sizeof *pc, pc);
     c->p_vkCmdDispatch(cmd, gx, gy, 1);
 }

@@ -8,7 +8,8 @@
 //   #define LRT_DEPTH_IMAGE 0 or 1
 //   #define LRT_NODE_WORD(i)      word i of the node array (uint)
 //   (optional: LRT_NODE_QUAD(i), the same array read as uvec4: a node's
-//   codes in one load, as lrt_common.glsl does)
+//   codes in one load, as lrt_common.glsl does; through a uniform texel
+//   buffer where it can, which llvmpipe reads without a branch per lane)
 //   #define LRT_DEPTH_WORD(i)     word i of the depth buffer (LRT_DEPTH_IMAGE 0)
 //   #define LRT_DEPTH_TEXEL(x, y) texelFetch(depth, ivec2(x, y), 0).r (LRT_DEPTH_IMAGE 1)
 // and passes an LrtParams (the first fields of the push constants of the

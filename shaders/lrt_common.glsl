@@ -29,11 +29,21 @@ layout(set = 0, binding = LRT_K_VK_BINDING_BACK_BUFFER, std430) readonly buffer 
 #endif
 layout(set = 0, binding = LRT_K_VK_BINDING_NODES, std430) LRT_NODES_ACCESS buffer LrtNodes { uint words[]; } lrt_nodes;
 #define LRT_NODE_WORD(i) lrt_nodes.words[i]
-// the trace kernel reads a node's codes in one load: the same binding
-// again, as uvec4
+// the trace kernel reads a node's codes in one uvec4 load: through a texel
+// view of the same buffer where the host says so (lrt_node_texels: llvmpipe
+// reads a texel buffer without a branch per lane, secondary rays 1.09x,
+// docs/MEASUREMENTS.md "Nodes read as texels"; single words, read so, lost
+// 0.95x), else from the storage buffer (a device with small texel buffers)
 #ifdef LRT_NODES_QUADS
 layout(set = 0, binding = LRT_K_VK_BINDING_NODES, std430) readonly buffer LrtNodeQuads { uvec4 quads[]; } lrt_node_quads;
-#define LRT_NODE_QUAD(i) lrt_node_quads.quads[i]
+layout(set = 0, binding = LRT_K_VK_BINDING_NODE_TEXELS) uniform utextureBuffer lrt_node_view;
+layout(constant_id = 2) const bool lrt_node_texels = false;
+uvec4 lrt_node_quad(uint i)
+{
+    if (lrt_node_texels) return texelFetch(lrt_node_view, int(i));
+    return lrt_node_quads.quads[i];
+}
+#define LRT_NODE_QUAD(i) lrt_node_quad(i)
 #endif
 
 // back-map trees get pipelines of their own (the host sets this to true for

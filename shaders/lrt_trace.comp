@@ -1,5 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_samplerless_texture_functions : require // the nodes' texel view
 // lrt_trace.comp - one ray per invocation through the BVH: its closest hit,
 // into hits[ray_first + i].
 #define LRT_NODES_ACCESS readonly // (lrt_common.glsl)

@@ -950,7 +950,8 @@ static void test_bad_arguments(void)
    layer, which knows the real limits, sees every command recorded. */
 static PFN_vkGetInstanceProcAddr g_real_gipa;
 static PFN_vkGetPhysicalDeviceProperties g_real_properties;
-static uint32_t g_low_range, g_low_groups_x, g_low_groups_y, g_low_image; /* 0: the real limit */
+static uint32_t g_low_range, g_low_groups_x, g_low_groups_y, g_low_image, g_low_texels; /* 0: the real limit */
+static VkDeviceSize g_high_texel_align; /* 0: the real minTexelBufferOffsetAlignment */
 
 static VKAPI_ATTR void VKAPI_CALL low_properties(VkPhysicalDevice pd, VkPhysicalDeviceProperties *p)
 {
@@ -959,6 +960,8 @@ static VKAPI_ATTR void VKAPI_CALL low_properties(VkPhysicalDevice pd, VkPhysical
     if (g_low_groups_x) p->limits.maxComputeWorkGroupCount[0] = g_low_groups_x;
     if (g_low_groups_y) p->limits.maxComputeWorkGroupCount[1] = g_low_groups_y;
     if (g_low_image) p->limits.maxImageDimension2D = g_low_image;
+    if (g_low_texels) p->limits.maxTexelBufferElements = g_low_texels;
+    if (g_high_texel_align) p->limits.minTexelBufferOffsetAlignment = g_high_texel_align;
 }
 
 static VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL low_gipa(VkInstance instance, const char *name)
@@ -968,7 +971,8 @@ static VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL low_gipa(VkInstance instance, co
 }
 
 /* A context on g_dev's device whose limits read as these (0: the real one). */
-static lrt_vk_context *low_context(uint32_t range, uint32_t groups_x, uint32_t groups_y, uint32_t image)
+static lrt_vk_context *low_context(uint32_t range, uint32_t groups_x, uint32_t groups_y, uint32_t image,
+                                   uint32_t texels)
 {
     lrt_vk_context_desc cd = g_dev.desc;
     lrt_vk_context *ctx = NULL;
@@ -980,10 +984,11 @@ static lrt_vk_context *low_context(uint32_t range, uint32_t groups_x, uint32_t g
     g_low_groups_x = groups_x;
     g_low_groups_y = groups_y;
     g_low_image = image;
+    g_low_texels = texels;
     cd.get_instance_proc_addr = low_gipa;
     r = g_real_properties ? lrt_vk_context_create(&cd, &ctx) : LRT_ERROR_MISSING_VULKAN_FEATURE;
-    CHECK(r == LRT_SUCCESS, "context with lowered limits (range %u, groups %ux%u, image %u): %s", range, groups_x,
-          groups_y, image, lrt_result_string(r));
+    CHECK(r == LRT_SUCCESS, "context with lowered limits (range %u, groups %ux%u, image %u, texels %u): %s", range,
+          groups_x, groups_y, image, texels, lrt_result_string(r));
     return r == LRT_SUCCESS ? ctx : NULL;
 }
 
@@ -1032,8 +1037,9 @@ static void test_device_limits(void)
     vkt_buffer rb, hb;
     lrt_hit cpu_hits[NRAYS];
     lrt_ray *rays;
-    VkDeviceSize nodes_bytes, counters_bytes;
-    lrt_vk_context *range_ctx, *span_ctx, *group_ctx, *image_ctx;
+    VkDeviceSize nodes_bytes, counters_bytes, texel_align;
+    vkt_buffer own;
+    lrt_vk_context *range_ctx, *span_ctx, *group_ctx, *image_ctx, *texel_ctx;
     unsigned char sentinel[sizeof(lrt_vk_bvh)];
     const VkFormat image_format = default_image_format(LRT_FORMAT_FLOAT32, 1);
     lrt_rect rect;
@@ -1056,12 +1062,22 @@ static void test_device_limits(void)
     memset(&wbuf, 0, sizeof wbuf);
     memset(&rb, 0, sizeof rb);
     memset(&hb, 0, sizeof hb);
+    memset(&own, 0, sizeof own);
     rays = (lrt_ray *)malloc(sizeof(lrt_ray) * NRAYS);
-    range_ctx = low_context((uint32_t)nodes_bytes - 16u, 0, 0, 0); /* the 64x64 float tree does not fit */
-    span_ctx = low_context((uint32_t)nodes_bytes, 0, 0, 0);         /* the tree fits, its float depth does not */
-    group_ctx = low_context(0, 4, 2, 0);                            /* 8 groups of 64: 512 rays or level-1 nodes */
-    image_ctx = low_context(0, 0, 0, 32);                           /* no 64x64 image */
-    if (!rays || !range_ctx || !span_ctx || !group_ctx || !image_ctx || !vkt_format_sampled(&g_t, image_format) ||
+    range_ctx = low_context((uint32_t)nodes_bytes - 16u, 0, 0, 0, 0); /* the 64x64 float tree does not fit */
+    span_ctx = low_context((uint32_t)nodes_bytes, 0, 0, 0, 0);         /* the tree fits, its float depth does not */
+    group_ctx = low_context(0, 4, 2, 0, 0);                            /* 8 groups of 64: 512 rays or level-1 nodes */
+    image_ctx = low_context(0, 0, 0, 32, 0);                           /* no 64x64 image */
+    /* 256 texel-buffer elements: the 64x64 tree's 585 nodes do not fit; and
+       texel views at multiples of 4 storage alignments */
+    texel_align = 4u * g_limits.minStorageBufferOffsetAlignment;
+    if (texel_align < 64u) texel_align = 64u;
+    if (texel_align < g_limits.minTexelBufferOffsetAlignment) texel_align = g_limits.minTexelBufferOffsetAlignment;
+    g_high_texel_align = texel_align;
+    texel_ctx = low_context(0, 0, 0, 0, 256);
+    g_high_texel_align = 0;
+    if (!rays || !range_ctx || !span_ctx || !group_ctx || !image_ctx || !texel_ctx ||
+        !vkt_format_sampled(&g_t, image_format) ||
         gpu_depth_create(&m.depth, SRC_PACKED, VK_FORMAT_UNDEFINED, &buf) ||
         gpu_depth_create(&m.depth, SRC_IMAGE, image_format, &img) ||
         gpu_depth_create(&wide.depth, SRC_PACKED, VK_FORMAT_UNDEFINED, &wbuf) ||
@@ -1141,10 +1157,34 @@ static void test_device_limits(void)
     limits_refit(group_ctx, &bvh_wide, &wbuf.depth, &rect, &cpu_wide, "update of 64x64 texels in 4x2 groups");
     limits_refit(image_ctx, &bvh, &buf.depth, NULL, &cpu, "build from a buffer, images up to 32");
     limits_trace(image_ctx, &bvh, &buf.depth, &rb, &hb, cpu_hits, NRAYS, "trace from a buffer, images up to 32");
+    /* texel buffers too small for the largest tree: the trace reads the
+       nodes' storage buffer, through a tree made in that context (its texel
+       view clipped to 256 nodes) and one made in g_ctx */
+    bd.format = LRT_FORMAT_FLOAT32;
+    if (vkt_buffer_create(&g_t, 8u * (nodes_bytes + texel_align), &own)) goto done;
+    bd.nodes = bd.counters = own.buffer;
+    bd.counters_offset = ((2u * texel_align + nodes_bytes) / texel_align + 1u) * texel_align;
+    bd.nodes_offset = g_limits.minStorageBufferOffsetAlignment < 16u ? 16u : g_limits.minStorageBufferOffsetAlignment;
+    CHECK(lrt_vk_bvh_create(texel_ctx, &bd, &untouched) == LRT_ERROR_MISALIGNED,
+          "create: nodes at a storage alignment but not a texel one");
+    CHECK(memcmp(&untouched, sentinel, sizeof sentinel) == 0, "create, misaligned: the lrt_vk_bvh was written");
+    bd.nodes_offset = 2u * texel_align;
+    CHECK(lrt_vk_bvh_create(texel_ctx, &bd, &fits) == LRT_SUCCESS, "create: nodes at a texel alignment");
+    lrt_vk_bvh_destroy(texel_ctx, &fits);
+    bd.nodes = bd.counters = VK_NULL_HANDLE;
+    bd.nodes_offset = bd.counters_offset = 0;
+    bd.flags = LRT_VK_BVH_HOST_VISIBLE;
+    CHECK(lrt_vk_bvh_create(texel_ctx, &bd, &fits) == LRT_SUCCESS, "create: 585 nodes, 256 texel-buffer elements");
+    limits_refit(texel_ctx, &fits, &img.depth, NULL, &cpu, "build, 256 texel-buffer elements");
+    limits_trace(texel_ctx, &fits, &img.depth, &rb, &hb, cpu_hits, NRAYS, "trace, 256 texel-buffer elements");
+    limits_trace(texel_ctx, &bvh, &buf.depth, &rb, &hb, cpu_hits, NRAYS,
+                 "trace of g_ctx's tree, 256 texel-buffer elements");
+    lrt_vk_bvh_destroy(texel_ctx, &fits);
 
 done:
     vkt_buffer_destroy(&g_t, &rb);
     vkt_buffer_destroy(&g_t, &hb);
+    vkt_buffer_destroy(&g_t, &own);
     lrt_vk_bvh_destroy(g_ctx, &bvh);
     lrt_vk_bvh_destroy(g_ctx, &bvh_wide);
     gpu_depth_destroy(&buf);
@@ -1154,6 +1194,7 @@ done:
     lrt_vk_context_destroy(span_ctx);
     lrt_vk_context_destroy(group_ctx);
     lrt_vk_context_destroy(image_ctx);
+    lrt_vk_context_destroy(texel_ctx);
     lrt_bvh_destroy(&cpu);
     lrt_bvh_destroy(&cpu_wide);
     free_map(&m);

@@ -148,7 +148,7 @@ VKT_FN int vkt_allocate(vkt *t, VkMemoryRequirements *mr, VkMemoryPropertyFlags 
 }
 
 /* A host-visible, coherent, mapped buffer of size bytes (usage: storage,
-   transfer source and destination); prefer_device: DEVICE_LOCAL as well
+   uniform texel (a tree's nodes), transfer source and destination); prefer_device: DEVICE_LOCAL as well
    where there is such memory (integrated GPUs, resizable BAR, lavapipe). */
 VKT_FN int vkt_buffer_create_in(vkt *t, VkDeviceSize size, int prefer_device, vkt_buffer *b)
 {
@@ -160,7 +160,8 @@ VKT_FN int vkt_buffer_create_in(vkt *t, VkDeviceSize size, int prefer_device, vk
     memset(&bi, 0, sizeof bi);
     bi.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
     bi.size = size ? size : 4;
-    bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     if ((r = t->vkCreateBuffer(t->device, &bi, NULL, &b->buffer)) != VK_SUCCESS) return vkt_fail("vkCreateBuffer", r);
     t->vkGetBufferMemoryRequirements(t->device, b->buffer, &mr);
