@@ -5007,6 +5007,13 @@ static VkDeviceSize lrt__vk_storage_alignment(const lrt_vk_context *c)
     return a < 4 ? 4 : a;
 }
 
+/* minTexelBufferOffsetAlignment (at least 1: never a division by 0) */
+static VkDeviceSize lrt__vk_texel_alignment(const lrt_vk_context *c)
+{
+    VkDeviceSize a = c->limits.minTexelBufferOffsetAlignment;
+    return a < 1 ? 1 : a;
+}
+
 static lrt_result lrt__vk_layout(uint32_t width, uint32_t height, lrt_format format, const lrt_build_options *options,
                                  lrt_layout *layout)
 {
@@ -5067,7 +5074,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
     if (desc->nodes != VK_NULL_HANDLE) { /* the caller's buffers */
         if (desc->flags & LRT_VK_BVH_HOST_VISIBLE) return LRT_ERROR_INVALID_OPTION;
         if (desc->nodes_offset % align || desc->counters_offset % align ||
-            desc->nodes_offset % ctx->limits.minTexelBufferOffsetAlignment)
+            desc->nodes_offset % lrt__vk_texel_alignment(ctx))
             return LRT_ERROR_MISALIGNED;
         bvh.nodes = desc->nodes;
         bvh.nodes_offset = desc->nodes_offset;
@@ -5128,7 +5135,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
     vi.offset = bvh.nodes_offset;
     vi.range = nodes_bytes; /* a multiple of 16 (whole nodes) */
     if (vi.range / 16u > ctx->limits.maxTexelBufferElements) /* then the trace reads the storage buffer */
-        vi.range = (VkDeviceSize)ctx->limits.maxTexelBufferElements * 16u;
+        vi.range = ctx->limits.maxTexelBufferElements ? (VkDeviceSize)ctx->limits.maxTexelBufferElements * 16u : 16u;
     if ((vr = ctx->p_vkCreateBufferView(ctx->device, &vi, ctx->callbacks, &bvh.node_texels)) != VK_SUCCESS) {
         bvh.node_texels = VK_NULL_HANDLE;
         lrt_vk_bvh_destroy(ctx, &bvh);

@@ -65,8 +65,9 @@ typedef struct mock {
     uint32_t gx, gy, gz;
     lrt__vk_push pc;
     uint32_t writes;
-    VkDescriptorBufferInfo buf[8]; /* by binding */
-    int has[8];
+    VkDescriptorBufferInfo buf[9]; /* by binding */
+    VkBufferView view;             /* binding 8, the nodes' texels */
+    int has[9];
     VkDeviceSize fill_offset, fill_size;
 } mock;
 static mock g;
@@ -103,11 +104,13 @@ CREATE(m_CreateDescriptorSetLayout, VkDescriptorSetLayoutCreateInfo, VkDescripto
 CREATE(m_CreatePipelineLayout, VkPipelineLayoutCreateInfo, VkPipelineLayout)
 CREATE(m_CreateSampler, VkSamplerCreateInfo, VkSampler)
 CREATE(m_CreateBuffer, VkBufferCreateInfo, VkBuffer)
+CREATE(m_CreateBufferView, VkBufferViewCreateInfo, VkBufferView)
 DESTROY(m_DestroyShaderModule, VkShaderModule)
 DESTROY(m_DestroyDescriptorSetLayout, VkDescriptorSetLayout)
 DESTROY(m_DestroyPipelineLayout, VkPipelineLayout)
 DESTROY(m_DestroySampler, VkSampler)
 DESTROY(m_DestroyBuffer, VkBuffer)
+DESTROY(m_DestroyBufferView, VkBufferView)
 DESTROY(m_DestroyPipeline, VkPipeline)
 DESTROY(m_FreeMemory, VkDeviceMemory)
 
@@ -290,12 +293,17 @@ static VKAPI_ATTR void VKAPI_CALL m_CmdPushDescriptorSetKHR(VkCommandBuffer c, V
     g.writes = n;
     for (k = 0; k < n; ++k) {
         uint32_t b = w[k].dstBinding;
-        if (b >= 8 || w[k].descriptorCount != 1) FAIL("descriptor write to binding %u, count %u", b, w[k].descriptorCount);
+        if (b >= 9 || w[k].descriptorCount != 1) FAIL("descriptor write to binding %u, count %u", b, w[k].descriptorCount);
         if (g.has[b]) FAIL("binding %u written twice", b);
         g.has[b] = 1;
         if (b == 1 || b == 7) { /* the depth image, the back map's image */
             if (w[k].descriptorType != VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER || !w[k].pImageInfo)
                 FAIL("binding %u is no image", b);
+        } else if (b == 8) { /* the nodes' texels */
+            if (w[k].descriptorType != VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER || !w[k].pTexelBufferView ||
+                *w[k].pTexelBufferView == VK_NULL_HANDLE)
+                FAIL("binding 8 is no texel buffer view");
+            g.view = *w[k].pTexelBufferView;
         } else {
             if (w[k].descriptorType != VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || !w[k].pBufferInfo)
                 FAIL("binding %u is no storage buffer", b);
@@ -359,7 +367,7 @@ static PFN_vkVoidFunction lookup(const char *name)
         FN(GetPhysicalDeviceMemoryProperties), FN(EnumerateDeviceExtensionProperties), FN(CreateShaderModule),
         FN(DestroyShaderModule), FN(CreateDescriptorSetLayout), FN(DestroyDescriptorSetLayout), FN(CreatePipelineLayout),
         FN(DestroyPipelineLayout), FN(CreateComputePipelines), FN(DestroyPipeline), FN(CreateSampler), FN(DestroySampler),
-        FN(CreateBuffer), FN(DestroyBuffer), FN(GetBufferMemoryRequirements), FN(AllocateMemory), FN(FreeMemory),
+        FN(CreateBuffer), FN(DestroyBuffer), FN(CreateBufferView), FN(DestroyBufferView), FN(GetBufferMemoryRequirements), FN(AllocateMemory), FN(FreeMemory),
         FN(BindBufferMemory), FN(MapMemory), FN(UnmapMemory), FN(CmdBindPipeline), FN(CmdPushDescriptorSetKHR),
         FN(CmdPushConstants), FN(CmdDispatch), FN(CmdFillBuffer), FN(CmdPipelineBarrier), FN(GetDeviceProcAddr),
 #undef FN
@@ -415,6 +423,9 @@ static void read_device(input *in)
     g.limits.maxComputeWorkGroupCount[1] = (c & 0x60) ? 65535u : counts[u8(in) & 3];
     g.limits.maxComputeWorkGroupCount[2] = 65535u;
     g.limits.maxImageDimension2D = (a & 0x60) == 0x40 ? 1u << (u8(in) % 16u) : 16384u;
+    k = u8(in); /* texel buffers: 2^27, 65536 (the Vulkan minimum), 256 or 0 elements; alignment 0..256 */
+    g.limits.maxTexelBufferElements = (k & 3) == 0 ? 1u << 27 : (k & 3) == 1 ? 65536u : (k & 3) == 2 ? 256u : 0u;
+    g.limits.minTexelBufferOffsetAlignment = (k >> 2) % 10u ? 1u << ((k >> 2) % 10u - 1u) : 0u;
     g.mem_type_count = (c >> 7) ? 1u + u8(in) % 4u : 1u;
     for (k = 0; k < g.mem_type_count; ++k)
         g.mem_flags[k] = k == 0 && !(c >> 7) ? VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
@@ -451,6 +462,13 @@ static VkDeviceSize align_of(void)
 {
     VkDeviceSize a = g.limits.minStorageBufferOffsetAlignment;
     return a < 4 ? 4 : a; /* offsets are multiples of it and of 4 (lrt_vk_bvh_desc) */
+}
+
+/* a caller's node buffer's offset: a multiple of minTexelBufferOffsetAlignment too (0 read as 1) */
+static VkDeviceSize texel_align_of(void)
+{
+    VkDeviceSize a = g.limits.minTexelBufferOffsetAlignment;
+    return a < 1 ? 1 : a;
 }
 
 /* ---- checks of what was recorded ---------------------------------------------------- */
@@ -716,7 +734,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                     cmust |= CODE(LRT_ERROR_LIMIT_EXCEEDED);
                 if (bd.nodes != VK_NULL_HANDLE) {
                     if (bd.flags & LRT_VK_BVH_HOST_VISIBLE) cmust |= CODE(LRT_ERROR_INVALID_OPTION);
-                    if (bd.nodes_offset % align_of() || bd.counters_offset % align_of())
+                    if (bd.nodes_offset % align_of() || bd.counters_offset % align_of() ||
+                        bd.nodes_offset % texel_align_of())
                         cmust |= CODE(LRT_ERROR_MISALIGNED);
                 } else { /* library memory: a fitting type, and Vulkan calls that may fail */
                     uint32_t t, ok = 0;
@@ -751,6 +770,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 lrt_layout L;
                 expect("lrt_layout_compute", lrt_layout_compute(bd.width, bd.height, bd.options.node_bits ? bd.options.node_bits : (bd.format == 1 ? 8u : 16u), &L), 0, 0);
                 if (memcmp(&L, &out.layout, sizeof L) != 0) FAIL("the GPU layout is not the CPU's");
+                if (out.node_texels == VK_NULL_HANDLE) FAIL("lrt_vk_bvh_create made no texel view of the nodes");
                 if (!out.created || out.nodes == VK_NULL_HANDLE || out.counters == VK_NULL_HANDLE ||
                     out.nodes_offset % align_of() || out.counters_offset % align_of() ||
                     out.counters_bytes != (VkDeviceSize)L.node_count * 4u)
@@ -879,6 +899,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             check_dispatch("lrt_vk_cmd_trace", count);
             check_binding("lrt_vk_cmd_trace", 4);
             check_binding("lrt_vk_cmd_trace", 5);
+            if (!g.has[8] || g.view != b->node_texels) FAIL("lrt_vk_cmd_trace: the nodes' texel view is not bound");
             if (g.pc.ray_count != count || g.pc.trace_flags != flags ||
                 g.buf[4].offset + g.pc.ray_first * sizeof(lrt_ray) != ro ||
                 g.buf[5].offset + g.pc.ray_first * sizeof(lrt_hit) != ho ||
