@@ -5133,7 +5133,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
     vi.buffer = bvh.nodes;
     vi.format = VK_FORMAT_R32G32B32A32_UINT;
     vi.offset = bvh.nodes_offset;
-    vi.range = nodes_bytes; /* a multiple of 16 (whole nodes) */
+    vi.range = nodes_bytes & ~(VkDeviceSize)15; /* whole nodes: all of them (a multiple of 16) */
     if (vi.range / 16u > ctx->limits.maxTexelBufferElements) /* then the trace reads the storage buffer */
         vi.range = ctx->limits.maxTexelBufferElements ? (VkDeviceSize)ctx->limits.maxTexelBufferElements * 16u : 16u;
     if ((vr = ctx->p_vkCreateBufferView(ctx->device, &vi, ctx->callbacks, &bvh.node_texels)) != VK_SUCCESS) {
