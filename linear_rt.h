@@ -5318,7 +5318,7 @@ static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, int pipeline,
     VkDescriptorBufferInfo nodes;
     uint32_t k, n = 3 + extra_count;
     memset(w, 0, sizeof w);
-    for (k = 0; k < n + 1; ++k) {
+    for (k = 0; k < sizeof w / sizeof w[0]; ++k) { /* storage buffers unless set otherwise below */
         w[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
         w[k].descriptorCount = 1;
         w[k].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;

@@ -1152,6 +1152,10 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
 // below it) has only the children after the one just walked left to test,
 // unless the segment ends inside that one. True with the first texel hit
 // (hx, hy) and its t, false for a miss (lrt_trace_ray reports either).
+// the flip into visiting order of a level-lv node's children: those of
+// 2x4 blocks or of 4x2 blocks (lrt_walk_origin's flip_tall, flip_wide)
+uint lrt_flip_of(uint lv, uint flip_tall, uint flip_wide) { return lrt_bw_log2(lv - 1u) == 1u ? flip_tall : flip_wide; }
+
 bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy, out float ht, out vec2 hplanes)
 {
     hplanes = vec2(0.0);
@@ -1174,7 +1178,7 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
     uint eligible = 0xffu, reached = 1u, busy = 0u;
     uvec4 masks = uvec4(0u);
     for (;;) {
-        uint flip = lrt_bw_log2(lv - 1u) == 1u ? flip_tall : flip_wide;
+        uint flip = lrt_flip_of(lv, flip_tall, flip_wide);
         uint m = lrt_cull_children(p, s, cull, lv, off, nx, ny, flip, back_base, back) & eligible;
         // a padding node (past its level's grid) has no children in memory:
         // never down into one (fuzz_core: a read past the nodes)
@@ -1221,7 +1225,7 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
             to = up - 1u;
             uint ux = x0 >> lrt_span_w_log2(up), uy = y0 >> lrt_span_h_log2(up);
             uint pend = lrt_mask_get(masks, up);
-            uint slot = uint(findLSB(pend)) ^ (lrt_bw_log2(to) == 1u ? flip_tall : flip_wide);
+            uint slot = uint(findLSB(pend)) ^ lrt_flip_of(up, flip_tall, flip_wide);
             pend &= pend - 1u;
             masks = lrt_mask_set(masks, up, pend);
             busy &= pend != 0u ? ~0u : ~(1u << up);
@@ -1242,7 +1246,7 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
             if (!s.zero.y) { precise float e = (fy - s.o.y) * s.iv.y; ex_y = e; }
             if (min(ex_x, ex_y) > lrt_widen(s.t_hi)) return false;
             uint bwl = lrt_bw_log2(reached);
-            uint k = lrt_child_slot(reached, ax, ay) ^ (bwl == 1u ? flip_tall : flip_wide);
+            uint k = lrt_child_slot(reached, ax, ay) ^ lrt_flip_of(reached + 1u, flip_tall, flip_wide);
             eligible = ~((2u << k) - 1u) & 0xffu;
             to = reached + 1u;
             reached = to;
