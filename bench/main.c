@@ -6,7 +6,8 @@
    rays, short ambient-occlusion rays, shadow rays, random segments) each
    method builds, updates and traces, timed by itself (medians after a
    warm-up; a run of a short set traces it again until 20 ms have passed
-   and keeps the mean; GPU timestamps on Vulkan), and is scored against the exact
+   and keeps the mean; GPU timestamps on Vulkan; the methods of one device
+   take their runs of a set in turn, run_methods), and is scored against the exact
    reference of the tests (tests/support/reference.h) on a fixed sample of the rays:
    exact methods by docs/MODEL.md's rule, approximate ones by the share of rays
    with the right hit/miss and texel, false hits, false misses and the mean
@@ -540,17 +541,25 @@ static double pct(size_t a, size_t n) { return n ? 100.0 * (double)a / (double)n
 #define TRACE_MIN_MS 20.0 /* --quick: 0, one trace a run */
 #define TRACE_MAX_REPEATS 1000
 
-/* methods on one scene: build, update, every ray set. Several methods
-   (a method and its -march=native twin, make bench-plain-vs-native) take
-   their runs of each set in turn, so that the machine's slow and fast
-   phases fall on all of them alike; each is scored on hits of its own */
-#define GROUP_MAX 2
+/* methods on one scene: build, update, every ray set. The methods of one
+   device (every CPU method, or every Vulkan one: the columns whose ratios
+   the README and the issues read) take their runs of each set in turn, the
+   order rotating from run to run, so that this machine's slow and fast
+   phases (up to 1.7x on the same code, docs/MEASUREMENTS.md) fall on all of
+   them alike; each is scored on hits of its own. A method's results come
+   out set by set, in the order of the sets, as if it ran alone */
+#define GROUP_MAX 16
 static void run_methods(bench_method *const *m, int nm, const scene *sc, ray_set *sets, int nsets, const options *o,
                         lrt_hit *hits)
 {
-    double build_ms[GROUP_MAX] = {0}, upd[GROUP_MAX][16], t[GROUP_MAX][16], ms;
-    int k, s, j, ok[GROUP_MAX];
+    static double upd[GROUP_MAX][16], t[GROUP_MAX][16];
+    double build_ms[GROUP_MAX] = {0}, ms;
+    int k, s, j, ok[GROUP_MAX], first = g_nres;
     char why[GROUP_MAX][160];
+    if (nm > GROUP_MAX) {
+        fprintf(stderr, "bench: %d methods of one device, at most %d\n", nm, GROUP_MAX);
+        exit(1);
+    }
     for (j = 0; j < nm; ++j) {
         why[j][0] = '\0';
         ok[j] = !m[j]->build(m[j], &sc->s, &build_ms[j], why[j], sizeof why[j]);
@@ -564,7 +573,9 @@ static void run_methods(bench_method *const *m, int nm, const scene *sc, ray_set
     for (s = 0; s < nsets; ++s) {
         result *r[GROUP_MAX];
         for (j = 0; j < nm; ++j) {
-            r[j] = &g_res[g_nres < MAX_RESULTS ? g_nres++ : MAX_RESULTS - 1];
+            const int at = first + j * nsets + s; /* method-major, as a method alone would write them */
+            r[j] = &g_res[at < MAX_RESULTS ? at : MAX_RESULTS - 1];
+            if (at >= g_nres) g_nres = at + 1 < MAX_RESULTS ? at + 1 : MAX_RESULTS;
             memset(r[j], 0, sizeof *r[j]);
             r[j]->method = m[j]->name;
             r[j]->device = m[j]->device;
@@ -586,8 +597,8 @@ static void run_methods(bench_method *const *m, int nm, const scene *sc, ray_set
                    timestamps', and on a discrete GPU each call also copies
                    rays and hits over PCIe, many times longer (an H200 spent
                    over 90 s on one method's sets when the loop counted the
-                   timestamps). In a group the first method alternates */
-                const int q = k & 1 ? nm - 1 - j : j;
+                   timestamps). In a group the order rotates */
+                const int q = (j + k) % nm;
                 const double wall0 = bench_now_ms();
                 double total = 0.0;
                 int reps = 0;
@@ -618,18 +629,39 @@ static void run_methods(bench_method *const *m, int nm, const scene *sc, ray_set
     }
 }
 
-/* the methods from m[k] on that run as one group, into group: a method and
-   its native twin (the same name and " native"), else m[k] alone; how many */
-static int method_group(bench_method *m, const char *const *skipped, int k, int nm, bench_method **group)
+/* the group of m[k], the first method of its device not yet run: every
+   method of that device that runs (not skipped), in the order of m; marks
+   them done and returns how many */
+static int device_group(bench_method *m, const char *const *skipped, int k, int nm, char *done, bench_method **group)
 {
-    size_t n = strlen(m[k].name);
-    int g = k + 1 < nm && !skipped[k] && !skipped[k + 1] && strncmp(m[k + 1].name, m[k].name, n) == 0 &&
-                    strcmp(m[k + 1].name + n, " native") == 0
-                ? 2
-                : 1;
-    group[0] = &m[k];
-    group[1] = g > 1 ? &m[k + 1] : NULL;
+    int j, g = 0;
+    for (j = k; j < nm && g < GROUP_MAX; ++j)
+        if (!skipped[j] && !done[j] && strcmp(m[j].device, m[k].device) == 0) {
+            done[j] = 1;
+            group[g++] = &m[j];
+        }
     return g;
+}
+
+/* results g_res[first..] into the order of m (a method's rows together, as
+   when every method ran alone), stable: device groups write theirs device
+   by device */
+static int method_index(const bench_method *m, int nm, const char *name)
+{
+    int k;
+    for (k = 0; k < nm; ++k)
+        if (strcmp(m[k].name, name) == 0) return k;
+    return nm;
+}
+static void order_results(int first, const bench_method *m, int nm)
+{
+    int i, j;
+    for (i = first + 1; i < g_nres; ++i) {
+        result r = g_res[i];
+        const int key = method_index(m, nm, r.method);
+        for (j = i; j > first && method_index(m, nm, g_res[j - 1].method) > key; --j) g_res[j] = g_res[j - 1];
+        g_res[j] = r;
+    }
 }
 
 /* ---- the stability suite: small named cases built to break someone -------------- */
@@ -1199,12 +1231,13 @@ int main(int argc, char **argv)
     options o;
     bench_method m[64];
     const char *skipped[64];
+    char done[64]; /* methods of this scene already run (device_group) */
     char machine[512], whybuf[64][160];
     scene scenes[5];
     ray_set sets[SET_COUNT];
     stab_case stab[STAB_CASES];
     lrt_hit *hits;
-    int nm = 0, ns = 0, k, s, a, g, nstab, nsets, count_walk = 0;
+    int nm = 0, ns = 0, k, s, a, g, nstab, nsets, count_walk = 0, first;
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
 
     memset(&o, 0, sizeof o);
@@ -1356,24 +1389,27 @@ int main(int argc, char **argv)
                 printf(" %s %zu (%.1f%%)", sets[k].r.name, sets[k].r.count, pct(sets[k].r.count, texels));
             printf("\n");
         }
-        for (k = 0; k < nm; k += g) {
+        memset(done, 0, sizeof done);
+        first = g_nres;
+        for (k = 0; k < nm; ++k) {
             bench_method *group[GROUP_MAX];
             int j;
-            g = method_group(m, skipped, k, nm, group);
-            if (skipped[k]) continue;
-            if (g > 1) printf("  %s and %s, in turn\n", m[k].name, m[k + 1].name);
+            if (skipped[k] || done[k]) continue;
+            g = device_group(m, skipped, k, nm, done, group);
+            printf("  %s: %d method%s, each set's runs in turn\n", m[k].device, g, g > 1 ? "s" : "");
             fflush(stdout);
             run_methods(group, g, &scenes[s], sets, nsets, &o, hits);
             for (j = 0; j < g; ++j) {
-                const result *r = find(m[k + j].name, scenes[s].s.name, "segments");
-                const result *p = find(m[k + j].name, scenes[s].s.name, "primary");
-                printf("  %-22s", m[k + j].name);
+                const result *r = find(group[j]->name, scenes[s].s.name, "segments");
+                const result *p = find(group[j]->name, scenes[s].s.name, "primary");
+                printf("  %-22s", group[j]->name);
                 if (r && p && r->ok && p->ok)
                     printf(" primary %8.2f M/s %6.2f%% right | segments %8.2f M/s %6.2f%% right | update %.2f ms\n",
                            mrays(p), pct(p->sc.right, p->sc.n), mrays(r), pct(r->sc.right, r->sc.n), p->update_ms);
                 else printf(" failed: %s\n", r && !r->ok ? r->why : p && !p->ok ? p->why : g_nres ? g_res[g_nres - 1].why : "?");
             }
         }
+        order_results(first, m, nm);
         if (count_walk) count_visits(&scenes[s], sets, nsets);
         for (k = 0; k < nsets; ++k) set_free(&sets[k]);
         write_csv(&o);
@@ -1383,11 +1419,15 @@ int main(int argc, char **argv)
         char label[64];
         snprintf(label, sizeof label, "stab:%s", stab[a].sc.s.name);
         stab[a].sc.s.name = strdup(label);
-        for (k = 0; k < nm; k += g) {
+        memset(done, 0, sizeof done);
+        first = g_nres;
+        for (k = 0; k < nm; ++k) {
             bench_method *group[GROUP_MAX];
-            g = method_group(m, skipped, k, nm, group);
-            if (!skipped[k]) run_methods(group, g, &stab[a].sc, &stab[a].set, 1, &o, hits);
+            if (skipped[k] || done[k]) continue;
+            g = device_group(m, skipped, k, nm, done, group);
+            run_methods(group, g, &stab[a].sc, &stab[a].set, 1, &o, hits);
         }
+        order_results(first, m, nm);
         if (count_walk) count_visits(&stab[a].sc, &stab[a].set, 1);
         {
             int j;
