@@ -9,7 +9,8 @@
 #   test-valgrind-reference, -core, -limits   memcheck: no error, nothing
 #                                 "definitely lost"
 #   test-limits, test-m32         tests/test_limits.c; test_limits and test_core
-#                                 as 32-bit programs (gcc -m32: gcc-multilib)
+#                                 as 32-bit programs (gcc -m32: gcc-multilib;
+#                                 under qemu-i386 where the kernel cannot run them)
 #   test-cppcheck, test-clang-tidy  linear_rt.h's implementation, C99 and C++11,
 #                                 with and without Vulkan (tools/cppcheck.supp,
 #                                 .clang-tidy: what is off, and why)
@@ -54,6 +55,15 @@ HAVE_CLANG_SAN = $(call need,$@,printf 'int main(void) { return 0; }\n' | $(CLAN
 HAVE_INT_SAN = $(call need,$@,printf 'int main(void) { return 0; }\n' | $(CLANG) -x c $(INT_SAN) - -o $(B)/probe_int_san_$@,clang with its sanitizer runtime (libclang-rt-14-dev) is not installed: tools/install-deps.sh installs it)
 HAVE_M32 = $(call need,$@,printf '\043include <stdio.h>\nint main(void) { return 0; }\n' | $(GCC) -x c $(M32) - -o $(B)/probe_m32_$@,gcc cannot build 32-bit programs (gcc-multilib): tools/install-deps.sh installs it)
 HAVE_TOOL = $(call need,$@,command -v $(1),$(1) is not installed: tools/install-deps.sh installs it)
+# $(call run32,PROBE): in a recipe, after PROBE (a 32-bit program) was built;
+# sets the shell variable run32 to what runs a 32-bit program here: nothing
+# (the kernel runs it), or qemu-i386 (qemu-user) where the kernel cannot
+# (some VMs: "Exec format error"); neither: skipped, or failed under CI=true
+run32 = run32=; if ! $(1) >/dev/null 2>&1; then \
+  if command -v qemu-i386 >/dev/null 2>&1 && qemu-i386 $(1) >/dev/null 2>&1; then run32=qemu-i386; \
+    echo "$@: this kernel cannot run 32-bit programs: they run under qemu-i386"; \
+  elif [ "$$CI" = "true" ]; then echo "$@: FAIL under CI=true: this kernel cannot run 32-bit programs, nor qemu-i386 (qemu-user)"; exit 1; \
+  else echo "$@: skipped: this kernel cannot run 32-bit programs, nor qemu-i386 (qemu-user: tools/install-deps.sh installs it)"; exit 0; fi; fi
 
 # ---- clang ASan + UBSan ----------------------------------------------------------
 $(B)/test_reference_csan: tests/test_reference.c $(REF) tests/support/check.h | deps $(B)
@@ -96,7 +106,8 @@ test-sanitize-integer: | $(B)
 	$(MAKE) --no-print-directory $(B)/test_core_isan $(B)/test_limits_isan && \
 	$(B)/test_core_isan && $(B)/test_limits_isan && \
 	if printf 'int main(void) { return 0; }\n' | $(CLANG) -x c $(M32) $(INT_SAN) - -o $(B)/probe_int_san32 >/dev/null 2>&1; then \
-	  $(MAKE) --no-print-directory $(B)/test_limits_isan32 && $(B)/test_limits_isan32; \
+	  $(call run32,$(B)/probe_int_san32); \
+	  $(MAKE) --no-print-directory $(B)/test_limits_isan32 && $$run32 $(B)/test_limits_isan32; \
 	elif [ "$$CI" = "true" ]; then echo "$@: FAIL under CI=true: no 32-bit clang build (gcc-multilib)"; exit 1; \
 	else echo "$@: note: no 32-bit clang build here (gcc-multilib): the -m32 run is skipped"; fi
 
@@ -124,8 +135,9 @@ $(B)/test_core_m32: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
 # compiles warning-free (no 32-bit Vulkan driver to run it on)
 test-m32: | $(B)
 	@$(HAVE_M32); \
+	$(call run32,$(B)/probe_m32_$@); \
 	$(MAKE) --no-print-directory $(B)/test_limits_m32 $(B)/test_core_m32 && \
-	$(B)/test_limits_m32 && $(B)/test_core_m32 && \
+	$$run32 $(B)/test_limits_m32 && $$run32 $(B)/test_core_m32 && \
 	if [ "$(HAVE_VULKAN)" = 1 ]; then \
 	  printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n' > $(B)/m32_vk_tu.c; \
 	  echo "  $(GCC) $(M32) $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/m32_vk_tu.c"; \

@@ -10,7 +10,8 @@
 #   test   (the default) the demo's, and g++ and clang, the Khronos validation
 #          layer, glslang and spirv-tools, valgrind, cppcheck, clang-tidy,
 #          clang's sanitizer and libFuzzer runtime (libclang-rt-14-dev on
-#          Debian 12) and, on amd64, gcc-multilib (32-bit builds).
+#          Debian 12) and, on amd64, gcc-multilib (32-bit builds), and
+#          qemu-user where the kernel cannot run 32-bit programs.
 #   bench  the tests', and gnuplot (gnuplot-nox) and Embree 3 (libembree-dev).
 # Installs with apt-get (Debian/Ubuntu) as root, or through sudo. Without
 # either it prints one line naming the packages and the command that
@@ -48,6 +49,21 @@ bpo_pkgs=()  # from <codename>-backports
 installed() { # a Debian package, installed (not just known)
     [ "$(dpkg-query -W -f='${Status}' "$1" 2>/dev/null)" = "install ok installed" ]
 }
+
+# Can this kernel run a 32-bit x86 program? Some VMs' cannot ("Exec format
+# error" although gcc -m32 builds it): tests/hardening.mk then runs its
+# 32-bit tests under qemu-i386 (qemu-user). Unknown (no gcc -m32 yet): yes.
+runs_m32() {
+    local dir ok=0
+    dir=$(mktemp -d 2>/dev/null) || return 0
+    if ! printf 'int main(void) { return 0; }\n' | gcc -m32 -x c - -o "$dir/probe" >/dev/null 2>&1 ||
+        "$dir/probe" >/dev/null 2>&1; then
+        ok=1
+    fi
+    rm -rf "$dir"
+    [ "$ok" = 1 ]
+}
+needs_qemu_i386() { ! command -v qemu-i386 >/dev/null 2>&1 && ! runs_m32; }
 
 tools=(make gcc)
 wants test && tools+=(g++ clang)
@@ -88,6 +104,7 @@ if command -v dpkg-query >/dev/null 2>&1; then
         fi
         if [ "$(dpkg --print-architecture 2>/dev/null)" = amd64 ]; then
             installed gcc-multilib || main_pkgs+=("gcc-multilib") # gcc -m32: test-m32
+            needs_qemu_i386 && main_pkgs+=("qemu-user")
         fi
     fi
     if wants bench; then
@@ -214,4 +231,9 @@ if [ ${#bpo_pkgs[@]} -gt 0 ]; then
 fi
 if [ ${#main_pkgs[@]} -gt 0 ]; then
     run_root apt-get -q install -y --no-install-recommends "${main_pkgs[@]}"
+fi
+# gcc-multilib just installed: only now can the kernel's 32-bit programs be tried
+if wants test && [ "$(dpkg --print-architecture 2>/dev/null)" = amd64 ] && needs_qemu_i386; then
+    echo "install-deps: this kernel cannot run 32-bit programs: installing qemu-user (qemu-i386 runs test-m32's)" >&2
+    run_root apt-get -q install -y --no-install-recommends qemu-user
 fi
