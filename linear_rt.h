@@ -4790,9 +4790,10 @@ static void lrt__vk_destroy_objects(lrt_vk_context *c)
    llvmpipe loads without a branch per lane as it does not a storage buffer
    (lavapipe: secondary rays 0.96-1.33x, geometric mean 1.08x,
    docs/MEASUREMENTS.md "Nodes read as texels"): where the device's texel
-   buffers hold every tree it can trace, the largest of LINEAR_RT_MAX_DIM
-   squared texels (16-bit nodes, back codes) or maxStorageBufferRange. Else
-   (the Vulkan minimum is 65536 texels) the storage buffer. */
+   buffers hold every tree it can trace, the smaller of the largest tree
+   (LINEAR_RT_MAX_DIM squared texels, 16-bit nodes, back codes) and
+   maxStorageBufferRange. Else (the Vulkan minimum is 65536 texels) the
+   storage buffer. */
 static uint32_t lrt__vk_node_texels(const VkPhysicalDeviceLimits *limits)
 {
     lrt_build_options o;

@@ -1140,6 +1140,10 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
     return met;
 }
 
+// the flip into visiting order of a level-lv node's children: those of
+// 2x4 blocks or of 4x2 blocks (lrt_walk_origin's flip_tall, flip_wide)
+uint lrt_flip_of(uint lv, uint flip_tall, uint flip_wide) { return lrt_bw_log2(lv - 1u) == 1u ? flip_tall : flip_wide; }
+
 // The walk (linear_rt.h's lrt__walk_origin, the same steps under the same
 // names): from the level-1 node of the texel where the segment starts, up to
 // the start node of level top, which holds the whole segment. A step tests
@@ -1152,10 +1156,6 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
 // below it) has only the children after the one just walked left to test,
 // unless the segment ends inside that one. True with the first texel hit
 // (hx, hy) and its t, false for a miss (lrt_trace_ray reports either).
-// the flip into visiting order of a level-lv node's children: those of
-// 2x4 blocks or of 4x2 blocks (lrt_walk_origin's flip_tall, flip_wide)
-uint lrt_flip_of(uint lv, uint flip_tall, uint flip_wide) { return lrt_bw_log2(lv - 1u) == 1u ? flip_tall : flip_wide; }
-
 bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy, out float ht, out vec2 hplanes)
 {
     hplanes = vec2(0.0);
