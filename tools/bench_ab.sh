@@ -38,11 +38,14 @@ while [ "$i" -le "$runs" ]; do
     i=$((i + 1))
 done
 # results.csv: method,device,exact,threads,scene,rays,count,build_ms,update_ms,trace_ms,mrays_per_s,...
-# (quoted fields only at the end of a line, after the columns read here)
-for f in "$dir"/old*/results.csv "$dir"/new*/results.csv; do
-    b=${f#"$dir"/}
-    b=${b%%[0-9]*}
-    tail -n +2 "$f" | awk -F, -v b="$b" '{ print b "\t" $1 "\t" $5 "\t" $6 "\t" $11 }'
+# (quoted fields only at the end of a line, after the columns read here).
+# Only this call's runs: a reused BENCH_AB_DIR may hold more from before
+i=1
+while [ "$i" -le "$runs" ]; do
+    for b in old new; do
+        tail -n +2 "$dir/$b$i/results.csv" | awk -F, -v b="$b" '{ print b "\t" $1 "\t" $5 "\t" $6 "\t" $11 }'
+    done
+    i=$((i + 1))
 done | sort -t "$(printf '\t')" -k2,2 -k3,3 -k4,4 -k1,1 -k5,5g | awk -F '\t' '
     function median(n) { return n % 2 ? v[(n + 1) / 2] : (v[n / 2] + v[n / 2 + 1]) / 2 }
     function close_group() { if (cur == "new") nm = median(n); else if (cur == "old") om = median(n) }
