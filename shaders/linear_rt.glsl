@@ -613,7 +613,7 @@ float lrt_flush(float x)
 // lrt__setup_rare (read its comment): subnormals read as 0, rescaled to
 // max |v| in [1, 2), a component too slow to invert beside the largest kept
 // exact by a scale of its axis, the kind of a miss decided exactly.
-bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out float t_scale, out uint kind)
+bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out int t_exp, out uint kind)
 {
     o = vec3(lrt_flush(o.x), lrt_flush(o.y), lrt_flush(o.z));
     v = vec3(lrt_flush(v.x), lrt_flush(v.y), lrt_flush(v.z));
@@ -631,7 +631,7 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
     s.t_hi = -1.0;
     s.t_base = 0.0;
     s.zk = 0;
-    t_scale = 1.0;
+    t_exp = 0;
     if (!lrt_finite(o.x) || !lrt_finite(o.y) || !lrt_finite(o.z) || !lrt_finite(v.x) || !lrt_finite(v.y) ||
         !lrt_finite(v.z) || !lrt_finite(tmin) || !lrt_finite(tmax) || !(tmin >= 0.0) || !(tmin <= tmax)) {
         kind = LRT_MISS_INVALID_RAY;
@@ -647,10 +647,11 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
     uint deg = 0u;
     tmin = lrt_scale_t(tmin, e);
     tmax = lrt_scale_t(tmax, e);
-    t_scale = lrt_pow2(-e);
+    t_exp = -e;
     for (int k = 0; k < 3; ++k) {
-        precise float sc = v3[k] * lrt_pow2(-e);
-        sv[k] = sc;
+        // v 2^-e by lrt_ldexp, not times lrt_pow2(-e): that factor is
+        // subnormal for e = 127, which a flushing device reads as 0
+        sv[k] = lrt_ldexp(v3[k], -e);
         if (v3[k] != 0.0) {
             ev[k] = lrt_ilogb(v3[k]) - e;
             if (ev[k] < -126) deg |= 1u << uint(k);
@@ -720,6 +721,13 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
     s.neg = uvec3(floatBitsToUint(sv[0]) >> 31, floatBitsToUint(sv[1]) >> 31, floatBitsToUint(sv[2]) >> 31);
     s.zero = bvec3(v.x == 0.0, v.y == 0.0, v.z == 0.0);
     lrt_clip(s, p, tmin, tmax);
+    // a segment of no length is its one point o: in the box or not by o's
+    // own coordinates, exactly. Its planes' t may be below 2^-126, which a
+    // device that flushes subnormals reads as 0 (found case 19 of
+    // tests/support/rays.h: o.z = -1.18e-38, v.z = 2.48e38, t in [0, 0])
+    if (tmax == 0.0 && s.zk == 0 && !(s.o.x >= 0.0 && s.o.x <= float(p.width) && s.o.y >= 0.0 &&
+                                      s.o.y <= float(p.height) && s.o.z >= 0.0 && s.o.z <= 1.0))
+        return false;
     return s.t_lo <= s.t_hi;
 }
 
@@ -748,7 +756,7 @@ int lrt_huge_direction(LrtParams p, vec3 o, float tmin, vec3 v, float tmax)
 // walk. The rays that linear_rt.h takes through lrt__setup_rare (the same
 // test on the bits) take lrt_setup_rare
 // (but for a direction that is only large: lrt_huge_direction).
-bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out float t_scale, out uint kind)
+bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out int t_exp, out uint kind)
 {
     uvec3 ao = floatBitsToUint(o) & 0x7fffffffu, av = floatBitsToUint(v) & 0x7fffffffu;
     const uint TINY = 0x0d800000u, HUGE = 0x47800000u; // 2^-100, 2^16
@@ -760,14 +768,14 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
         rare = rare || (av[k] != 0u && !(av[k] - TINY < HUGE - TINY));
     }
     rare = rare || lrt_far_origin(p, o);
-    t_scale = 1.0;
+    t_exp = 0;
     if (rare) {
         int e = lrt_huge_direction(p, o, tmin, v, tmax);
-        if (e == 0) return lrt_setup_rare(p, o, tmin, v, tmax, s, t_scale, kind);
+        if (e == 0) return lrt_setup_rare(p, o, tmin, v, tmax, s, t_exp, kind);
         v *= lrt_pow2(-e); // lrt_setup_rare's scaling, then the common set-up
         tmin = lrt_scale_t(tmin, e);
         tmax = lrt_scale_t(tmax, e);
-        t_scale = lrt_pow2(-e);
+        t_exp = -e;
     }
     s.o = o;
     s.t_base = 0.0;
@@ -890,9 +898,10 @@ uint lrt_face(LrtParams p, LrtSetup s, uint tx, uint ty, float t, vec2 planes)
     return LRT_FACE_INSIDE;
 }
 
-LrtHit lrt_report_hit(LrtParams p, LrtSetup s, float t_scale, float t, float tmin, float tmax, uint tx, uint ty, vec2 planes)
+LrtHit lrt_report_hit(LrtParams p, LrtSetup s, int t_exp, float t, float tmin, float tmax, uint tx, uint ty, vec2 planes)
 {
-    precise float tt = (t + s.t_base) * t_scale;
+    precise float tb = t + s.t_base;
+    float tt = lrt_ldexp(tb, t_exp); // the set-up's scale undone (2^t_exp may be subnormal: no product by it)
     LrtHit h;
     float lo = lrt_flush(tmin), hi = lrt_flush(tmax); // as the walk read them
     h.t = tt < lo ? lo : tt > hi ? hi : tt;
@@ -1266,9 +1275,9 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
     hit.y = 0u;
     hit.face = LRT_FACE_NONE;
     LrtSetup s;
-    float t_scale;
+    int t_exp; // the set-up scaled t by 2^-t_exp
     uint kind;
-    if (!lrt_setup_ray(p, origin, tmin, dir, tmax, s, t_scale, kind)) {
+    if (!lrt_setup_ray(p, origin, tmin, dir, tmax, s, t_exp, kind)) {
         hit.kind = kind;
         return hit;
     }
@@ -1288,7 +1297,7 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
         found = lrt_walk_origin(p, s, top, hx, hy, ht, hplanes);
     }
     // one exit: the hit's report (its face) stays out of the walk's loop
-    if (found) return lrt_report_hit(p, s, t_scale, ht, tmin, tmax, hx, hy, hplanes);
+    if (found) return lrt_report_hit(p, s, t_exp, ht, tmin, tmax, hx, hy, hplanes);
     hit.kind = kind;
     return hit;
 }
