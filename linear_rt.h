@@ -2296,6 +2296,14 @@ LRT__FORCE_INLINE int lrt__far_origin(const float o[3], uint32_t width, uint32_t
     return (fabsf(o[0]) > 2.0f * (float)width + 16.0f) | (fabsf(o[1]) > 2.0f * (float)height + 16.0f) | (fabsf(o[2]) > 4.0f);
 }
 
+/* Whether a point's coordinate o lies in [0, hi], or (past) whether the
+   point just past it along a direction of sign neg (zero: none) does. */
+static int lrt__point_in(float o, uint32_t neg, int zero, float hi, int past)
+{
+    if (!past) return o >= 0.0f && o <= hi;
+    return (o > 0.0f || (o == 0.0f && (!neg || zero))) && (o < hi || (o == hi && (neg || zero)));
+}
+
 /* The set-up of a ray at the edge of float range (lrt__setup_ray says which:
    a component of o or v below 2^-100, a v_k of 2^16 or more, ...; fuzz 3,
    4, 5). The same steps as lrt__setup_ray, on the ray rescaled to max |v|
@@ -2424,6 +2432,21 @@ static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *caller_ray, uint32_t wid
     s->neg_y = lrt__sign_bit(s->v[1]);
     s->neg_z = lrt__sign_bit(s->v[2]);
     (void)lrt__clip(s, width, height, tmin, tmax);
+    { /* A segment of no length is its one point: in the box or not by its
+         coordinates, not by planes' t, which may lie below 2^-126, where
+         x86's FTZ and DAZ modes (and a GPU that flushes) read them as 0
+         (found cases 13 and 19 of tests/support/rays.h). The point is o,
+         or where lrt__scale_t kept a positive t positive (the least float),
+         just past o along v (the kernels' lrt_point_in) */
+        uint32_t b0, b1;
+        memcpy(&b0, &tmin, 4);
+        memcpy(&b1, &tmax, 4);
+        if (!s->zk && b0 == b1 && (b1 & 0x7fffffffu) <= 1u) {
+            const uint32_t neg[3] = {s->neg_x, s->neg_y, s->neg_z};
+            for (k = 0; k < 3; ++k)
+                if (!lrt__point_in(s->o[k], neg[k], ray->dir[k] == 0.0f, hi[k], b1 == 1u)) return 0;
+        }
+    }
     return s->t_lo <= s->t_hi;
 }
 
@@ -4077,6 +4100,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__on_screen_at_tmax lrt__on_screen_at_tmax_avx2
 #define lrt__order_mask lrt__order_mask_avx2
 #define lrt__plane_t lrt__plane_t_avx2
+#define lrt__point_in lrt__point_in_avx2
 #define lrt__pow2 lrt__pow2_avx2
 #define lrt__prefetch_children lrt__prefetch_children_avx2
 #define lrt__prefetch_rows lrt__prefetch_rows_avx2
@@ -4166,6 +4190,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__on_screen_at_tmax
 #undef lrt__order_mask
 #undef lrt__plane_t
+#undef lrt__point_in
 #undef lrt__pow2
 #undef lrt__prefetch_children
 #undef lrt__prefetch_rows

@@ -609,6 +609,14 @@ float lrt_flush(float x)
     return (b & 0x7f800000u) == 0u ? uintBitsToFloat(b & 0x80000000u) : x;
 }
 
+// whether a point's coordinate o lies in [0, hi], or (past) whether the
+// point just past it along a direction of sign neg (zero: none) does
+bool lrt_point_in(float o, uint neg, bool zero, float hi, bool past)
+{
+    if (!past) return o >= 0.0 && o <= hi;
+    return (o > 0.0 || (o == 0.0 && (neg == 0u || zero))) && (o < hi || (o == hi && (neg != 0u || zero)));
+}
+
 // The set-up of a ray at the edge of float range, as linear_rt.h's
 // lrt__setup_rare (read its comment): subnormals read as 0, rescaled to
 // max |v| in [1, 2), a component too slow to invert beside the largest kept
@@ -721,13 +729,21 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
     s.neg = uvec3(floatBitsToUint(sv[0]) >> 31, floatBitsToUint(sv[1]) >> 31, floatBitsToUint(sv[2]) >> 31);
     s.zero = bvec3(v.x == 0.0, v.y == 0.0, v.z == 0.0);
     lrt_clip(s, p, tmin, tmax);
-    // a segment of no length is its one point o: in the box or not by o's
-    // own coordinates, exactly. Its planes' t may be below 2^-126, which a
-    // device that flushes subnormals reads as 0 (found case 19 of
-    // tests/support/rays.h: o.z = -1.18e-38, v.z = 2.48e38, t in [0, 0])
-    if (tmax == 0.0 && s.zk == 0 && !(s.o.x >= 0.0 && s.o.x <= float(p.width) && s.o.y >= 0.0 &&
-                                      s.o.y <= float(p.height) && s.o.z >= 0.0 && s.o.z <= 1.0))
-        return false;
+    // A segment of no length is its one point: in the box or not by its
+    // coordinates, exactly, not by planes' t, which may lie below 2^-126,
+    // where a device that flushes subnormals reads them as 0 (found case 19
+    // of tests/support/rays.h: o.z = -1.18e-38, v.z = 2.48e38, t in [0, 0]).
+    // The point is o, or where lrt_scale_t kept a positive t positive (the
+    // least subnormal, read as 0 there too: found case 13), just past o
+    // along v
+    uint tb = floatBitsToUint(tmax);
+    if (s.zk == 0 && floatBitsToUint(tmin) == tb && (tb & 0x7fffffffu) <= 1u) {
+        bool past = tb == 1u;
+        if (!lrt_point_in(s.o.x, s.neg.x, s.zero.x, float(p.width), past) ||
+            !lrt_point_in(s.o.y, s.neg.y, s.zero.y, float(p.height), past) ||
+            !lrt_point_in(s.o.z, s.neg.z, s.zero.z, 1.0, past))
+            return false;
+    }
     return s.t_lo <= s.t_hi;
 }
 
