@@ -2355,7 +2355,7 @@ static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *caller_ray, uint32_t wid
     *t_scale = lrt__pow2(-e);
     for (k = 0; k < 3; ++k) {
         s->o[k] = ray->origin[k];
-        s->v[k] = ray->dir[k] * lrt__pow2(-e); /* exact unless below 2^-126 */
+        s->v[k] = ldexpf(ray->dir[k], -e); /* not times 2^-127: FTZ and DAZ read that as 0 */
         if (ray->dir[k] != 0.0f) {
             ev[k] = lrt__ilogb(ray->dir[k]) - e;
             if (ev[k] < -126) deg |= 1u << k;
@@ -3288,7 +3288,8 @@ LRT__FORCE_INLINE void lrt__report_hit(const lrt__walk *w, const lrt_ray *ray, c
 {
     hit->face = (uint16_t)lrt__face(w, s, tx, ty, t, planes);
     const float lo = lrt__flush_float(ray->tmin), hi = lrt__flush_float(ray->tmax); /* as the walk read them */
-    t = (t + s->t_base) * t_scale;
+    /* t_scale is 2^-127 (subnormal: 0 under DAZ) only after lrt__setup_rare's e = 127 */
+    t = t_scale >= 1.17549435e-38f ? (t + s->t_base) * t_scale : ldexpf(t + s->t_base, -127);
     hit->t = t < lo ? lo : t > hi ? hi : t;
     hit->x = tx;
     hit->y = ty;

@@ -267,6 +267,9 @@ RAYS_MAYBE_UNUSED static int found_case(int k, test_map *m, lrt_ray *r)
            at t = 1.7e-13 for 1.03e-13 */
         {2, 3, 2, 32639, {-1, -1}, {-1, -1}, {0, 0}, {2.25f, 3, -7.31282984e+12f}, {-7.31282984e+12f, -5.5f, 7.0847792e+25f},
          0, 7.0847792e+25f},
+        /* (made for devices that flush subnormals) a direction of 2^127, which the rare set-up scales by 2^-127, a
+           subnormal factor that FTZ and DAZ read as 0, meeting a raised texel at t = 2.06e-38 (a hit at a normal t) */
+        {32, 1, 3, 0.9f, {4, -1}, {0, -1}, {0.1f, 0}, {0.5f, 0.5f, 0.5f}, {1.70141183e+38f, 0, 0}, 0, 5e-38f},
     };
     size_t n, i, bpp;
     int q;
