@@ -1163,6 +1163,33 @@ static void test_plate_check(void)
         CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "plate hit before a later exact hit refused: %s", why);
         ref_map_free(&m);
     }
+    {
+        /* (d) a box thinner than a whole-ulp move of z (fuzz_core,
+           tests/fuzz/crashes-found/core-relative-thin-box-between-ulps):
+           [0.5 + 2^-28, 0.5 + 2^-27]. The ray enters at z = 0.5 + 2^-31, in
+           front; o.z moved up by one ulp (2^-24) passes behind it, unmoved in
+           front: no discrete move hits it, a real one (2^-28 up) does */
+        ref_map m = map_const(1, 1, 0.5);
+        set_back_const(&m, 0.5f);
+        m.d[0] = 0.5 + ldexp(1, -28);
+        m.b[0] = 0.5 + ldexp(1, -27);
+        ray = mkray(0.25, -512, 0.5, 0, 1024, vz, 0, 8);
+        EXPECT_KIND(ref_trace_ray(&m, &ray), REF_MISS_OFF_SCREEN);
+        for (k = 0; k < 3; k++) { o[k] = ray.o[k]; v[k] = ray.v[k]; }
+        a = ans(REF_HIT, 0.5, 0, 0);
+        a.face = REF_FACE_SIDE; /* it enters through y = 0 with z inside the box */
+        CHECK(!ref__perturbed_match(&m, &ray, o, v, &a, 0), "a discrete perturbation hits the thin box");
+        CHECK(ref_check(&m, &ray, &a, 0, why, sizeof why), "thin-box hit of a moved ray refused: %s", why);
+        /* 9 ulps (2^-25 each) in front of it: out of reach */
+        ray = mkray(0.25, -512, 0.5 - 9 * ulp_up / 2, 0, 1024, vz, 0, 8);
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "thin box 9 ulps in front accepted");
+        /* a box as deep as an ulp's move is left to the discrete moves: a
+           ray 9 ulps in front of [0.5, 0.5 + 2^-24] is refused too */
+        m.d[0] = 0.5;
+        m.b[0] = 0.5 + ulp_up;
+        CHECK(!ref_check(&m, &ray, &a, 0, why, sizeof why), "deep box 9 ulps in front accepted");
+        ref_map_free(&m);
+    }
 }
 
 static void test_thickness_models(void)

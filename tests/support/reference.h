@@ -1080,15 +1080,23 @@ static double ref__reach8(float x, int dir)
     return dir > 0 ? up : dir < 0 ? down : up > down ? up : down;
 }
 
-/* A hit on a flat plate that a continuous perturbation of the ray explains.
+/* A hit on a flat plate, or on a box thinner than one ulp's move of the
+   ray's z, that a continuous perturbation of the ray explains.
    Exact mode only; called after ref__match and ref__perturbed_match refuse.
 
    docs/MODEL.md ("Right, and how right"): an answer is right when it is the exact
    answer "for that ray with each component of o and v moved by at most 8
    float32 ulps": a real-valued move, of which ref__perturbed_match tries
    only the discrete ones ({-8,0,+8}, {-1,0,+1} ulps per component). That
-   suffices for every box with depth (a ray within 8 ulps of one is moved
-   into it by moving o.z by 8 ulps), but not for a plate, a box [d, d]
+   suffices for a box deeper than the ray's z moves in one ulp's step (a ray
+   within 8 ulps of one is moved into it by moving o.z by whole ulps), but
+   not for a thinner one, which such steps can jump over (fuzz_core,
+   tests/fuzz/crashes-found/core-relative-thin-box-between-ulps: a relative
+   thickness of 1.5e-25 left the unorm texel d = 24672/65535 the box [d, d
+   + 7.4e-9], a quarter of an ulp of z = 0.376; a far-away ray 2.1e-8 in
+   front of it, restarted at the screen's edge with its z rounded, hit it,
+   the exact answer for o.z moved up by about 0.7 ulp, while o.z moved by
+   0 or 1 ulp passes in front of it or behind), and not for a plate, a box [d, d]
    (b == d: a back map at or in front of the depth, a constant or relative
    thickness lost to float rounding, or a far texel d = b = 1): only a ray
    whose z there is d exactly touches it. Found by fuzz_core
@@ -1103,10 +1111,12 @@ static double ref__reach8(float x, int dir)
 
    Accepted here only when all of these hold:
    - got is a hit with a finite t in [tmin, tmax] (within docs/MODEL.md's
-     tolerance), on a texel (x, y) of the map whose box is a plate (b == d);
+     tolerance), on a texel (x, y) of the map whose box is a plate (b == d)
+     or a thin box: b - d below an eighth of the 8-ulp reach below;
    - p = o + t v (as ref__match computes hit points) lies in the texel's
      footprint [x, x+1] x [y, y+1] within tol_c = 1e-5 (1 + |o_c| + |t v_c|);
-   - the ray's z comes within 8 ulps of d near p: |p.z - d| <=
+   - the ray's z comes within 8 ulps of the box near p (of d for p.z < d,
+     of b for p.z > b; a plate has d = b): |p.z - d| <=
      R(o.z) + min(|t| + s, tmax) R(v.z) + s |v.z|, R(c) the reach of 8
      float32 ulps of the given component c towards d (down when p.z > d, up
      when p.z < d; 2^-25 and 2^-24 per ulp at 0.5), s = min over the c
@@ -1124,7 +1134,7 @@ static double ref__reach8(float x, int dir)
 static int ref__plate_match(const ref_map *m, const ref_ray *ray, const double o[3],
                             const double v[3], const ref_result *E, const ref_answer *got)
 {
-    double t = got->t, p[3], tol[3], d, s = 0, tfar, gap;
+    double t = got->t, p[3], tol[3], d, b, s = 0, tfar, gap;
     int c, dir, have_s = 0;
     if (got->kind != REF_HIT || !ref__finite(t)) return 0;
     if (!(t >= (double)ray->tmin - 1e-5 * (1 + fabs((double)ray->tmin))) ||
@@ -1132,7 +1142,8 @@ static int ref__plate_match(const ref_map *m, const ref_ray *ray, const double o
         return 0;
     if (got->x < 0 || got->x >= m->w || got->y < 0 || got->y >= m->h) return 0;
     d = m->d[(size_t)got->y * (size_t)m->w + (size_t)got->x];
-    if (ref__back(m, got->x, got->y) != d) return 0; /* not a plate */
+    b = ref__back(m, got->x, got->y);
+    if (!(b >= d)) return 0;
     for (c = 0; c < 3; c++) {
         p[c] = o[c] + t * v[c];
         tol[c] = 1e-5 * (1 + fabs(o[c]) + fabs(t * v[c]));
@@ -1152,9 +1163,10 @@ static int ref__plate_match(const ref_map *m, const ref_ray *ray, const double o
     if (tfar < fabs(t)) tfar = fabs(t);
     /* z has to move towards d: down when p is behind the plate (for t' >= 0
        both o.z and v.z move down), up when in front */
-    dir = p[2] > d ? -1 : 1;
+    dir = p[2] > b ? -1 : 1;
     gap = ref__reach8(ray->o[2], dir) + tfar * ref__reach8(ray->v[2], dir) + s * fabs(v[2]);
-    if (!(fabs(p[2] - d) <= gap)) return 0;
+    if (b != d && !((b - d) * 8.0 < gap)) return 0; /* a box whole-ulp moves cannot jump over */
+    if (!(p[2] >= d && p[2] <= b) && !(fabs(p[2] - (dir < 0 ? b : d)) <= gap)) return 0;
     if (E->kind == REF_HIT && E->t < t) {
         for (c = 0; c < 3; c++)
             if (!(fabs(o[c] + E->t * v[c] - p[c]) <= tol[c])) return 0;
@@ -1184,8 +1196,9 @@ static int ref__plate_match(const ref_map *m, const ref_ray *ray, const double o
    ray and the reported t) within tol_c = 1e-5 * (1 + |o_c| + |t v_c|) of the
    exact hit point, and the reported texel's box containing the exact hit
    point within tol_c per component. Also right: a hit on a flat plate
-   (b == d) that a real-valued move of at most 8 ulps explains, which no
-   discrete one can (ref__plate_match).
+   (b == d), or on a box thinner than a whole-ulp move of z, that a
+   real-valued move of at most 8 ulps explains, which no discrete one can
+   (ref__plate_match).
 
    any_hit != 0: a hit need not be the closest. A reported hit must be a real
    hit point: t in [tmin, tmax] (within 1e-5 * (1 + |tmin|), 1e-5 * (1 + |tmax|))
