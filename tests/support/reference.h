@@ -1161,11 +1161,11 @@ static int ref__plate_match(const ref_map *m, const ref_ray *ray, const double o
     /* |t'| <= |t| + s, and t' lies in [tmin, tmax] */
     tfar = fabs(t) + s < (double)ray->tmax ? fabs(t) + s : (double)ray->tmax;
     if (tfar < fabs(t)) tfar = fabs(t);
-    /* z has to move towards d: down when p is behind the plate (for t' >= 0
+    /* z has to move towards the box: down when p is behind it (for t' >= 0
        both o.z and v.z move down), up when in front */
     dir = p[2] > b ? -1 : 1;
     gap = ref__reach8(ray->o[2], dir) + tfar * ref__reach8(ray->v[2], dir) + s * fabs(v[2]);
-    if (b != d && !((b - d) * 8.0 < gap)) return 0; /* a box whole-ulp moves cannot jump over */
+    if (b != d && !((b - d) * 8.0 < gap)) return 0; /* deeper: whole-ulp moves cannot jump over it */
     if (!(p[2] >= d && p[2] <= b) && !(fabs(p[2] - (dir < 0 ? b : d)) <= gap)) return 0;
     if (E->kind == REF_HIT && E->t < t) {
         for (c = 0; c < 3; c++)
