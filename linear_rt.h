@@ -3273,7 +3273,11 @@ LRT__FORCE_INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *
 LRT__FORCE_INLINE uint32_t lrt__face(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float t,
                                      const float planes[2])
 {
-    if (!s->neg_z && planes[0] == t) return LRT_FACE_TOP;
+    /* the top: its plane, or the near plane where the ray enters the screen
+       box through it onto a texel of depth 0 (lrt__clip's t0; the depth
+       plane's own t, rounded otherwise, may lie an ulp before it:
+       crashes-found 21) */
+    if (!s->neg_z && (planes[0] == t || (0.0f - s->o[2]) * s->iv[2] == t)) return LRT_FACE_TOP;
     if (((float)(tx + s->neg_x) - s->o[0]) * s->iv[0] == t || ((float)(ty + s->neg_y) - s->o[1]) * s->iv[1] == t)
         return LRT_FACE_SIDE;
     if (s->neg_z && (w->back_codes ? planes[1] : lrt__depth_plane(s, LRT_FORMAT_FLOAT32, 0x3f800000u)) == t)

@@ -904,7 +904,10 @@ bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float e
 // does not move along has no plane there)
 uint lrt_face(LrtParams p, LrtSetup s, uint tx, uint ty, float t, vec2 planes)
 {
-    if (s.neg.z == 0u && !s.zero.z && planes.x == t) return LRT_FACE_TOP;
+    // the top: its plane, or the near plane where the ray enters the screen
+    // box through it onto a texel of depth 0 (lrt_clip's tn), as linear_rt.h
+    precise float tn = (0.0 - s.o.z) * s.iv.z;
+    if (s.neg.z == 0u && !s.zero.z && (planes.x == t || tn == t)) return LRT_FACE_TOP;
     precise float xe = (float(tx + s.neg.x) - s.o.x) * s.iv.x, ye = (float(ty + s.neg.y) - s.o.y) * s.iv.y;
     if ((!s.zero.x && xe == t) || (!s.zero.y && ye == t)) return LRT_FACE_SIDE;
     // the back plane (a moving z: lrt_back_plane's t is the depth plane's),

@@ -270,6 +270,10 @@ RAYS_MAYBE_UNUSED static int found_case(int k, test_map *m, lrt_ray *r)
         /* (made for devices that flush subnormals) a direction of 2^127, which the rare set-up scales by 2^-127, a
            subnormal factor that FTZ and DAZ read as 0, meeting a raised texel at t = 2.06e-38 (a hit at a normal t) */
         {32, 1, 3, 0.9f, {4, -1}, {0, -1}, {0.1f, 0}, {0.5f, 0.5f, 0.5f}, {1.70141183e+38f, 0, 0}, 0, 5e-38f},
+        /* (fuzz_core, crashes-found 21) a rare ray entering the screen box through the near plane onto a texel of
+           depth 0: its depth plane's t, rounded, came an ulp before the near plane's, and the hit was told INSIDE */
+        {64, 64, 2, 65535, {27, -1}, {27, -1}, {0, 0}, {32, 32, -1.18010406e-38f}, {-16, -16, 4.68780747e-38f}, 0,
+         35460327931904.0f},
     };
     size_t n, i, bpp;
     int q;
