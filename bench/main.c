@@ -1227,7 +1227,7 @@ int main(int argc, char **argv)
     options o;
     bench_method m[64];
     const char *skipped[64];
-    char done[64]; /* methods of this scene already run (device_group) */
+    char done[sizeof m / sizeof m[0]]; /* methods of this scene already run (device_group) */
     char machine[512], whybuf[64][160];
     scene scenes[5];
     ray_set sets[SET_COUNT];
