@@ -2057,6 +2057,31 @@ static float lrt__expansion_value(const float *acc, int m)
     return sum;
 }
 
+/* An expansion's value divided by y in [1, 2), times 2^shift, faithfully
+   (less than an ulp off): a float division of the rounded value rounds
+   twice, which can land an ulp past the float next to the exact quotient
+   and put a restart point off the screen (crashes-found 22). The value as
+   hi + lo (its sum, and the sum of that sum's rounding errors), scaled to
+   [1, 2) so that the product below cannot overflow, then the division's
+   remainder, exact but for lo, divided once more. */
+static float lrt__expansion_div(const float *acc, int m, float y, int shift)
+{
+    float hi = 0.0f, lo = 0.0f, q, p, e;
+    int i, k;
+    for (i = 0; i < m; ++i) {
+        float err;
+        lrt__two_sum(hi, acc[i], &hi, &err);
+        lo += err;
+    }
+    if (hi == 0.0f) return 0.0f;
+    k = lrt__ilogb(hi);
+    hi = ldexpf(hi, -k);
+    lo = ldexpf(lo, -k);
+    q = hi / y;
+    lrt__two_prod(q, y, &p, &e); /* q y = p + e; hi - p is exact (p is within an ulp of hi) */
+    return ldexpf(q + (((hi - p) - e) + lo) / y, k + shift);
+}
+
 /* The t where the ray's z meets the depth plane of a raw depth. A unorm v
    is no float: v/max - o.z is taken as (v - o.z max)/max with o.z max split
    exactly, else its rounding, divided by a grazing ray's tiny v.z, would move
@@ -2170,7 +2195,7 @@ static float lrt__crossing(float o_b, float o_a, float v_b, float v_a, float pla
     lrt__crossing_sum(o_b, 0.0f, o_a, v_b, v_a, plane, by_t, t, vexp, acc, &m, &scale);
     if (m == 0) return 0.0f;
     if (by_t) r = ldexpf(lrt__expansion_value(acc, m), scale);
-    else r = ldexpf(lrt__expansion_value(acc, m) / lrt__signif(v_a), scale - lrt__ilogb(v_a));
+    else r = lrt__expansion_div(acc, m, lrt__signif(v_a), scale - lrt__ilogb(v_a));
     if (!far_z || r != 1.0f) return r;
     /* the sign of the exact coordinate minus 1: the same sum from o_b - 1 */
     lrt__two_sum(o_b, -1.0f, &d1, &d2);
@@ -4082,6 +4107,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #define lrt__entered_later lrt__entered_later_avx2
 #define lrt__expansion_sign lrt__expansion_sign_avx2
 #define lrt__expansion_value lrt__expansion_value_avx2
+#define lrt__expansion_div lrt__expansion_div_avx2
 #define lrt__face lrt__face_avx2
 #define lrt__far_origin lrt__far_origin_avx2
 #define lrt__finite lrt__finite_avx2
@@ -4174,6 +4200,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #undef lrt__entered_later
 #undef lrt__expansion_sign
 #undef lrt__expansion_value
+#undef lrt__expansion_div
 #undef lrt__face
 #undef lrt__far_origin
 #undef lrt__finite

@@ -419,6 +419,30 @@ float lrt_expansion_value(LrtExpansion x)
     return sum;
 }
 
+// an expansion's value divided by y in [1, 2), times 2^shift, faithfully
+// (a division of its rounded value rounds twice: crashes-found 22), as
+// linear_rt.h's lrt__expansion_div
+float lrt_expansion_div(LrtExpansion x, float y, int shift)
+{
+    float hi = 0.0, lo = 0.0;
+    for (int i = 0; i < x.m; ++i) {
+        float s, err;
+        lrt_two_sum(hi, lrt_part(x, i), s, err);
+        hi = s;
+        precise float l = lo + err;
+        lo = l;
+    }
+    if (hi == 0.0) return 0.0;
+    int k = lrt_ilogb(hi);
+    hi = lrt_ldexp(hi, -k);
+    lo = lrt_ldexp(lo, -k);
+    precise float q = hi / y;
+    float p, e;
+    lrt_two_prod(q, y, p, e); // q y = p + e; hi - p is exact
+    precise float r = q + (((hi - p) - e) + lo) / y;
+    return lrt_ldexp(r, k + shift);
+}
+
 // appends a b 2^(extra - scale) as an exact pair (the caller keeps the
 // product's exponent within [-73, 122] of the scale)
 void lrt_grow_prod(inout LrtExpansion x, float a, float b, int extra, int scale)
@@ -532,8 +556,7 @@ float lrt_crossing(float o_b, float o_a, float v_b, float v_a, float plane, bool
     if (by_t) {
         r = lrt_ldexp(lrt_expansion_value(acc), scale);
     } else {
-        precise float q = lrt_expansion_value(acc) / lrt_signif(v_a);
-        r = lrt_ldexp(q, scale - lrt_ilogb(v_a));
+        r = lrt_expansion_div(acc, lrt_signif(v_a), scale - lrt_ilogb(v_a));
     }
     if (!far_z || r != 1.0) return r;
     float d1, d2;

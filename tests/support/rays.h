@@ -274,6 +274,11 @@ RAYS_MAYBE_UNUSED static int found_case(int k, test_map *m, lrt_ray *r)
            depth 0: its depth plane's t, rounded, came an ulp before the near plane's, and the hit was told INSIDE */
         {64, 64, 2, 65535, {27, -1}, {27, -1}, {0, 0}, {32, 32, -1.18010406e-38f}, {-16, -16, 4.68780747e-38f}, 0,
          35460327931904.0f},
+        /* (fuzz_core, crashes-found 22) a ray from far in front with v.z = 2^85, restarted at the near plane: the
+           restart's y, exactly 5.7e-13 below the screen's edge y = 3, rounded twice to an ulp above it, off the
+           screen for good; exact: the far plane's flat box of texel (164,2) at t = 1.03e-13 */
+        {199, 3, 3, 1.0f, {-1, -1}, {-1, -1}, {0, 0}, {165.25f, 3, -7.31282984e+12f}, {-7.31282984e+12f, -5.5f, 7.0847792e+25f},
+         0, 2.08202948e-13f},
     };
     size_t n, i, bpp;
     int q;
