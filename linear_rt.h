@@ -2048,12 +2048,18 @@ static void lrt__grow_prod(float *acc, int *m, float a, float b, int extra, int 
     lrt__grow(acc, m, e * f);
 }
 
-/* An expansion's value, the largest part last: faithful. */
-static float lrt__expansion_value(const float *acc, int m)
+/* An expansion's value, the largest part last: faithful. *lo gets the sum
+   of that sum's rounding errors, the part of the value it leaves out
+   (lrt__expansion_div needs it). */
+static float lrt__expansion_value(const float *acc, int m, float *lo)
 {
-    float sum = 0.0f;
+    float sum = 0.0f, err;
     int i;
-    for (i = 0; i < m; ++i) sum += acc[i];
+    *lo = 0.0f;
+    for (i = 0; i < m; ++i) {
+        lrt__two_sum(sum, acc[i], &sum, &err);
+        *lo += err;
+    }
     return sum;
 }
 
@@ -2061,18 +2067,13 @@ static float lrt__expansion_value(const float *acc, int m)
    (less than an ulp off): a float division of the rounded value rounds
    twice, which can land an ulp past the float next to the exact quotient
    and put a restart point off the screen (crashes-found 22). The value as
-   hi + lo (its sum, and the sum of that sum's rounding errors), scaled to
-   [1, 2) so that the product below cannot overflow, then the division's
-   remainder, exact but for lo, divided once more. */
+   hi + lo (lrt__expansion_value), scaled to [1, 2) so that the product
+   below cannot overflow, then the division's remainder, exact but for lo,
+   divided once more. */
 static float lrt__expansion_div(const float *acc, int m, float y, int shift)
 {
-    float hi = 0.0f, lo = 0.0f, q, p, e;
-    int i, k;
-    for (i = 0; i < m; ++i) {
-        float err;
-        lrt__two_sum(hi, acc[i], &hi, &err);
-        lo += err;
-    }
+    float lo, hi = lrt__expansion_value(acc, m, &lo), q, p, e;
+    int k;
     if (hi == 0.0f) return 0.0f;
     k = lrt__ilogb(hi);
     hi = ldexpf(hi, -k);
@@ -2189,12 +2190,12 @@ static void lrt__crossing_sum(float b1, float b2, float o_a, float v_b, float v_
 static float lrt__crossing(float o_b, float o_a, float v_b, float v_a, float plane, int by_t, float t, int vexp,
                            int far_z)
 {
-    float acc[8], r, d1, d2;
+    float acc[8], r, lo, d1, d2;
     int m, scale, side;
     if (v_b == 0.0f || (by_t && t == 0.0f)) return o_b;
     lrt__crossing_sum(o_b, 0.0f, o_a, v_b, v_a, plane, by_t, t, vexp, acc, &m, &scale);
     if (m == 0) return 0.0f;
-    if (by_t) r = ldexpf(lrt__expansion_value(acc, m), scale);
+    if (by_t) r = ldexpf(lrt__expansion_value(acc, m, &lo), scale);
     else r = lrt__expansion_div(acc, m, lrt__signif(v_a), scale - lrt__ilogb(v_a));
     if (!far_z || r != 1.0f) return r;
     /* the sign of the exact coordinate minus 1: the same sum from o_b - 1 */

@@ -411,11 +411,19 @@ int lrt_expansion_sign(LrtExpansion x)
     return 0;
 }
 
-// an expansion's value, the largest part last: faithful
-float lrt_expansion_value(LrtExpansion x)
+// an expansion's value, the largest part last: faithful; lo gets the sum
+// of that sum's rounding errors (linear_rt.h's lrt__expansion_value)
+float lrt_expansion_value(LrtExpansion x, out float lo)
 {
-    precise float sum = 0.0;
-    for (int i = 0; i < x.m; ++i) sum += lrt_part(x, i);
+    float sum = 0.0;
+    lo = 0.0;
+    for (int i = 0; i < x.m; ++i) {
+        float s, err;
+        lrt_two_sum(sum, lrt_part(x, i), s, err);
+        sum = s;
+        precise float l = lo + err;
+        lo = l;
+    }
     return sum;
 }
 
@@ -424,14 +432,7 @@ float lrt_expansion_value(LrtExpansion x)
 // linear_rt.h's lrt__expansion_div
 float lrt_expansion_div(LrtExpansion x, float y, int shift)
 {
-    float hi = 0.0, lo = 0.0;
-    for (int i = 0; i < x.m; ++i) {
-        float s, err;
-        lrt_two_sum(hi, lrt_part(x, i), s, err);
-        hi = s;
-        precise float l = lo + err;
-        lo = l;
-    }
+    float lo, hi = lrt_expansion_value(x, lo);
     if (hi == 0.0) return 0.0;
     int k = lrt_ilogb(hi);
     hi = lrt_ldexp(hi, -k);
@@ -554,7 +555,8 @@ float lrt_crossing(float o_b, float o_a, float v_b, float v_a, float plane, bool
     lrt_crossing_sum(o_b, 0.0, o_a, v_b, v_a, plane, by_t, t, vexp, acc, scale);
     if (acc.m == 0) return 0.0;
     if (by_t) {
-        r = lrt_ldexp(lrt_expansion_value(acc), scale);
+        float lo;
+        r = lrt_ldexp(lrt_expansion_value(acc, lo), scale);
     } else {
         r = lrt_expansion_div(acc, lrt_signif(v_a), scale - lrt_ilogb(v_a));
     }
