@@ -58,7 +58,7 @@ SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl) linear_rt.h # the kerne
 SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 
 # what `make test` runs, one count each in its summary line
-TESTS := test-reference test-core test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-demo test-examples test-bench
+TESTS := test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-demo test-examples test-bench
 
 # hardening (sanitizers with clang, valgrind, static checks, limits) and the
 # fuzzers: their own makefiles, which add their tests to TESTS
@@ -149,6 +149,18 @@ test-reference: $(B)/test_reference
 
 test-core: $(B)/test_core
 	$(B)/test_core
+
+# the mistakes a newcomer makes, plain and under ASan (reads past a struct
+# or a map, and LeakSanitizer: a tree dropped by a second build)
+$(B)/test_misuse: tests/test_misuse.c $(LIB) tests/support/check.h | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) $< -o $@ $(LDLIBS)
+
+$(B)/test_misuse_san: tests/test_misuse.c $(LIB) tests/support/check.h | deps $(B)
+	$(CC) $(STD) $(WARN) $(SAN) $< -o $@ $(LDLIBS)
+
+test-misuse: $(B)/test_misuse $(B)/test_misuse_san
+	$(B)/test_misuse
+	$(B)/test_misuse_san
 
 # The same tests through the header's other traversal paths: scalar C
 # (LINEAR_RT_NO_SIMD) and SSE2 alone (LINEAR_RT_NO_AVX). The default build

@@ -37,9 +37,9 @@
 
    USE (CPU)
        // describe the depth buffer: data, width, height, row stride in bytes
-       // (0: packed), format (or LRT_FORMAT_UNORM8 / _UNORM16), flags
-       lrt_depth depth = {pixels, 1024, 1024, 0, LRT_FORMAT_FLOAT32, 0};
-       lrt_bvh bvh;
+       // (0: packed), format (or LRT_FORMAT_UNORM8 / _UNORM16), flags, back map
+       lrt_depth depth = {pixels, 1024, 1024, 0, LRT_FORMAT_FLOAT32, 0, NULL};
+       lrt_bvh bvh = {0};                                      // zeroed (C++: = {})
        lrt_result r = lrt_bvh_build(&bvh, &depth, NULL, NULL); // once per size
        ...each frame, after the depth changed:
        r = lrt_bvh_update(&bvh, &depth, NULL);                 // whole map, or a dirty rect
@@ -67,7 +67,7 @@
        lrt_vk_context *ctx;                // vkGetDeviceProcAddr, allocator, cache)
        lrt_vk_context_create(&cd, &ctx);   // once: layouts, 12 pipelines, a sampler
        lrt_vk_bvh_desc bd = {0};           // width, height, format (+ node bits,
-       lrt_vk_bvh bvh;                     // your buffers or the library's)
+       lrt_vk_bvh bvh = {0};               // your buffers or the library's)
        lrt_vk_bvh_create(ctx, &bd, &bvh);
        lrt_vk_depth depth = {0};           // a VkBuffer (offset, row stride) or
        ...                                 // a VkImageView (and its layout)
@@ -243,7 +243,6 @@
 #define LRT_K_FORMAT_UNORM16 2u
 #define LRT_K_FORMAT_FLOAT32 3u
 #define LRT_K_DEPTH_REVERSED_Z 1u       /* lrt_depth.flags */
-#define LRT_K_DEPTH_BACK_FOLLOWS 2u
 #define LRT_K_HIT 1u                    /* lrt_hit_kind */
 #define LRT_K_MISS_TMAX 2u
 #define LRT_K_MISS_OFF_SCREEN 3u
@@ -312,14 +311,15 @@ typedef enum lrt_result {
     LRT_ERROR_INVALID_SIZE = 2,     /* width or height is 0 or above LINEAR_RT_MAX_DIM */
     LRT_ERROR_INVALID_STRIDE = 3,   /* row stride smaller than one row of texels    */
     LRT_ERROR_INVALID_FORMAT = 4,   /* depth format is not one of lrt_format        */
-    LRT_ERROR_INVALID_OPTION = 5,   /* unknown flag bits or node bits not 0/8/16    */
+    LRT_ERROR_INVALID_OPTION = 5,   /* unknown flag bits, node bits not 0/8/16, or a buffer and an image at once */
     LRT_ERROR_SIZE_OVERFLOW = 6,    /* the map's byte span exceeds PTRDIFF_MAX      */
     LRT_ERROR_OUT_OF_MEMORY = 7,    /* the allocator returned NULL                  */
     LRT_ERROR_BUFFER_TOO_SMALL = 8, /* caller memory smaller than lrt_bvh_memory_size */
     LRT_ERROR_SIZE_MISMATCH = 9,    /* depth map size differs from the BVH's        */
     LRT_ERROR_INVALID_RECT = 10,    /* dirty rectangle reaches outside the map      */
     LRT_ERROR_TOO_MANY_RAYS = 11,   /* more than LINEAR_RT_MAX_RAYS_PER_CALL rays, or a bad range */
-    LRT_ERROR_INVALID_BVH = 12,     /* the BVH was not built (or was destroyed)     */
+    LRT_ERROR_INVALID_BVH = 12,     /* the BVH was never built, or was destroyed (or is not zeroed memory
+                                       nor a built tree: see lrt_bvh)               */
     LRT_ERROR_VULKAN = 13,          /* a Vulkan call failed: its VkResult is kept (lrt_vk_context_vk_result) */
     LRT_ERROR_NO_VULKAN_LOADER = 14, /* the Vulkan loader library could not be loaded */
     LRT_ERROR_NO_VULKAN_DEVICE = 15, /* no driver, or no device with what the kernels need */
@@ -328,8 +328,13 @@ typedef enum lrt_result {
     LRT_ERROR_MISALIGNED = 18,      /* an offset or stride is not a multiple of the texel size or of
                                        the device's storage buffer offset alignment */
     LRT_ERROR_INVALID_CAMERA = 19,  /* a projection matrix with a non-finite entry or no inverse */
-    LRT_ERROR_THICKNESS_MISMATCH = 20, /* a back map without a back-map tree, or such a tree without one */
-    LRT_ERROR_INVALID_THICKNESS = 21, /* a thickness or (near, far) the constant or relative model cannot use */
+    LRT_ERROR_THICKNESS_MISMATCH = 20, /* a back map (lrt_depth.back) given to a tree without LRT_THICKNESS_BACK_MAP,
+                                          none given to one with it, or a back map with a back of its own */
+    LRT_ERROR_INVALID_THICKNESS = 21, /* an unknown thickness model, or a thickness or (near, far) the constant
+                                         or relative model cannot use */
+    LRT_ERROR_DEPTH_MISMATCH = 22,  /* the map's format or LRT_DEPTH_REVERSED_Z differs from the tree's (what
+                                       it was built from), or the back map's from the depth's */
+    LRT_ERROR_ALREADY_BUILT = 23,   /* build or create on a tree that is built: destroy it first */
     LRT_RESULT_MAX_ENUM = 0x7fffffff
 } lrt_result;
 
@@ -343,22 +348,25 @@ typedef enum lrt_format {
 
 /* lrt_depth.flags */
 enum {
-    LRT_DEPTH_REVERSED_Z = LRT_K_DEPTH_REVERSED_Z, /* 1 is near, 0 is far */
-    /* thickness (LRT_THICKNESS_BACK_MAP trees, and only they): this
-       lrt_depth is the first of two, the second describes each texel's back
-       depth (a back-face depth pass): same width, height, format and
-       reversed flag, a row stride of its own. A back in front of the depth
-       counts as the depth (docs/MODEL.md). */
-    LRT_DEPTH_BACK_FOLLOWS = LRT_K_DEPTH_BACK_FOLLOWS
+    LRT_DEPTH_REVERSED_Z = LRT_K_DEPTH_REVERSED_Z /* 1 is near, 0 is far */
 };
 
+/* A depth map in memory. The library cannot see your buffer's size: it
+   reads row_stride * (height - 1) + width * texel bytes from data, so the
+   stride and height you give must fit the buffer you own. */
 typedef struct lrt_depth {
-    const void *data;     /* first texel of row 0                               */
+    const void *data;     /* first texel of row 0 (texel (x, y) covers [x, x+1] x [y, y+1]) */
     uint32_t width;       /* texels per row, 1..LINEAR_RT_MAX_DIM               */
     uint32_t height;      /* rows, 1..LINEAR_RT_MAX_DIM                         */
-    size_t row_stride;    /* bytes from one row to the next; 0 = tightly packed */
+    size_t row_stride;    /* BYTES from one row to the next; 0 = tightly packed */
     lrt_format format;
     uint32_t flags;       /* LRT_DEPTH_* bits                                   */
+    /* LRT_THICKNESS_BACK_MAP trees, and only they: each texel's back depth
+       (a back-face depth pass), a map of the same width, height, format and
+       flags with a row stride of its own and no back of its own; NULL
+       otherwise. A back in front of the depth counts as the depth
+       (docs/MODEL.md). */
+    const struct lrt_depth *back;
 } lrt_depth;
 
 /* ---- level geometry and Morton mapping ------------------------------------- */
@@ -417,14 +425,15 @@ typedef struct lrt_allocator {
      0 at near, 1 at far (reversed Z: the flag flips it first).
    - RELATIVE: the same with T = thickness_value * z(d).
    - BACK_MAP: b = max(d, back) from a second map (a back-face depth pass),
-     passed to build, update and trace as a pair:
-       lrt_depth maps[2] = {{depth, w, h, 0, LRT_FORMAT_FLOAT32, LRT_DEPTH_BACK_FOLLOWS},
-                            {back,  w, h, 0, LRT_FORMAT_FLOAT32, 0}};
-       lrt_bvh_build(&bvh, maps, &options, NULL); ... lrt_trace(&bvh, maps, ...);
+     given to build, update and trace by the depth's back pointer:
+       lrt_depth back = {back_texels, w, h, 0, LRT_FORMAT_FLOAT32, 0, NULL};
+       lrt_depth depth = {texels, w, h, 0, LRT_FORMAT_FLOAT32, 0, &back};
+       lrt_bvh_build(&bvh, &depth, &options, NULL); ... lrt_trace(&bvh, &depth, ...);
    The first two need nothing but the depth: b is a function of d, computed
    in float by the same steps on the CPU and in the kernels. On the GPU the
    same options in lrt_vk_bvh_desc (a back map: two lrt_vk_depth, both
-   buffers or both images): the kernels answer as the CPU. */
+   buffers or both images, by lrt_vk_depth.back): the kernels answer as the
+   CPU. */
 typedef enum lrt_thickness {
     LRT_THICKNESS_INFINITE = LRT_K_THICKNESS_INFINITE, /* [depth, 1]: today's solid, the default */
     LRT_THICKNESS_BACK_MAP = LRT_K_THICKNESS_BACK_MAP, /* [depth, max(depth, back)] */
@@ -443,11 +452,20 @@ typedef struct lrt_build_options {
     float near_z, far_z;    /* the perspective projection's near and far plane distances */
 } lrt_build_options;
 
+/* Zero-initialise one (lrt_bvh bvh = {0}; or memset) before its first
+   build: build refuses a tree that is built (LRT_ERROR_ALREADY_BUILT:
+   destroy it first, e.g. on a resize), so it never leaks or frees what is
+   not its own. A tree carries a magic word from build to destroy; the
+   other calls answer LRT_ERROR_INVALID_BVH without it. A copy of a built
+   lrt_bvh (memcpy, by value) is the same tree, not a new one: destroy one
+   of them only. */
 typedef struct lrt_bvh {     /* fields are read-only to callers */
     lrt_layout layout;
     void *nodes;             /* layout.bytes: levels bottom-up, 8 heights per node */
     lrt_allocator allocator; /* how nodes were allocated; alloc == NULL: caller-owned */
-    uint32_t built;          /* nonzero between build and destroy */
+    uint32_t built;          /* LRT__BUILT (a magic word) between build and destroy, else 0 */
+    lrt_format format;       /* what the tree was built from: every later map must agree */
+    uint32_t depth_flags;    /*   (its LRT_DEPTH_REVERSED_Z bit too): LRT_ERROR_DEPTH_MISMATCH */
 } lrt_bvh;
 
 /* Bytes lrt_bvh_build_in needs for a map of this size and format (the
@@ -455,7 +473,8 @@ typedef struct lrt_bvh {     /* fields are read-only to callers */
 LINEAR_RT_API lrt_result lrt_bvh_memory_size(uint32_t width, uint32_t height, lrt_format format,
                                              const lrt_build_options *options, size_t *out_bytes);
 /* Build once per map size: lays out the tree and fills it from depth.
-   options and allocator may be NULL (defaults; LINEAR_RT_MALLOC). On error
+   options and allocator may be NULL (defaults; LINEAR_RT_MALLOC). *bvh
+   must be zeroed or destroyed (else LRT_ERROR_ALREADY_BUILT). On error
    *bvh is left untouched and nothing is allocated. */
 LINEAR_RT_API lrt_result lrt_bvh_build(lrt_bvh *bvh, const lrt_depth *depth,
                                        const lrt_build_options *options, const lrt_allocator *allocator);
@@ -520,7 +539,8 @@ typedef struct lrt_hit {
    occlusion rays higher in the tree, is not built). */
 
 /* Trace count rays into hits (one lrt_hit per ray). depth must be the map
-   the BVH was last built or updated from. At most LINEAR_RT_MAX_RAYS_PER_CALL
+   the BVH was last built or updated from (its size, format, flags and back
+   map are checked against the tree's; its contents cannot be). At most LINEAR_RT_MAX_RAYS_PER_CALL
    (2^30) rays a call: a larger count is LRT_ERROR_TOO_MANY_RAYS, returned
    before any ray is read or hit written. */
 LINEAR_RT_API lrt_result lrt_trace(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
@@ -555,12 +575,17 @@ typedef struct lrt_camera {
 } lrt_camera;
 
 /* A perspective projection in these conventions: right-handed view space
-   looking down -z with y up, vertical field of view in radians, aspect =
-   width / height, 0 < near_z < far_z; flags LRT_DEPTH_REVERSED_Z or 0. */
-LINEAR_RT_API void lrt_perspective(float out[16], float fov_y_radians, float aspect, float near_z, float far_z,
-                                   uint32_t flags);
+   looking down -z with y up, the vertical field of view in RADIANS (0 < fov
+   < pi), aspect = width / height (finite, > 0), 0 < near_z < far_z (far_z
+   = INFINITY: an infinite far plane); flags LRT_DEPTH_REVERSED_Z or 0.
+   LRT_ERROR_INVALID_CAMERA for values outside those (NaN too) and
+   LRT_ERROR_INVALID_OPTION for other flags; out is then left alone. */
+LINEAR_RT_API lrt_result lrt_perspective(float out[16], float fov_y_radians, float aspect, float near_z, float far_z,
+                                         uint32_t flags);
 /* Keeps the projection and its inverse. LRT_ERROR_INVALID_CAMERA for a
-   matrix with a non-finite entry or no inverse; LRT_ERROR_INVALID_SIZE,
+   matrix with a non-finite entry or no inverse, or a perspective one (w =
+   -c z_view, c > 0) whose planes are not 0 < near < far as the flags read
+   them (e.g. near and far swapped); LRT_ERROR_INVALID_SIZE,
    LRT_ERROR_INVALID_OPTION (flags other than LRT_DEPTH_REVERSED_Z). */
 LINEAR_RT_API lrt_result lrt_camera_init(lrt_camera *camera, const float projection[16], uint32_t width,
                                          uint32_t height, uint32_t flags);
@@ -577,11 +602,25 @@ LINEAR_RT_API int lrt_camera_project(const lrt_camera *camera, const float view[
    view-space position). Returns 1, or 0 when no part of the segment lies
    between the planes or a value is not finite; *ray is then an invalid ray
    (NaN origin), which lrt_trace answers with LRT_MISS_INVALID_RAY.
-   Self-intersection is the caller's policy (docs/MODEL.md): a ray from a surface
-   point starts on its own texel's top, so lift the origin towards the eye
-   (see examples/ssr.c: by half the texel's depth slope). */
+   A ray leaving a visible surface takes lrt_camera_surface_ray below. */
 LINEAR_RT_API int lrt_camera_segment(const lrt_camera *camera, const float from[3], const float to[3],
                                      lrt_ray *ray);
+/* THE LIFT (self-intersection; the tracer itself has no policy). A ray
+   leaving the visible surface at texel (x, y) starts on that texel's flat
+   top (docs/MODEL.md), and on a sloped surface the neighbouring texels'
+   tops stand up to half a texel's slope above the true surface between
+   them: such a ray would hit its own surface's stairs. The recipe: lower
+   the ray's screen-space origin z (move it towards the eye) by
+   lrt_surface_lift(step_x, step_y), where step_x and step_y are the depth
+   steps from the texel to the neighbours its normal was taken from (0 for
+   none), and start at tmin = 0. lrt_surface_lift = 0.5 * (|step_x| +
+   |step_y|) * 1.01 + 1e-7: half the slope, 1% and a hair for rounding. */
+LINEAR_RT_API float lrt_surface_lift(float step_x, float step_y);
+/* lrt_camera_segment(from, to), its origin then lifted by `lift`
+   (lrt_surface_lift): the screen ray of a reflection, AO or shadow ray
+   from the view-space surface point `from`. Returns as lrt_camera_segment. */
+LINEAR_RT_API int lrt_camera_surface_ray(const lrt_camera *camera, const float from[3], const float to[3], float lift,
+                                         lrt_ray *ray);
 /* The near and far plane distances of a perspective camera (far: INFINITY
    for an infinite far plane), for lrt_build_options' constant and relative
    thickness. Returns 0 (and leaves them alone) for an orthographic or
@@ -676,9 +715,12 @@ enum {
 
 typedef struct lrt_vk_bvh_desc {
     uint32_t width, height;      /* texels, 1..LINEAR_RT_MAX_DIM */
-    lrt_format format;           /* of the depth it will be built from: picks the node bits */
+    lrt_format format;           /* of the depth it will be built from: picks the node bits; every
+                                    map recorded with the tree must have it (LRT_ERROR_DEPTH_MISMATCH) */
     lrt_build_options options;   /* node_bits: LRT_NODE_BITS_AUTO (0), 8 or 16, as lrt_bvh_build */
     uint32_t flags;              /* LRT_VK_BVH_* */
+    uint32_t depth_flags;        /* LRT_DEPTH_REVERSED_Z or 0: the Z direction of the maps it is built
+                                    from; every map recorded with the tree must have it */
     /* Your buffers (both set), or none (both VK_NULL_HANDLE: the library makes
        one buffer for both). Sizes from lrt_vk_bvh_buffer_sizes; usage
        STORAGE_BUFFER for both, UNIFORM_TEXEL_BUFFER for the nodes (the trace
@@ -707,7 +749,10 @@ typedef struct lrt_vk_bvh {      /* fields are read-only to callers */
     void *mapped;                /* the nodes in host memory when the library's memory is
                                     HOST_VISIBLE | HOST_COHERENT (always with LRT_VK_BVH_HOST_VISIBLE),
                                     else NULL; read after the HOST barrier of BARRIERS and the fence */
-    uint32_t created;            /* nonzero between create and destroy */
+    uint32_t created;            /* a magic word between create and destroy, else 0 (zero it before
+                                    create, as lrt_bvh: create refuses a created one) */
+    lrt_format format;           /* the desc's format and depth_flags: every map must agree */
+    uint32_t depth_flags;
 } lrt_vk_bvh;
 
 /* Bytes of the node and counter ranges of a map of this size and format. */
@@ -716,6 +761,7 @@ LINEAR_RT_API lrt_result lrt_vk_bvh_buffer_sizes(uint32_t width, uint32_t height
                                                  VkDeviceSize *out_counters_bytes);
 /* Lays out the tree, binds (or creates) its buffers and makes the nodes'
    texel view; records nothing: the tree is filled by lrt_vk_cmd_build.
+   *out must be zeroed or destroyed (else LRT_ERROR_ALREADY_BUILT).
    Library memory: DEVICE_LOCAL preferred, else HOST_VISIBLE. A node or
    counter range past the device's maxStorageBufferRange (a 16384x16384 map
    has 585 MiB of 16-bit nodes) is LRT_ERROR_LIMIT_EXCEEDED. On error *out
@@ -728,7 +774,7 @@ LINEAR_RT_API void lrt_vk_bvh_destroy(lrt_vk_context *ctx, lrt_vk_bvh *bvh);
 /* ---- depth on the GPU ---------------------------------------------------------- */
 typedef struct lrt_vk_depth {
     lrt_format format;           /* as lrt_depth; images: see view */
-    uint32_t flags;              /* LRT_DEPTH_REVERSED_Z; LRT_DEPTH_BACK_FOLLOWS: a back map in the next one */
+    uint32_t flags;              /* LRT_DEPTH_REVERSED_Z */
     uint32_t width, height;      /* must equal the BVH's */
     /* either a storage buffer (usage STORAGE_BUFFER) ... */
     VkBuffer buffer;
@@ -744,6 +790,10 @@ typedef struct lrt_vk_depth {
     VkImageView view;
     VkImageLayout layout;        /* SHADER_READ_ONLY_OPTIMAL, GENERAL, DEPTH_STENCIL_READ_ONLY_OPTIMAL,
                                     DEPTH_READ_ONLY_OPTIMAL or READ_ONLY_OPTIMAL */
+    /* LRT_THICKNESS_BACK_MAP trees, and only they: the back map, as lrt_depth.back (same
+       width, height, format, flags, a buffer if the depth is one, an image if it is one;
+       no back of its own); NULL otherwise */
+    const struct lrt_vk_depth *back;
 } lrt_vk_depth;
 
 /* ---- recording ------------------------------------------------------------------------
@@ -940,14 +990,16 @@ LINEAR_RT_DEF const char *lrt_result_string(lrt_result result)
     case LRT_ERROR_INVALID_SIZE: return "width or height is 0 or above LINEAR_RT_MAX_DIM";
     case LRT_ERROR_INVALID_STRIDE: return "row stride is smaller than one row";
     case LRT_ERROR_INVALID_FORMAT: return "unknown depth format";
-    case LRT_ERROR_INVALID_OPTION: return "unknown flag bits or node bits not 0, 8 or 16";
+    case LRT_ERROR_INVALID_OPTION:
+        return "unknown flag bits, node bits not 0, 8 or 16, or a GPU map given as both a buffer and an image, "
+               "or in an unsupported image layout";
     case LRT_ERROR_SIZE_OVERFLOW: return "the depth map's byte span exceeds PTRDIFF_MAX";
     case LRT_ERROR_OUT_OF_MEMORY: return "out of memory";
     case LRT_ERROR_BUFFER_TOO_SMALL: return "memory smaller than lrt_bvh_memory_size";
     case LRT_ERROR_SIZE_MISMATCH: return "depth map size differs from the BVH's";
     case LRT_ERROR_INVALID_RECT: return "dirty rectangle reaches outside the map";
     case LRT_ERROR_TOO_MANY_RAYS: return "too many rays in one call, or a bad range";
-    case LRT_ERROR_INVALID_BVH: return "the BVH is not built";
+    case LRT_ERROR_INVALID_BVH: return "the BVH is not built (never built, destroyed, or not zero-initialised)";
     case LRT_ERROR_VULKAN: return "a Vulkan call failed";
     case LRT_ERROR_NO_VULKAN_LOADER: return "the Vulkan loader could not be loaded";
     case LRT_ERROR_NO_VULKAN_DEVICE: return "no Vulkan device with what linear_rt needs";
@@ -955,8 +1007,14 @@ LINEAR_RT_DEF const char *lrt_result_string(lrt_result result)
     case LRT_ERROR_LIMIT_EXCEEDED: return "a device limit is exceeded";
     case LRT_ERROR_MISALIGNED: return "an offset or stride is misaligned";
     case LRT_ERROR_INVALID_CAMERA: return "the projection matrix is not finite or not invertible";
-    case LRT_ERROR_THICKNESS_MISMATCH: return "the depth's back map and the BVH's thickness model disagree";
-    case LRT_ERROR_INVALID_THICKNESS: return "the thickness, or the near and far planes it needs, are not usable";
+    case LRT_ERROR_THICKNESS_MISMATCH:
+        return "a back map given to a tree without LRT_THICKNESS_BACK_MAP, none given to one with it, "
+               "or a back map with a back of its own";
+    case LRT_ERROR_INVALID_THICKNESS:
+        return "unknown thickness model, or a thickness or (near, far) planes the constant or relative model cannot use";
+    case LRT_ERROR_DEPTH_MISMATCH:
+        return "the map's format or reversed-Z flag differs from the tree's, or the back map's from the depth's";
+    case LRT_ERROR_ALREADY_BUILT: return "the BVH is already built: destroy it before building again";
     default: return "unknown result code";
     }
 }
@@ -964,6 +1022,10 @@ LINEAR_RT_DEF const char *lrt_result_string(lrt_result result)
 /* ================================================================= >>depth
    1. Depth in: validation and decoding of one texel.
    ========================================================================== */
+
+/* lrt_bvh.built and lrt_vk_bvh.created from build (create) to destroy: a
+   word that zeroed memory never holds and stack garbage hardly ever does */
+#define LRT__BUILT 0x4c525442u /* "LRTB" */
 
 LRT__FORCE_INLINE uint32_t lrt__format_bytes(lrt_format f)
 {
@@ -1001,27 +1063,26 @@ static lrt_result lrt__check_depth(const lrt_depth *depth, size_t *out_stride)
     if ((r = lrt__check_size(depth->width, depth->height)) != LRT_SUCCESS) return r;
     bpp = lrt__format_bytes(depth->format);
     if (!bpp) return LRT_ERROR_INVALID_FORMAT;
-    if (depth->flags & ~(uint32_t)(LRT_DEPTH_REVERSED_Z | LRT_DEPTH_BACK_FOLLOWS)) return LRT_ERROR_INVALID_OPTION;
+    if (depth->flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) return LRT_ERROR_INVALID_OPTION;
     row_bytes = (size_t)depth->width * bpp; /* <= 65536: cannot overflow */
     if ((r = lrt__check_stride(depth->row_stride, row_bytes, depth->height, &stride)) != LRT_SUCCESS) return r;
     *out_stride = stride;
     return LRT_SUCCESS;
 }
 
-/* The back map (depth[1], LRT_DEPTH_BACK_FOLLOWS) against the tree's
-   thickness model: there exactly when the tree has back codes, the same
-   size, format and Z direction as the depth, a valid stride of its own. */
+/* The back map (depth->back) against the tree's thickness model: there
+   exactly when the tree has back codes, the same size, format and Z
+   direction as the depth, a valid stride of its own. */
 static lrt_result lrt__check_back(const lrt_depth *depth, uint32_t thickness, size_t *out_stride)
 {
-    const lrt_depth *back = depth + 1;
+    const lrt_depth *back = depth->back;
     *out_stride = 0;
-    if (((depth->flags & LRT_DEPTH_BACK_FOLLOWS) != 0) != (thickness == LRT_THICKNESS_BACK_MAP))
-        return LRT_ERROR_THICKNESS_MISMATCH;
-    if (thickness != LRT_THICKNESS_BACK_MAP) return LRT_SUCCESS;
+    if ((back != NULL) != (thickness == LRT_THICKNESS_BACK_MAP)) return LRT_ERROR_THICKNESS_MISMATCH;
+    if (!back) return LRT_SUCCESS;
+    if (back->back) return LRT_ERROR_THICKNESS_MISMATCH;
     if (!back->data) return LRT_ERROR_NULL_POINTER;
     if (back->width != depth->width || back->height != depth->height) return LRT_ERROR_SIZE_MISMATCH;
-    if (back->format != depth->format) return LRT_ERROR_INVALID_FORMAT;
-    if (back->flags != (depth->flags & LRT_DEPTH_REVERSED_Z)) return LRT_ERROR_INVALID_OPTION;
+    if (back->format != depth->format || back->flags != depth->flags) return LRT_ERROR_DEPTH_MISMATCH;
     return lrt__check_stride(back->row_stride, (size_t)depth->width * lrt__format_bytes(depth->format), depth->height,
                              out_stride);
 }
@@ -1081,7 +1142,7 @@ LRT__FORCE_INLINE uint32_t lrt__depth_raw(const lrt_depth *depth, size_t stride,
    unorm's integer, or the bits of a float clamped to [0, 1]. */
 LRT__FORCE_INLINE uint32_t lrt__back_raw(const lrt_depth *depth, size_t stride, size_t back_stride, uint32_t x, uint32_t y)
 {
-    const uint32_t d = lrt__depth_raw(depth, stride, x, y), b = lrt__map_raw(depth, depth[1].data, back_stride, x, y);
+    const uint32_t d = lrt__depth_raw(depth, stride, x, y), b = lrt__map_raw(depth, depth->back->data, back_stride, x, y);
     return b > d ? b : d;
 }
 
@@ -1579,7 +1640,7 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
                     lrt__row_model_back_codes(L, depth, stride, ty, tx0, real, qmax, codes[r]);
                 else if (real && back)
                     lrt__row_back_codes(depth, (const unsigned char *)depth->data + stride * ty,
-                                        (const unsigned char *)depth[1].data + back_stride * ty, tx0, real, qmax, codes[r]);
+                                        (const unsigned char *)depth->back->data + back_stride * ty, tx0, real, qmax, codes[r]);
                 else if (real)
                     lrt__row_heights(depth, (const unsigned char *)depth->data + stride * ty, tx0, real, qmax, codes[r]);
                 for (s = real; s < n; ++s) codes[r][s] = 0;
@@ -1716,7 +1777,7 @@ static lrt_result lrt__options_layout(uint32_t width, uint32_t height, lrt_forma
     lrt_result r;
     if (b == LRT_NODE_BITS_AUTO) b = format == LRT_FORMAT_UNORM8 ? 8u : 16u;
     if (b != 8 && b != 16) return LRT_ERROR_INVALID_OPTION;
-    if (thickness > LRT_THICKNESS_RELATIVE) return LRT_ERROR_INVALID_OPTION;
+    if (thickness > LRT_THICKNESS_RELATIVE) return LRT_ERROR_INVALID_THICKNESS;
     if ((r = lrt_layout_compute(width, height, b, layout)) != LRT_SUCCESS) return r;
     if (thickness != LRT_THICKNESS_INFINITE) {
         layout->back_codes = 1;
@@ -1747,6 +1808,7 @@ static lrt_result lrt__prepare(const lrt_bvh *bvh, const lrt_depth *depth, const
     size_t back_stride;
     lrt_result r;
     if (!bvh) return LRT_ERROR_NULL_POINTER;
+    if (bvh->built == LRT__BUILT) return LRT_ERROR_ALREADY_BUILT; /* never leak it, never free what is not ours */
     if ((r = lrt__check_depth(depth, stride)) != LRT_SUCCESS) return r;
     if ((r = lrt__options_layout(depth->width, depth->height, depth->format, options, layout)) != LRT_SUCCESS) return r;
     return lrt__check_back(depth, layout->thickness, &back_stride);
@@ -1759,7 +1821,9 @@ static void lrt__finish_build(lrt_bvh *bvh, const lrt_layout *layout, void *node
     bvh->layout = *layout;
     bvh->nodes = nodes;
     if (allocator) bvh->allocator = *allocator;
-    bvh->built = 1;
+    bvh->format = depth->format;
+    bvh->depth_flags = depth->flags;
+    bvh->built = LRT__BUILT;
     lrt__refit(bvh, depth, stride, 0, layout->width - 1, 0, layout->height - 1, 1);
 }
 
@@ -1807,7 +1871,7 @@ LINEAR_RT_DEF lrt_result lrt_bvh_build_in(lrt_bvh *bvh, const lrt_depth *depth, 
 LINEAR_RT_DEF void lrt_bvh_destroy(lrt_bvh *bvh)
 {
     if (!bvh) return;
-    if (bvh->built && bvh->allocator.free && bvh->nodes) bvh->allocator.free(bvh->allocator.user, bvh->nodes);
+    if (bvh->built == LRT__BUILT && bvh->allocator.free && bvh->nodes) bvh->allocator.free(bvh->allocator.user, bvh->nodes);
     memset(bvh, 0, sizeof *bvh);
 }
 
@@ -1817,9 +1881,10 @@ static lrt_result lrt__check_pair(const lrt_bvh *bvh, const lrt_depth *depth, si
     size_t back_stride;
     lrt_result r;
     if (!bvh) return LRT_ERROR_NULL_POINTER;
-    if (!bvh->built || !bvh->nodes) return LRT_ERROR_INVALID_BVH;
+    if (bvh->built != LRT__BUILT || !bvh->nodes) return LRT_ERROR_INVALID_BVH;
     if ((r = lrt__check_depth(depth, stride)) != LRT_SUCCESS) return r;
     if (depth->width != bvh->layout.width || depth->height != bvh->layout.height) return LRT_ERROR_SIZE_MISMATCH;
+    if (depth->format != bvh->format || depth->flags != bvh->depth_flags) return LRT_ERROR_DEPTH_MISMATCH;
     return lrt__check_back(depth, bvh->layout.thickness, &back_stride);
 }
 
@@ -3037,7 +3102,7 @@ LRT__FORCE_INLINE uint32_t lrt__texels8(const lrt__walk *w, const lrt__ray_setup
         const float *k = w->L->back_k;
         __m256 b;
         if (w->L->thickness == LRT_THICKNESS_BACK_MAP) { /* b = max(depth, back) */
-            const unsigned char *brow = (const unsigned char *)w->depth[1].data + w->back_stride * 2u * ny + 16u * (size_t)nx;
+            const unsigned char *brow = (const unsigned char *)w->depth->back->data + w->back_stride * 2u * ny + 16u * (size_t)nx;
             const __m128 b0 = _mm_loadu_ps((const float *)(const void *)brow);
             const __m128 b1 = _mm_loadu_ps((const float *)(const void *)(brow + w->back_stride));
             b = _mm256_permutevar8x32_ps(_mm256_insertf128_ps(_mm256_castps128_ps256(b0), b1, 1), s->sg->order[0]);
@@ -4334,23 +4399,35 @@ LINEAR_RT_DEF lrt_result lrt_trace(const lrt_bvh *bvh, const lrt_depth *depth, c
       precision throughout: the matrices of a far plane at 1e4 are badly
       conditioned in float, and this runs once per ray, not per node.
    ========================================================================== */
-LINEAR_RT_DEF void lrt_perspective(float out[16], float fov_y_radians, float aspect, float near_z, float far_z,
-                                   uint32_t flags)
+LINEAR_RT_DEF lrt_result lrt_perspective(float out[16], float fov_y_radians, float aspect, float near_z, float far_z,
+                                         uint32_t flags)
 {
-    double f = 1.0 / tan(0.5 * (double)fov_y_radians), n = near_z, fa = far_z;
+    const double fov = fov_y_radians, a = aspect, n = near_z, fa = far_z, pi = 3.14159265358979323846;
+    const int infinite = fa == (double)INFINITY;
+    double f, m[16];
     int k;
-    if (!out) return;
-    for (k = 0; k < 16; ++k) out[k] = 0.0f;
-    out[0] = (float)(f / (double)aspect);
-    out[5] = (float)-f;   /* y up in view space, row 0 at the top of the image */
-    out[11] = -1.0f;      /* w = -z: the distance in front of the eye */
+    if (!out) return LRT_ERROR_NULL_POINTER;
+    if (flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) return LRT_ERROR_INVALID_OPTION;
+    /* NaN fails every compare; a near plane of a subnormal is no plane in float */
+    if (!(fov > 0.0 && fov < pi && a > 0.0 && a <= 3.0e38 && n >= 1.17549435e-38 && n <= 3.0e38 && fa > n) ||
+        (!infinite && (float)n >= (float)fa))
+        return LRT_ERROR_INVALID_CAMERA;
+    f = 1.0 / tan(0.5 * fov);
+    for (k = 0; k < 16; ++k) m[k] = 0.0;
+    m[0] = f / a;
+    m[5] = -f;   /* y up in view space, row 0 at the top of the image */
+    m[11] = -1.0; /* w = -z: the distance in front of the eye */
     if (flags & LRT_DEPTH_REVERSED_Z) {
-        out[10] = (float)(n / (fa - n));
-        out[14] = (float)(n * fa / (fa - n));
+        m[10] = infinite ? 0.0 : n / (fa - n);
+        m[14] = infinite ? n : n * fa / (fa - n);
     } else {
-        out[10] = (float)(fa / (n - fa));
-        out[14] = (float)(n * fa / (n - fa));
+        m[10] = infinite ? -1.0 : fa / (n - fa);
+        m[14] = infinite ? -n : n * fa / (n - fa);
     }
+    for (k = 0; k < 16; ++k)
+        if (!(fabs(m[k]) <= 3.0e38)) return LRT_ERROR_INVALID_CAMERA; /* an aspect or fov that overflows float */
+    for (k = 0; k < 16; ++k) out[k] = (float)m[k];
+    return LRT_SUCCESS;
 }
 
 /* Inverse by cofactors; 0 when singular (relative to the matrix's scale) or
@@ -4391,10 +4468,17 @@ static int lrt__invert4(const float *m, float *out)
     return 1;
 }
 
+/* w = -c z_view (c > 0) and nothing else in w, nor in z from x and y */
+static int lrt__is_perspective(const float *m)
+{
+    return m[3] == 0.0f && m[7] == 0.0f && m[15] == 0.0f && m[11] < 0.0f && m[2] == 0.0f && m[6] == 0.0f;
+}
+
 LINEAR_RT_DEF lrt_result lrt_camera_init(lrt_camera *camera, const float projection[16], uint32_t width,
                                          uint32_t height, uint32_t flags)
 {
     lrt_camera c;
+    float near_z, far_z;
     int k;
     if (!camera || !projection) return LRT_ERROR_NULL_POINTER;
     if (width == 0 || height == 0 || width > LINEAR_RT_MAX_DIM || height > LINEAR_RT_MAX_DIM) return LRT_ERROR_INVALID_SIZE;
@@ -4404,6 +4488,7 @@ LINEAR_RT_DEF lrt_result lrt_camera_init(lrt_camera *camera, const float project
     c.width = width;
     c.height = height;
     c.flags = flags;
+    if (lrt__is_perspective(c.proj) && !lrt_camera_planes(&c, &near_z, &far_z)) return LRT_ERROR_INVALID_CAMERA;
     *camera = c;
     return LRT_SUCCESS;
 }
@@ -4504,6 +4589,19 @@ LINEAR_RT_DEF int lrt_camera_segment(const lrt_camera *camera, const float from[
     return 1;
 }
 
+LINEAR_RT_DEF float lrt_surface_lift(float step_x, float step_y)
+{
+    return 0.5f * (fabsf(step_x) + fabsf(step_y)) * 1.01f + 1e-7f;
+}
+
+LINEAR_RT_DEF int lrt_camera_surface_ray(const lrt_camera *camera, const float from[3], const float to[3], float lift,
+                                         lrt_ray *ray)
+{
+    if (!lrt_camera_segment(camera, from, to, ray)) return 0;
+    ray->origin[2] -= lift;
+    return 1;
+}
+
 /* Clip z = A zv + B and w = -c zv (view space looks down -z): depth
    (A zv + B) / (-c zv) is 0 at zv = -near and 1 at zv = -far, so
    near = B / A and far = B / (A + c), infinite when A = -c; reversed Z
@@ -4514,8 +4612,7 @@ LINEAR_RT_DEF int lrt_camera_planes(const lrt_camera *camera, float *near_z, flo
     double c, a, b, n, f;
     if (!camera || !near_z || !far_z) return 0;
     m = camera->proj;
-    /* perspective: w = -c zv, nothing else in w or in z from x and y */
-    if (m[3] != 0.0f || m[7] != 0.0f || m[15] != 0.0f || !(m[11] < 0.0f) || m[2] != 0.0f || m[6] != 0.0f) return 0;
+    if (!lrt__is_perspective(m)) return 0;
     c = -(double)m[11];
     a = m[10];
     b = m[14];
@@ -5119,8 +5216,10 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
     VkResult vr;
     lrt_result r;
     if (!ctx || !desc || !out) return LRT_ERROR_NULL_POINTER;
+    if (out->created == LRT__BUILT) return LRT_ERROR_ALREADY_BUILT;
     if ((r = lrt__vk_layout(desc->width, desc->height, desc->format, &desc->options, &L)) != LRT_SUCCESS) return r;
     if (desc->flags & ~(uint32_t)LRT_VK_BVH_HOST_VISIBLE) return LRT_ERROR_INVALID_OPTION;
+    if (desc->depth_flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) return LRT_ERROR_INVALID_OPTION;
     if ((desc->nodes == VK_NULL_HANDLE) != (desc->counters == VK_NULL_HANDLE)) return LRT_ERROR_NULL_POINTER;
     align = lrt__vk_storage_alignment(ctx);
     nodes_bytes = (VkDeviceSize)L.bytes;
@@ -5130,6 +5229,8 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
     memset(&bvh, 0, sizeof bvh);
     bvh.layout = L;
     bvh.counters_bytes = counters_bytes;
+    bvh.format = desc->format;
+    bvh.depth_flags = desc->depth_flags;
     if (desc->nodes != VK_NULL_HANDLE) { /* the caller's buffers */
         if (desc->flags & LRT_VK_BVH_HOST_VISIBLE) return LRT_ERROR_INVALID_OPTION;
         if (desc->nodes_offset % align || desc->counters_offset % align ||
@@ -5186,7 +5287,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
         bvh.counters = bvh.nodes;
         bvh.counters_offset = lrt__vk_align_up(nodes_bytes, align);
     }
-    bvh.created = 1;
+    bvh.created = LRT__BUILT;
     memset(&vi, 0, sizeof vi);
     vi.sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO;
     vi.buffer = bvh.nodes;
@@ -5208,9 +5309,9 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
 LINEAR_RT_DEF void lrt_vk_bvh_destroy(lrt_vk_context *ctx, lrt_vk_bvh *bvh)
 {
     if (!bvh) return;
-    if (ctx && bvh->created && bvh->node_texels != VK_NULL_HANDLE)
+    if (ctx && bvh->created == LRT__BUILT && bvh->node_texels != VK_NULL_HANDLE)
         ctx->p_vkDestroyBufferView(ctx->device, bvh->node_texels, ctx->callbacks);
-    if (ctx && bvh->created && bvh->memory != VK_NULL_HANDLE) {
+    if (ctx && bvh->created == LRT__BUILT && bvh->memory != VK_NULL_HANDLE) {
         if (bvh->mapped) ctx->p_vkUnmapMemory(ctx->device, bvh->memory);
         ctx->p_vkDestroyBuffer(ctx->device, bvh->nodes, ctx->callbacks);
         ctx->p_vkFreeMemory(ctx->device, bvh->memory, ctx->callbacks);
@@ -5299,13 +5400,14 @@ static lrt_result lrt__vk_check(const lrt_vk_context *c, VkCommandBuffer cmd, co
     int back_image;
     lrt_result r;
     if (!c || !cmd || !bvh || !depth) return LRT_ERROR_NULL_POINTER;
-    back = depth + 1; /* read only with LRT_DEPTH_BACK_FOLLOWS */
-    if (!bvh->created) return LRT_ERROR_INVALID_BVH;
+    back = depth->back;
+    if (bvh->created != LRT__BUILT) return LRT_ERROR_INVALID_BVH;
     if ((r = lrt__check_size(depth->width, depth->height)) != LRT_SUCCESS) return r;
     bpp = lrt__format_bytes(depth->format);
     if (!bpp) return LRT_ERROR_INVALID_FORMAT;
-    if (depth->flags & ~(uint32_t)(LRT_DEPTH_REVERSED_Z | LRT_DEPTH_BACK_FOLLOWS)) return LRT_ERROR_INVALID_OPTION;
+    if (depth->flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) return LRT_ERROR_INVALID_OPTION;
     if (depth->width != bvh->layout.width || depth->height != bvh->layout.height) return LRT_ERROR_SIZE_MISMATCH;
+    if (depth->format != bvh->format || depth->flags != bvh->depth_flags) return LRT_ERROR_DEPTH_MISMATCH;
     /* the tree's ranges against this context's device (create checked its own) */
     if ((VkDeviceSize)bvh->layout.bytes > c->limits.maxStorageBufferRange ||
         bvh->counters_bytes > c->limits.maxStorageBufferRange)
@@ -5317,12 +5419,11 @@ static lrt_result lrt__vk_check(const lrt_vk_context *c, VkCommandBuffer cmd, co
     src->back_buffer = src->buffer;
     src->back_view = src->view;
     /* a back map exactly with a back-map tree, described as the depth is (lrt__check_back) */
-    if (((depth->flags & LRT_DEPTH_BACK_FOLLOWS) != 0) != (bvh->layout.thickness == LRT_THICKNESS_BACK_MAP))
-        return LRT_ERROR_THICKNESS_MISMATCH;
-    if (bvh->layout.thickness != LRT_THICKNESS_BACK_MAP) return LRT_SUCCESS;
+    if ((back != NULL) != (bvh->layout.thickness == LRT_THICKNESS_BACK_MAP)) return LRT_ERROR_THICKNESS_MISMATCH;
+    if (!back) return LRT_SUCCESS;
+    if (back->back) return LRT_ERROR_THICKNESS_MISMATCH;
     if (back->width != depth->width || back->height != depth->height) return LRT_ERROR_SIZE_MISMATCH;
-    if (back->format != depth->format) return LRT_ERROR_INVALID_FORMAT;
-    if (back->flags != (depth->flags & LRT_DEPTH_REVERSED_Z)) return LRT_ERROR_INVALID_OPTION;
+    if (back->format != depth->format || back->flags != depth->flags) return LRT_ERROR_DEPTH_MISMATCH;
     if ((r = lrt__vk_map(c, back, bpp, &back_image, &src->back_buffer, &src->back_view, &src->back_offset,
                          &src->back_row_stride)) != LRT_SUCCESS)
         return r;

@@ -244,10 +244,9 @@ static void gpu_depth(const lrt_gpu *g, const bench_scene *sc, lrt_vk_depth d[2]
     d[0].height = sc->height;
     d[0].buffer = g->depth.buffer;
     if (sc->back) {
-        d[0].flags = LRT_DEPTH_BACK_FOLLOWS;
         d[1] = d[0];
-        d[1].flags = 0;
         d[1].offset = (VkDeviceSize)sc->width * sc->height * 4u;
+        d[0].back = &d[1];
     }
 }
 

@@ -107,9 +107,9 @@ static void scene_finish(scene *sc, const char *name, uint32_t w, uint32_t h)
     if (sc->back) { /* every method, the reference included, runs this scene under the back-map model */
         sc->s.back = sc->back;
         sc->s.pair[0] = sc->s.lrt;
-        sc->s.pair[0].flags = LRT_DEPTH_BACK_FOLLOWS;
         sc->s.pair[1] = sc->s.lrt;
         sc->s.pair[1].data = sc->back;
+        sc->s.pair[0].back = &sc->s.pair[1];
         if (ref_map_set_back_from_raw(&sc->ref, sc->back, 0, REF_FORMAT_FLOAT32, 0) != 0) {
             fprintf(stderr, "bench: out of memory\n");
             exit(2);

@@ -27,7 +27,7 @@ int bench_visits(const bench_scene *sc, const bench_rays *rs, uint32_t node_bits
 {
     const lrt_depth *depth = bench_lrt_depth(sc);
     lrt_build_options o;
-    lrt_bvh bvh;
+    lrt_bvh bvh = {0};
     lrt_hit *hits;
     lrt_result r;
     int k;
@@ -60,7 +60,7 @@ static size_t visits_of_ray(const lrt_bvh *bvh, const lrt_depth *depth, const lr
 int bench_visits_thickness(const bench_scene *sc, const bench_rays *rs, double out[6])
 {
     lrt_build_options o;
-    lrt_bvh thick, inf;
+    lrt_bvh thick = {0}, inf = {0};
     size_t i, n[2], alike = 0, differ = 0, sums[4] = {0, 0, 0, 0}; /* alike thick, alike infinite, other thick, other infinite */
     memset(out, 0, 6 * sizeof *out);
     if (!sc->back || !rs->count) return 1;

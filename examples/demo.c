@@ -165,7 +165,7 @@ static bvh_stats measure_bvh(const lrt_depth *depth, uint32_t node_bits, lrt_bvh
 {
     bvh_stats s;
     lrt_build_options opt;
-    lrt_bvh bvh;
+    lrt_bvh bvh = {0};
     double ms[UPDATE_RUNS];
     int k;
     memset(&opt, 0, sizeof opt);
@@ -297,7 +297,7 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
 {
     static lrt_vk_device dev; /* stays put while it lives */
     lrt_vk_context *ctx = NULL;
-    lrt_vk_bvh bvh;
+    lrt_vk_bvh bvh = {0};
     lrt_vk_bvh_desc bd;
     lrt_vk_depth vd;
     vkt t;
@@ -342,6 +342,7 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
     bd.width = depth->width;
     bd.height = depth->height;
     bd.format = depth->format;
+    bd.depth_flags = depth->flags;
     if ((r = lrt_vk_bvh_create(ctx, &bd, &bvh)) != LRT_SUCCESS) {
         snprintf(g->why, sizeof g->why, "lrt_vk_bvh_create: %s", lrt_result_string(r));
         goto done;
@@ -429,6 +430,7 @@ static int march64_trace(const example_frame *f, const lrt_ray *rays, lrt_hit *h
     sc.height = f->h;
     sc.depth = f->depth;
     sc.lrt = f->lrt[0];
+    sc.lrt.back = NULL; /* the march reads the depth alone */
     rs.name = "reflection";
     rs.rays = rays;
     rs.count = (size_t)f->w * f->h;
@@ -557,7 +559,7 @@ int main(int argc, char **argv)
     size_t n, i, j, sample, agree_p, agree_s;
     float *depth_f;
     lrt_depth depth;
-    lrt_bvh bvh;
+    lrt_bvh bvh = {0};
     lrt_ray *prim, *seg;
     lrt_hit *hits1, *hits2, *seg_hits1, *seg_hits2;
     bvh_stats s16, s8;

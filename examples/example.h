@@ -70,7 +70,7 @@ typedef struct example_frame {
     float *nrm;          /* w * h * 3: view-space normal facing the eye; 0 0 0 for the sky */
     float *lift;         /* w * h: screen-space z by which a ray from this texel is lifted */
     float *back;         /* w * h back depths with --thickness back, else NULL */
-    lrt_depth lrt[2];    /* the depth, then (LRT_DEPTH_BACK_FOLLOWS) its back map */
+    lrt_depth lrt[2];    /* the depth, then its back map (lrt[0].back = &lrt[1] with one) */
     lrt_build_options options; /* what bvh was built with: its thickness model */
     lrt_bvh bvh;
 } example_frame;
@@ -375,10 +375,9 @@ EXAMPLE_FN int example_frame_load(example_frame *f, const example_options *o)
             scene_camera cam = scene_default_camera();
             scene_render_back((int)f->w, (int)f->h, &cam, f->back);
         }
-        f->lrt[0].flags = LRT_DEPTH_BACK_FOLLOWS;
-        f->lrt[1] = f->lrt[0];
+        f->lrt[1] = f->lrt[0]; /* the same size, format and flags, no back of its own */
         f->lrt[1].data = f->back;
-        f->lrt[1].flags = 0;
+        f->lrt[0].back = &f->lrt[1];
         build.thickness = LRT_THICKNESS_BACK_MAP;
     }
     f->options = build;

@@ -13,8 +13,8 @@ int main(void)
     for (y = 0; y < H; ++y) /* a floor sloping away, and a wall at x = 40 */
         for (x = 0; x < W; ++x) depth[y][x] = x >= 40 && x < 44 ? 0.3f : 0.9f - 0.5f * (float)y / H;
 
-    lrt_depth map = {depth, W, H, 0, LRT_FORMAT_FLOAT32, 0};
-    lrt_bvh bvh;
+    lrt_depth map = {depth, W, H, 0, LRT_FORMAT_FLOAT32, 0, NULL};
+    lrt_bvh bvh = {0};
     lrt_result r = lrt_bvh_build(&bvh, &map, NULL, NULL);
     if (r != LRT_SUCCESS) {
         printf("build failed: %s\n", lrt_result_string(r));

@@ -80,7 +80,7 @@ static inline void surface_normals_row(const float *depth, const float *pos, uin
             n[2] = -pos[3 * k + 2];
             surface_normalize(n);
         }
-        lift[k] = 0.5f * (fabsf(dx) + fabsf(dy)) * 1.01f + 1e-7f;
+        lift[k] = lrt_surface_lift(dx, dy); /* THE LIFT of linear_rt.h */
     }
 }
 

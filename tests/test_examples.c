@@ -71,9 +71,9 @@ static void test_camera(void)
     lrt_camera cam, rcam;
     lrt_ray ray;
     lrt_hit hit;
-    lrt_bvh bvh;
+    lrt_bvh bvh = {0};
     float depth[4] = {0.5f, 0.5f, 0.5f, 0.5f};
-    lrt_depth map = {depth, 2, 2, 0, LRT_FORMAT_FLOAT32, 0};
+    lrt_depth map = {depth, 2, 2, 0, LRT_FORMAT_FLOAT32, 0, NULL};
     int k;
     lrt_perspective(proj, 60.0f * pi / 180.0f, 1.5f, 0.1f, 100.0f, 0);
     lrt_perspective(rproj, 60.0f * pi / 180.0f, 1.5f, 0.1f, 100.0f, LRT_DEPTH_REVERSED_Z);

@@ -179,7 +179,7 @@ static void test_impossible_sizes(void)
                                            {LINEAR_RT_MAX_DIM + 1, LINEAR_RT_MAX_DIM + 1}, {0, 1}, {1, 0}, {0, 0},
                                            {0xffffffffu, 0xffffffffu}, {0x80000000u, 2}, {65536, 65536}};
     float texel = 0.5f;
-    lrt_bvh bvh, small;
+    lrt_bvh bvh = {0}, small = {0};
     lrt_depth d;
     lrt_layout L;
     size_t i, bytes;
@@ -331,7 +331,7 @@ static void test_8192(void)
     const int n = 8192;
     const uint32_t rows[] = {0, 1, 4095, 4096, 8190, 8191}, cols[] = {0, 4097, 8191};
     test_map m;
-    lrt_bvh bvh, fresh;
+    lrt_bvh bvh = {0}, fresh = {0};
     lrt_rect rect;
     double t0 = now_s(), t_build, t_update;
     unsigned char *texels;
@@ -389,7 +389,7 @@ static void test_thin_maps(void)
             const int w = vertical ? 1 : LINEAR_RT_MAX_DIM, h = vertical ? LINEAR_RT_MAX_DIM : 1;
             const uint32_t line[] = {0};
             test_map m;
-            lrt_bvh bvh;
+            lrt_bvh bvh = {0};
             char what[64];
             lrt_format format = s ? LRT_FORMAT_UNORM16 : LRT_FORMAT_UNORM8;
             make_map(&m, w, h, shapes[s], format, s, s);
@@ -415,7 +415,7 @@ static void test_thin_updates(void)
     for (vertical = 0; vertical < 2 && d && prev; ++vertical) {
         const int w = vertical ? 1 : n, h = vertical ? n : 1;
         lrt_depth dm;
-        lrt_bvh live, fresh;
+        lrt_bvh live = {0}, fresh = {0};
         int same = 1, ok = 1;
         memset(&dm, 0, sizeof dm);
         dm.data = d;
@@ -450,7 +450,7 @@ static void test_16384(void)
     const uint32_t n = LINEAR_RT_MAX_DIM;
     uint8_t *d = (uint8_t *)malloc((size_t)n * n);
     lrt_depth dm;
-    lrt_bvh bvh;
+    lrt_bvh bvh = {0};
     lrt_ray *rays;
     lrt_hit *hits;
     size_t i, k = 0, bad = 0, count = 4 * (size_t)n + 4096;
@@ -528,7 +528,7 @@ static void test_ray_counts(void)
 {
     float d4[4] = {0.5f, 0.5f, 0.5f, 0.5f};
     lrt_depth dm;
-    lrt_bvh bvh;
+    lrt_bvh bvh = {0};
     ray_io io;
     unsigned char before[sizeof io];
     const size_t over = (size_t)LINEAR_RT_MAX_RAYS_PER_CALL + 1;

@@ -85,7 +85,7 @@ static void compare(const char *what, const test_map *m, uint32_t node_bits, con
 {
     lrt_hit *own = (lrt_hit *)calloc(n ? n : 1, sizeof(lrt_hit)), *other = (lrt_hit *)calloc(n ? n : 1, sizeof(lrt_hit));
     const lrt_depth *depth = test_map_depth(m);
-    lrt_bvh bvh;
+    lrt_bvh bvh = {0};
     lrt_build_options opt = m->model;
     int p;
     opt.node_bits = node_bits;

@@ -296,7 +296,7 @@ static void slices_case(int w, int h, int shape, lrt_format format, int reversed
     make_map(&m, w, h, shape, format, reversed, padded);
     rays = make_rays(&m, n);
     for (bits = 8; bits <= 16; bits += 8) {
-        lrt_bvh bvh;
+        lrt_bvh bvh = {0};
         lrt_build_options opt;
         memset(&opt, 0, sizeof opt);
         opt.node_bits = bits;
@@ -350,7 +350,7 @@ static void frames_case(int sync, uint32_t bits, pool *p)
     float *d = (float *)malloc(sizeof(float) * w * h), *prev = (float *)malloc(sizeof(float) * w * h);
     lrt_hit *expect = (lrt_hit *)malloc(sizeof(lrt_hit) * n), *hits = (lrt_hit *)malloc(sizeof(lrt_hit) * n);
     test_map m;
-    lrt_bvh live;
+    lrt_bvh live = {0};
     lrt_build_options opt;
     size_t stale = 0, differ = 0, wrong = 0, failed = 0;
     int frame, k;
@@ -368,7 +368,7 @@ static void frames_case(int sync, uint32_t bits, pool *p)
     for (frame = 1; frame <= frames; ++frame) {
         const uint32_t flags = g_flag_sets[frame % FLAG_SETS];
         lrt_rect rect;
-        lrt_bvh fresh;
+        lrt_bvh fresh = {0};
         lrt_ray *rays;
         job jobs[THREADS], queue;
         /* every thread is joined or parked: the tree may change */
@@ -458,7 +458,8 @@ static void test_at_once(void)
 {
     const size_t n = 10000;
     test_map m;
-    lrt_bvh trees[2], check;
+    lrt_bvh trees[2], check = {0};
+    memset(trees, 0, sizeof trees);
     build_job builds[2];
     pthread_t t[2];
     lrt_ray *rays;
@@ -543,7 +544,7 @@ static int break_rule(void)
 {
     const size_t n = 20000;
     test_map m;
-    lrt_bvh bvh;
+    lrt_bvh bvh = {0};
     lrt_ray *rays;
     lrt_hit *hits = (lrt_hit *)malloc(sizeof(lrt_hit) * n * 2);
     job jobs[2];

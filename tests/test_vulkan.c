@@ -68,7 +68,7 @@ typedef struct gpu_depth {
     vkt_buffer buffer;
     vkt_image image;
     int source;
-    /* a back-map tree's maps: pair[0] the depth (LRT_DEPTH_BACK_FOLLOWS), pair[1] its back map */
+    /* a back-map tree's maps: pair[0] the depth (its back: &pair[1]), pair[1] its back map */
     int thick;
     lrt_vk_depth pair[2];
     lrt_build_options model; /* the tree's thickness model (test_map.model) */
@@ -156,6 +156,7 @@ static int gpu_build(const lrt_depth *d, uint32_t node_bits, gpu_depth *g, lrt_v
     bd.width = d->width;
     bd.height = d->height;
     bd.format = d->format;
+    bd.depth_flags = d->flags;
     bd.options = g->model;
     bd.options.node_bits = node_bits;
     bd.flags = LRT_VK_BVH_HOST_VISIBLE;
@@ -307,8 +308,8 @@ static void build_case(int w, int h, int shape, lrt_format format, int reversed,
                        VkFormat image_format, size_t nrays, int thick)
 {
     test_map m;
-    lrt_bvh cpu;
-    lrt_vk_bvh gpu;
+    lrt_bvh cpu = {0};
+    lrt_vk_bvh gpu = {0};
     lrt_build_options opt;
     gpu_depth g, gb;
     char what[200];
@@ -335,7 +336,7 @@ static void build_case(int w, int h, int shape, lrt_format format, int reversed,
     memset(&gpu, 0, sizeof gpu);
     if (gpu_depth_create(&m.depth, source, image_format, &g) == 0 && (g.model = m.model, 1) &&
         (!m.back_storage || gpu_depth_create(&m.pair[1], source, image_format, &gb) == 0) &&
-        (!m.back_storage || (g.thick = 1, g.pair[0] = g.depth, g.pair[0].flags |= LRT_DEPTH_BACK_FOLLOWS, g.pair[1] = gb.depth, 1)) &&
+        (!m.back_storage || (g.thick = 1, g.pair[0] = g.depth, g.pair[0].back = &g.pair[1], g.pair[1] = gb.depth, 1)) &&
         gpu_build(&m.depth, node_bits, &g, &gpu, what) == 0) {
         CHECK(gpu.layout.node_bits == cpu.layout.node_bits && gpu.layout.level_count == cpu.layout.level_count,
               "%s: layouts differ", what);
@@ -358,8 +359,8 @@ static void test_found_cases(void)
     lrt_ray r;
     int k;
     for (k = 0; found_case(k, &m, &r); ++k) {
-        lrt_bvh cpu;
-        lrt_vk_bvh gpu;
+        lrt_bvh cpu = {0};
+        lrt_vk_bvh gpu = {0};
         gpu_depth g;
         lrt_hit ch, gh;
         int kind = RAY_CORNER;
@@ -453,8 +454,8 @@ static void update_case(lrt_format format, uint32_t bits, int source, uint32_t t
     float *d = (float *)malloc(sizeof(float) * w * h), *prev = (float *)malloc(sizeof(float) * w * h);
     void *bytes = malloc(sizeof(float) * w * h);
     lrt_depth dm;
-    lrt_bvh live;
-    lrt_vk_bvh gpu;
+    lrt_bvh live = {0};
+    lrt_vk_bvh gpu = {0};
     lrt_build_options opt;
     gpu_depth g;
     char what[160];
@@ -505,7 +506,7 @@ static void update_case(lrt_format format, uint32_t bits, int source, uint32_t t
         CHECK(same_rect, "%s: update of the dirty rect differs from the CPU's", what);
         { /* a rect that misses the change leaves the tree stale: the comparison can fail */
             lrt_rect elsewhere = {0, 0, 4, 4};
-            lrt_bvh fresh;
+            lrt_bvh fresh = {0};
             paint_frame(d, w, h, 3);
             vkt_encode_depth(d, bytes, (size_t)w * h, format);
             CHECK(lrt_bvh_build(&fresh, &dm, &opt, NULL) == LRT_SUCCESS, "CPU build");
@@ -548,8 +549,8 @@ static void test_2d_dispatch(void)
                g_limits.maxComputeWorkGroupCount[0]);
     { /* trace: primary rays over a 1024x1024 map, each texel 4 times */
         test_map m;
-        lrt_bvh cpu;
-        lrt_vk_bvh gpu;
+        lrt_bvh cpu = {0};
+        lrt_vk_bvh gpu = {0};
         gpu_depth g;
         size_t n = (size_t)need, i, bad = 0;
         if (n * sizeof(lrt_ray) > g_limits.maxStorageBufferRange) {
@@ -599,8 +600,8 @@ static void test_2d_dispatch(void)
         } else {
             uint8_t *bytes = (uint8_t *)malloc((size_t)w * h);
             lrt_depth dm;
-            lrt_bvh cpu;
-            lrt_vk_bvh gpu;
+            lrt_bvh cpu = {0};
+            lrt_vk_bvh gpu = {0};
             gpu_depth g;
             size_t i;
             for (i = 0; i < (size_t)w * h; ++i) bytes[i] = (uint8_t)(rnd() & 0xff);
@@ -637,7 +638,7 @@ static void test_bad_arguments_no_device(void)
     lrt_vk_context_desc cd;
     lrt_vk_context *ctx = (lrt_vk_context *)&cd; /* a sentinel: must stay */
     lrt_vk_bvh_desc bd;
-    lrt_vk_bvh bvh;
+    lrt_vk_bvh bvh = {0};
     lrt_vk_depth depth;
     lrt_vk_device dev;
     lrt_vk_requirements req;
@@ -706,7 +707,7 @@ static void test_bad_arguments_no_device(void)
 static void test_bad_arguments(void)
 {
     lrt_vk_bvh_desc bd, bad_bd;
-    lrt_vk_bvh bvh, untouched, unbuilt;
+    lrt_vk_bvh bvh = {0}, untouched = {0}, unbuilt = {0};
     lrt_vk_depth bad;
     gpu_depth g;
     vkt_buffer rb, hb, own;
@@ -748,6 +749,8 @@ static void test_bad_arguments(void)
     EXPECT_CREATE(&bad_bd, LRT_ERROR_INVALID_OPTION, "node bits 12");
     bad_bd = bd; bad_bd.flags = 0x10;
     EXPECT_CREATE(&bad_bd, LRT_ERROR_INVALID_OPTION, "unknown flag");
+    bad_bd = bd; bad_bd.depth_flags = 2;
+    EXPECT_CREATE(&bad_bd, LRT_ERROR_INVALID_OPTION, "unknown depth flag");
     if (vkt_buffer_create(&g_t, 4096, &own)) return;
     bad_bd = bd; bad_bd.flags = 0; bad_bd.nodes = own.buffer;
     EXPECT_CREATE(&bad_bd, LRT_ERROR_NULL_POINTER, "nodes buffer without a counter buffer");
@@ -776,7 +779,7 @@ static void test_bad_arguments(void)
     vkt_host_barrier(&g_t);
     if (vkt_submit(&g_t)) return;
     {
-        lrt_bvh cpu;
+        lrt_bvh cpu = {0};
         const unsigned char *o = (const unsigned char *)own.map;
         lrt_bvh_build(&cpu, &dm, NULL, NULL);
         CHECK(memcmp(o + align, cpu.nodes, cpu.layout.bytes) == 0, "build in the caller's buffers == CPU build");
@@ -815,6 +818,28 @@ static void test_bad_arguments(void)
     EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, &bad, NULL), LRT_ERROR_INVALID_FORMAT, "update: unknown format");
     bad = g.depth; bad.flags = 6;
     EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, &bad, NULL), LRT_ERROR_INVALID_OPTION, "update: unknown depth flag");
+    /* the format and Z direction the tree was created for: another map is refused, not misread */
+    bad = g.depth; bad.format = LRT_FORMAT_UNORM16;
+    EXPECT(lrt_vk_cmd_build(g_ctx, cmd, &bvh, &bad), LRT_ERROR_DEPTH_MISMATCH, "build: a 16-bit map on a float tree");
+    EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, &bad, NULL), LRT_ERROR_DEPTH_MISMATCH, "update: a 16-bit map on a float tree");
+    EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &bad, rb.buffer, 0, hb.buffer, 0, 1, 0), LRT_ERROR_DEPTH_MISMATCH,
+           "trace: a 16-bit map on a float tree");
+    bad = g.depth; bad.format = LRT_FORMAT_UNORM8;
+    EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &bad, rb.buffer, 0, hb.buffer, 0, 1, 0), LRT_ERROR_DEPTH_MISMATCH,
+           "trace: an 8-bit map on a float tree");
+    bad = g.depth; bad.flags = LRT_DEPTH_REVERSED_Z;
+    EXPECT(lrt_vk_cmd_build(g_ctx, cmd, &bvh, &bad), LRT_ERROR_DEPTH_MISMATCH, "build: the other Z direction");
+    EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &bad, rb.buffer, 0, hb.buffer, 0, 1, 0), LRT_ERROR_DEPTH_MISMATCH,
+           "trace: the other Z direction");
+    { /* create over a created tree is refused, the tree intact; garbage is no tree */
+        lrt_vk_bvh before = bvh, junk;
+        EXPECT(lrt_vk_bvh_create(g_ctx, &bd, &bvh), LRT_ERROR_ALREADY_BUILT, "create over a created tree");
+        CHECK(memcmp(&before, &bvh, sizeof bvh) == 0, "a refused create left the tree as it was");
+        memset(&junk, 0x5a, sizeof junk);
+        EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &junk, &g.depth, rb.buffer, 0, hb.buffer, 0, 1, 0), LRT_ERROR_INVALID_BVH,
+               "trace: a tree of garbage bytes");
+        lrt_vk_bvh_destroy(g_ctx, &junk); /* destroys nothing it did not make */
+    }
     bad = g.depth; bad.buffer = VK_NULL_HANDLE;
     EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, &bad, NULL), LRT_ERROR_NULL_POINTER, "update: neither buffer nor view");
     bad = g.depth; /* any non-null view handle: rejected before use */
@@ -832,9 +857,9 @@ static void test_bad_arguments(void)
     { /* thickness: the back map (a second lrt_vk_depth) exactly with a back-map tree, described as the depth is */
         lrt_vk_depth pair[2];
         lrt_vk_bvh_desc tbd = bd;
-        lrt_vk_bvh thick;
+        lrt_vk_bvh thick = {0};
         pair[0] = g.depth;
-        pair[0].flags = LRT_DEPTH_BACK_FOLLOWS;
+        pair[0].back = &pair[1];
         pair[1] = g.depth;
         EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, pair, NULL), LRT_ERROR_THICKNESS_MISMATCH, "update: a back map, an infinite tree");
         tbd.options.thickness = LRT_THICKNESS_BACK_MAP;
@@ -845,11 +870,11 @@ static void test_bad_arguments(void)
         EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &thick, &g.depth, rb.buffer, 0, hb.buffer, 0, 1, 0), LRT_ERROR_THICKNESS_MISMATCH,
                "trace: a back-map tree without its back map");
         pair[1].format = LRT_FORMAT_UNORM16;
-        EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &thick, pair, NULL), LRT_ERROR_INVALID_FORMAT, "update: a back map of another format");
+        EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &thick, pair, NULL), LRT_ERROR_DEPTH_MISMATCH, "update: a back map of another format");
         pair[1] = g.depth; pair[1].width = 2;
         EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &thick, pair, NULL), LRT_ERROR_SIZE_MISMATCH, "update: a back map of another size");
         pair[1] = g.depth; pair[1].flags = LRT_DEPTH_REVERSED_Z;
-        EXPECT(lrt_vk_cmd_build(g_ctx, cmd, &thick, pair), LRT_ERROR_INVALID_OPTION, "build: a back map of the other Z direction");
+        EXPECT(lrt_vk_cmd_build(g_ctx, cmd, &thick, pair), LRT_ERROR_DEPTH_MISMATCH, "build: a back map of the other Z direction");
         pair[1] = g.depth; pair[1].row_stride = 8;
         EXPECT(lrt_vk_cmd_build(g_ctx, cmd, &thick, pair), LRT_ERROR_INVALID_STRIDE, "build: a back map stride below a row");
         pair[1] = g.depth; pair[1].buffer = VK_NULL_HANDLE;
@@ -1026,8 +1051,8 @@ static void test_device_limits(void)
 {
     enum { NRAYS = 600 };
     test_map m, wide;
-    lrt_bvh cpu, cpu_wide;
-    lrt_vk_bvh bvh, bvh_wide, untouched, fits;
+    lrt_bvh cpu = {0}, cpu_wide = {0};
+    lrt_vk_bvh bvh = {0}, bvh_wide = {0}, untouched = {0}, fits = {0};
     lrt_vk_bvh_desc bd;
     gpu_depth buf, img, wbuf;
     vkt_buffer rb, hb;
@@ -1272,7 +1297,7 @@ static void test_context_options(void)
     CHECK(r == LRT_SUCCESS && g_host_allocs > 0, "context with allocation callbacks: %s, %d allocations",
           lrt_result_string(r), g_host_allocs);
     if (r == LRT_SUCCESS) {
-        lrt_vk_bvh bvh;
+        lrt_vk_bvh bvh = {0};
         lrt_vk_bvh_desc bd;
         memset(&bd, 0, sizeof bd);
         bd.width = 100;

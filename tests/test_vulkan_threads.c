@@ -159,7 +159,7 @@ static void *worker_main(void *arg)
     const size_t bytes = (size_t)k->w * k->h * bytes_of(k->format);
     lrt_hit *cpu_hits = (lrt_hit *)malloc(sizeof(lrt_hit) * k->nrays);
     lrt_depth cd;
-    lrt_bvh cpu;
+    lrt_bvh cpu = {0};
     lrt_build_options opt;
     int f;
     memset(&cpu, 0, sizeof cpu);

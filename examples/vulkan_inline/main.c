@@ -273,10 +273,10 @@ int main(int argc, char **argv)
     lrt_ray *rays = NULL;
     lrt_hit *hits = NULL;
     int *has_ray = NULL;
-    lrt_bvh cpu_bvh;
+    lrt_bvh cpu_bvh = {0};
     lrt_depth cpu_depth;
     lrt_vk_context *ctx = NULL;
-    lrt_vk_bvh bvh;
+    lrt_vk_bvh bvh = {0};
     lrt_vk_bvh_desc bd;
     lrt_vk_depth vd;
     vks t;

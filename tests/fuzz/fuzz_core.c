@@ -4,10 +4,10 @@
    data offset, node bits, depth values), a batch of rays and a dirty rect,
    and (byte 16, the thickness selector) the tree's thickness model
    (LRT_THICKNESS_INFINITE, LRT_THICKNESS_BACK_MAP, LRT_THICKNESS_CONSTANT,
-   LRT_THICKNESS_RELATIVE or an invalid value), the LRT_DEPTH_BACK_FOLLOWS
-   flag and the back map that follows the depth (its stride, its values
-   from the depth's palette, or one fault: NULL, another size, format or Z
-   direction, a bad stride, bad flags). A 0 there is the infinite model
+   LRT_THICKNESS_RELATIVE or an invalid value), whether the depth's back
+   pointer is set, and that back map (its stride, its values from the
+   depth's palette, or one fault: NULL, another size, format or Z
+   direction, a bad stride, bad flags, a back of its own). A 0 there is the infinite model
    with the flags as before: an older input with a 0 inserted at byte 16
    reads as it did (but for the one texel of a 1x1 8-bit map, which older
    versions left unfilled). The constant and relative models take their
@@ -29,12 +29,14 @@
    the two constants computed in double and rounded to float); a tree the
    library builds from parameters the reference refuses is a failure. It
    also traces and updates a back-map tree without its back map, any other
-   tree with one (a faulty one too: never read), and a back-map tree with
-   a faulty back map. Every result code must be one the header documents
+   tree with one (a faulty one too: never read), a back-map tree with a
+   faulty back map, the tree with a map of another format or Z direction
+   (which, read as the tree's, would run past the map's bytes: refused
+   before a read), builds over the built tree (refused, the tree intact),
+   and traces a tree of garbage bytes (refused). Every result code must be one the header documents
    for the inputs given; any disagreement prints what differed and aborts.
    The depth structs and both maps are heap blocks of exactly their size
-   (one lrt_depth without LRT_DEPTH_BACK_FOLLOWS), so ASan sees any read
-   past them. */
+   (one lrt_depth without a back map), so ASan sees any read past them. */
 #define LINEAR_RT_IMPLEMENTATION
 #include "../../linear_rt.h"
 #include "../support/reference.h"
@@ -98,7 +100,7 @@ static codes depth_errors(const lrt_depth *d, size_t *span)
     if (d->width == 0 || d->height == 0 || d->width > LINEAR_RT_MAX_DIM || d->height > LINEAR_RT_MAX_DIM)
         e |= CODE(LRT_ERROR_INVALID_SIZE);
     if (!bpp) e |= CODE(LRT_ERROR_INVALID_FORMAT);
-    if (d->flags & ~(uint32_t)(LRT_DEPTH_REVERSED_Z | LRT_DEPTH_BACK_FOLLOWS)) e |= CODE(LRT_ERROR_INVALID_OPTION);
+    if (d->flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) e |= CODE(LRT_ERROR_INVALID_OPTION);
     if (bpp && d->width <= LINEAR_RT_MAX_DIM && d->height <= LINEAR_RT_MAX_DIM)
         e |= stride_errors(d->row_stride, d->width, d->height, bpp, span);
     return e;
@@ -135,43 +137,44 @@ static codes model_errors(const lrt_build_options *o, float k[2])
     return 0;
 }
 
-/* The options: node bits not 0/8/16, a thickness not one of lrt_thickness
-   (INVALID_OPTION), the parameters of the constant and relative models
+/* The options: node bits not 0/8/16 (INVALID_OPTION), a thickness not one
+   of lrt_thickness (INVALID_THICKNESS), the parameters of the constant and relative models
    (INVALID_THICKNESS, model_errors). */
 static codes bits_errors(const lrt_build_options *o)
 {
     codes e = 0;
     float k[2];
     if (o && o->node_bits != 0 && o->node_bits != 8 && o->node_bits != 16) e |= CODE(LRT_ERROR_INVALID_OPTION);
-    if (o && o->thickness > LRT_THICKNESS_RELATIVE) e |= CODE(LRT_ERROR_INVALID_OPTION);
+    if (o && o->thickness > LRT_THICKNESS_RELATIVE) e |= CODE(LRT_ERROR_INVALID_THICKNESS);
     if (o && (o->thickness == LRT_THICKNESS_CONSTANT || o->thickness == LRT_THICKNESS_RELATIVE)) e |= model_errors(o, k);
     return e;
 }
 
 static uint32_t thickness_of(const lrt_build_options *o) { return o ? o->thickness : (uint32_t)LRT_THICKNESS_INFINITE; }
 
-/* The back map (dp[1]) against the depth dp[0] and the thickness model
+/* The back map (dp->back) against the depth dp and the thickness model
    (the options' for a build, the tree's for update and trace), from the
-   header's words: LRT_DEPTH_BACK_FOLLOWS exactly with a back-map model,
-   else THICKNESS_MISMATCH (and dp[1] is not looked at); with both, dp[1]
-   has data, the depth's size, format and Z direction, no other flag and
-   a stride of its own that fits the depth's rows. *span: the back map's
-   bytes when that stride is valid. dp[1] is read only when the flag is set. */
+   header's words: a back map exactly with a back-map model, else
+   THICKNESS_MISMATCH (and the back map is not looked at); with both, the
+   back map has no back of its own (THICKNESS_MISMATCH), data, the depth's
+   size, format and flags (DEPTH_MISMATCH) and a stride of its own that
+   fits the depth's rows. *span: the back map's bytes when that stride is
+   valid. */
 static codes back_errors(const lrt_depth *dp, uint32_t thickness, size_t *span)
 {
-    const lrt_depth *d = &dp[0];
-    int follows = (d->flags & LRT_DEPTH_BACK_FOLLOWS) != 0, back_model = thickness == LRT_THICKNESS_BACK_MAP;
+    const lrt_depth *d = dp;
+    int follows = d->back != NULL, back_model = thickness == LRT_THICKNESS_BACK_MAP;
     const lrt_depth *b;
     uint32_t bpp = bytes_per_texel((uint32_t)d->format);
     codes e = 0;
     *span = 0;
     if (follows != back_model) return CODE(LRT_ERROR_THICKNESS_MISMATCH);
     if (!follows) return 0;
-    b = &dp[1];
+    b = d->back;
+    if (b->back) e |= CODE(LRT_ERROR_THICKNESS_MISMATCH);
     if (!b->data) e |= CODE(LRT_ERROR_NULL_POINTER);
     if (b->width != d->width || b->height != d->height) e |= CODE(LRT_ERROR_SIZE_MISMATCH);
-    if (b->format != d->format) e |= CODE(LRT_ERROR_INVALID_FORMAT);
-    if (b->flags != (d->flags & LRT_DEPTH_REVERSED_Z)) e |= CODE(LRT_ERROR_INVALID_OPTION);
+    if (b->format != d->format || b->flags != d->flags) e |= CODE(LRT_ERROR_DEPTH_MISMATCH);
     if (bpp && d->width >= 1 && d->height >= 1 && d->width <= LINEAR_RT_MAX_DIM && d->height <= LINEAR_RT_MAX_DIM)
         e |= stride_errors(b->row_stride, d->width, d->height, bpp, span);
     return e;
@@ -183,25 +186,32 @@ static codes pair_errors(const lrt_bvh *bvh, const lrt_depth *dp)
     size_t span;
     codes e = depth_errors(&dp[0], &span);
     if (!bvh->built) e |= CODE(LRT_ERROR_INVALID_BVH);
-    else if (dp[0].width != bvh->layout.width || dp[0].height != bvh->layout.height) e |= CODE(LRT_ERROR_SIZE_MISMATCH);
+    else {
+        if (dp[0].width != bvh->layout.width || dp[0].height != bvh->layout.height) e |= CODE(LRT_ERROR_SIZE_MISMATCH);
+        if (dp[0].format != bvh->format || dp[0].flags != bvh->depth_flags) e |= CODE(LRT_ERROR_DEPTH_MISMATCH);
+    }
     return e | back_errors(dp, bvh->built ? bvh->layout.thickness : (uint32_t)LRT_THICKNESS_INFINITE, &span);
 }
 
-/* A heap copy of a depth and, with LRT_DEPTH_BACK_FOLLOWS, its back map:
-   exactly the lrt_depth structs the library may read. */
+/* A heap copy of a depth and, when its back pointer is set (to anything),
+   of `back` as its back map: exactly the lrt_depth structs the library may
+   read, the first's back pointing at the second. */
 static lrt_depth *depth_pair(const lrt_depth *depth, const lrt_depth *back)
 {
-    size_t n = (depth->flags & LRT_DEPTH_BACK_FOLLOWS) ? 2 : 1;
+    size_t n = depth->back ? 2 : 1;
     lrt_depth *p = (lrt_depth *)malloc(n * sizeof *p);
     if (!p) return NULL;
     p[0] = *depth;
-    if (n == 2) p[1] = *back;
+    if (n == 2) {
+        p[1] = *back;
+        p[0].back = &p[1];
+    }
     return p;
 }
 
 /* One fault of a back map (k = 0..7): NULL data, another width, another
    height, another format, the other Z direction, a stride below a row, a
-   stride whose span overflows, a flag bit of its own. Some are no fault
+   stride whose span overflows, a flag bit of its own or a back of its own. Some are no fault
    for some maps (no stride is below a one-byte row; one row never
    overflows): back_errors() says. */
 static void back_fault(lrt_depth *b, const lrt_depth *d, uint32_t k, uint8_t x)
@@ -216,7 +226,10 @@ static void back_fault(lrt_depth *b, const lrt_depth *d, uint32_t k, uint8_t x)
     case 4: b->flags = (d->flags & LRT_DEPTH_REVERSED_Z) ^ LRT_DEPTH_REVERSED_Z; break;
     case 5: b->row_stride = row > 1 ? 1 + (size_t)x % (row - 1) : 0; break;
     case 6: b->row_stride = ((size_t)PTRDIFF_MAX - row) / (d->height > 1 ? d->height - 1 : 1) + (x % 3); break;
-    default: b->flags = (d->flags & LRT_DEPTH_REVERSED_Z) | ((x & 1) ? (uint32_t)LRT_DEPTH_BACK_FOLLOWS : 1u << (2 + x % 30)); break;
+    default:
+        if (x & 1) b->back = b; /* never read: refused for being there */
+        else b->flags = (d->flags & LRT_DEPTH_REVERSED_Z) | 1u << (1 + x % 31);
+        break;
     }
 }
 
@@ -430,7 +443,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     uint8_t size_sel = u8(&in), wb = u8(&in), hb = u8(&in), fmt_sel = u8(&in), flag_sel = u8(&in);
     uint8_t stride_sel = u8(&in), bits_sel = u8(&in), depth_mode = u8(&in), ray_sel = u8(&in), trace_sel = u8(&in);
     uint8_t rect_sel = u8(&in), rect_b[4], misc = u8(&in), back_sel, tmode, back_k;
-    lrt_depth d, bk;          /* the depth, and the back map that follows it when d.flags has BACK_FOLLOWS */
+    lrt_depth d, bk;          /* the depth, and its back map when d.back is set (to &bk) */
     lrt_depth *dp = NULL;     /* what the library is given: one or two heap structs (depth_pair) */
     lrt_build_options opt;
     const lrt_build_options *popt;
@@ -439,7 +452,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     codes derr, bfaults, berr;
     unsigned char *store, *store2 = NULL, *bstore = NULL, *bstore2 = NULL, *mem = NULL;
     int have_map, have_back, model;
-    lrt_bvh bvh, bvh_in, sentinel, fresh;
+    lrt_bvh bvh = {0}, bvh_in = {0}, sentinel = {0}, fresh = {0};
     lrt_ray *rays;
     lrt_hit *hits, *hits2;
     ref_map ref;
@@ -501,8 +514,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                     : tmode <= 5             ? (uint32_t)LRT_THICKNESS_BACK_MAP
                     : model                  ? (back_sel & 8 ? (uint32_t)LRT_THICKNESS_RELATIVE : (uint32_t)LRT_THICKNESS_CONSTANT)
                                              : odd_thickness[back_k & 3];
-    if ((tmode >= 1 && tmode <= 4) || tmode == 6 || (tmode == 7 && (back_sel & 0x20))) d.flags |= LRT_DEPTH_BACK_FOLLOWS;
-    else if (tmode != 0) d.flags &= ~(uint32_t)LRT_DEPTH_BACK_FOLLOWS;
+    if ((tmode >= 1 && tmode <= 4) || tmode == 6 || (tmode == 7 && (back_sel & 0x20))) d.back = &bk;
     thick = thickness_of(popt);
     memset(&bk, 0, sizeof bk);
     bk.width = w;
@@ -537,8 +549,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
            description is valid, at an odd offset; else a tiny block */
         lrt_depth two[2];
         two[0] = d;
-        two[0].flags |= LRT_DEPTH_BACK_FOLLOWS;
         two[1] = bk;
+        two[0].back = &two[1];
         bfaults = back_errors(two, LRT_THICKNESS_BACK_MAP, &bspan);
         have_back = bfaults == 0 && bspan > 0 && bspan <= MAX_MAP_BYTES;
         balloc = have_back ? bspan : 1;
@@ -676,7 +688,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     trace_flags = trace_sel < 200 ? (trace_sel & 1u) : 1u << (trace_sel & 31);
 
     if (r != LRT_SUCCESS) { /* an unbuilt tree cannot be traced or updated */
-        lrt_bvh zero;
+        lrt_bvh zero = {0};
         memset(&zero, 0, sizeof zero);
         expect("lrt_trace (unbuilt)", lrt_trace(&zero, dp, rays, hits, nrays, trace_flags), pair_errors(&zero, dp));
         expect("lrt_bvh_update (unbuilt)", lrt_bvh_update(&zero, dp, NULL), pair_errors(&zero, dp));
@@ -714,8 +726,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         {
             lrt_depth flip = d, as_back = d, *dpx;
             codes xe;
-            flip.flags ^= LRT_DEPTH_BACK_FOLLOWS;
-            as_back.flags = d.flags & LRT_DEPTH_REVERSED_Z;
+            flip.back = flip.back ? NULL : &as_back;
+            as_back.back = NULL;
             if (thick != LRT_THICKNESS_BACK_MAP && (rect_sel & 2)) /* not read: a mismatch before anything */
                 back_fault(&as_back, &d, (uint32_t)(ray_sel ^ misc), (uint8_t)(rect_b[1] ^ trace_sel));
             dpx = depth_pair(&flip, &as_back);
@@ -726,6 +738,38 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             expect("lrt_trace_range (thickness mismatch)", lrt_trace_range(&bvh, dpx, rays, hits2, 0, nrays, 0), xe);
             expect("lrt_bvh_update (thickness mismatch)", lrt_bvh_update(&bvh, dpx, NULL), xe);
             free(dpx);
+        }
+        {   /* a map of another format or Z direction than the tree's (and its
+               back map with it): refused before any read, which as the
+               tree's format would run past the map's bytes */
+            lrt_depth other = d, *dpo;
+            codes oe;
+            if (misc & 0x20) other.flags ^= LRT_DEPTH_REVERSED_Z;
+            else other.format = (lrt_format)(1u + ((uint32_t)d.format + (trace_sel & 1u)) % 3u);
+            dpo = depth_pair(&other, &bk);
+            if (!dpo) goto done;
+            if (dpo[0].back) {
+                dpo[1].format = other.format;
+                dpo[1].flags = other.flags;
+            }
+            oe = pair_errors(&bvh, dpo);
+            if (!(oe & CODE(LRT_ERROR_DEPTH_MISMATCH))) FAIL("harness: another format or Z should be a depth mismatch");
+            expect("lrt_trace (another format or Z)", lrt_trace(&bvh, dpo, rays, hits2, nrays, trace_flags), oe | fe);
+            expect("lrt_bvh_update (another format or Z)", lrt_bvh_update(&bvh, dpo, NULL), oe);
+            free(dpo);
+        }
+        {   /* a build over the built tree is refused and leaves it as it was
+               (LeakSanitizer would see a tree it dropped); a tree of garbage
+               bytes is no tree */
+            lrt_bvh before = bvh, junk;
+            expect("lrt_bvh_build (over a built tree)", lrt_bvh_build(&bvh, dp, popt, NULL), CODE(LRT_ERROR_ALREADY_BUILT));
+            expect("lrt_bvh_build_in (over a built tree)", lrt_bvh_build_in(&bvh, dp, popt, mem, mem_bytes),
+                   CODE(LRT_ERROR_ALREADY_BUILT));
+            if (memcmp(&before, &bvh, sizeof bvh) != 0) FAIL("a refused build over a built tree changed it");
+            memset(&junk, 0x5a ^ (misc & 7), sizeof junk);
+            expect("lrt_trace (a tree of garbage bytes)", lrt_trace(&junk, dp, rays, hits2, nrays, 0),
+                   CODE(LRT_ERROR_INVALID_BVH));
+            expect("lrt_bvh_update (a tree of garbage bytes)", lrt_bvh_update(&junk, dp, NULL), CODE(LRT_ERROR_INVALID_BVH));
         }
         if (thick == LRT_THICKNESS_BACK_MAP) {
             lrt_depth bad = bk, *dpf;

@@ -508,13 +508,14 @@ static codes depth_errors(const lrt_vk_depth *d, const lrt_vk_bvh *bvh, VkDevice
     uint32_t bpp = bpp_of(d->format);
     if (!size_ok(d->width, d->height)) e |= CODE(LRT_ERROR_INVALID_SIZE);
     if (!bpp) e |= CODE(LRT_ERROR_INVALID_FORMAT);
-    if (d->flags & ~(uint32_t)(LRT_DEPTH_REVERSED_Z | LRT_DEPTH_BACK_FOLLOWS)) e |= CODE(LRT_ERROR_INVALID_OPTION);
-    /* this harness makes infinite-thickness trees only: a back map (in a
-       second lrt_vk_depth it never has) is a mismatch, refused unread */
-    if ((d->flags & LRT_DEPTH_BACK_FOLLOWS) && bvh->created && !bvh->layout.back_codes)
-        e |= CODE(LRT_ERROR_THICKNESS_MISMATCH);
+    if (d->flags & ~(uint32_t)LRT_DEPTH_REVERSED_Z) e |= CODE(LRT_ERROR_INVALID_OPTION);
+    /* this harness makes infinite-thickness trees only: a back map (read_depth
+       points one at a struct of garbage now and then) is a mismatch, refused unread */
+    if (d->back && bvh->created && !bvh->layout.back_codes) e |= CODE(LRT_ERROR_THICKNESS_MISMATCH);
     if (bvh->created && (d->width != bvh->layout.width || d->height != bvh->layout.height))
         e |= CODE(LRT_ERROR_SIZE_MISMATCH);
+    /* the format and Z direction the tree was created for (lrt_vk_bvh_desc) */
+    if (bvh->created && (d->format != bvh->format || d->flags != bvh->depth_flags)) e |= CODE(LRT_ERROR_DEPTH_MISMATCH);
     if (d->buffer == VK_NULL_HANDLE && d->view == VK_NULL_HANDLE) e |= CODE(LRT_ERROR_NULL_POINTER);
     if (d->buffer != VK_NULL_HANDLE && d->view != VK_NULL_HANDLE) e |= CODE(LRT_ERROR_INVALID_OPTION);
     if (d->buffer != VK_NULL_HANDLE && bpp && size_ok(d->width, d->height)) {
@@ -568,6 +569,12 @@ static void read_depth(input *in, const lrt_vk_bvh *bvh, lrt_vk_depth *d)
         d->view = (VkImageView)(uintptr_t)0xc0;
         break;
     }
+    /* now and then a back map, of garbage: never read, for no tree here has a back-map model */
+    if ((sel & 0x1e) == 0x10) { /* a buffer depth */
+        static lrt_vk_depth garbage;
+        memset(&garbage, 0x5a, sizeof garbage);
+        d->back = &garbage;
+    }
 }
 
 /* what the calls answered, printed when a run ends */
@@ -604,7 +611,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     VkAllocationCallbacks cb;
     lrt_vk_context_desc cd;
     lrt_vk_context *ctx = NULL, *const sentinel = (lrt_vk_context *)(uintptr_t)0x5a5a;
-    lrt_vk_bvh bvh[BVHS];
+    lrt_vk_bvh bvh[BVHS] = {{0}};
     VkResult vr = VK_SUCCESS;
     codes must = 0, may = 0;
     uint8_t cs;
@@ -706,7 +713,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         case 1: case 2: { /* create a BVH (over the one there, destroyed first) */
             lrt_vk_bvh_desc bd, *pbd = &bd;
-            lrt_vk_bvh out;
+            lrt_vk_bvh out = {0};
             uint8_t s = u8(&in);
             int objects = g.live_objects;
             memset(&bd, 0, sizeof bd);
@@ -715,6 +722,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             bd.format = format(&in);
             bd.options.node_bits = (s & 3) == 3 ? u32(&in) : 8u * (s & 3);
             bd.flags = (s & 4) ? ((s & 8) ? u32(&in) : LRT_VK_BVH_HOST_VISIBLE) : 0u;
+            bd.depth_flags = (s & 0xc0) == 0x40 ? (uint32_t)LRT_DEPTH_REVERSED_Z : 0u; /* (both bits: no desc) */
             if (s & 0x10) bd.nodes = (VkBuffer)(uintptr_t)0xa0, bd.nodes_offset = offset(&in);
             if (s & 0x20) bd.counters = (VkBuffer)(uintptr_t)0xa8, bd.counters_offset = offset(&in);
             lrt_vk_bvh_destroy(ctx, b);
@@ -760,7 +768,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (r != LRT_SUCCESS) {
                 if (g.live_objects != objects) FAIL("lrt_vk_bvh_create left objects on an error");
                 if (!((op & 8) && (op & 0x40))) {
-                    lrt_vk_bvh sent;
+                    lrt_vk_bvh sent = {0};
                     memset(&sent, 0x5a, sizeof sent);
                     if (memcmp(&out, &sent, sizeof out) != 0) FAIL("lrt_vk_bvh_create wrote *out on an error");
                 }

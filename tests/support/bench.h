@@ -27,7 +27,7 @@ typedef struct bench_scene {
        pass; texel (i,j)'s box is [depth, max(depth, back)]); a method runs
        such a scene under that model, or says in build() why it cannot */
     const float *back;
-    lrt_depth pair[2];       /* with back: lrt with LRT_DEPTH_BACK_FOLLOWS, then the back map */
+    lrt_depth pair[2];       /* with back: lrt with its back pointing at pair[1], the back map */
 } bench_scene;
 
 /* What linear_rt takes of a scene: its depth (with the back map after it, for

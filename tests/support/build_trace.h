@@ -15,7 +15,7 @@
 BUILD_TRACE_FN int build_and_trace(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits,
                            size_t n, uint32_t flags)
 {
-    lrt_bvh bvh;
+    lrt_bvh bvh = {0};
     lrt_result r;
     if ((r = lrt_bvh_build(&bvh, depth, opt, NULL)) != LRT_SUCCESS) return (int)r;
     r = lrt_trace(&bvh, depth, rays, hits, n, flags);

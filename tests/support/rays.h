@@ -38,8 +38,8 @@ typedef struct test_map {
     void *storage;
     ref_map ref;
     const char *name;
-    /* with a back map (add_back): pair[0] is depth with LRT_DEPTH_BACK_FOLLOWS,
-       pair[1] the back map, for LRT_THICKNESS_BACK_MAP trees */
+    /* with a back map (add_back): pair[0] is depth with its back at pair[1],
+       the back map, for LRT_THICKNESS_BACK_MAP trees (the struct must not move) */
     lrt_depth pair[2];
     void *back_storage;
     /* the tree's thickness model and its parameters (add_back, add_model) */
@@ -156,7 +156,7 @@ RAYS_MAYBE_UNUSED static void add_back(test_map *m)
     }
     m->back_storage = bytes;
     m->pair[0] = m->depth;
-    m->pair[0].flags |= LRT_DEPTH_BACK_FOLLOWS;
+    m->pair[0].back = &m->pair[1];
     m->pair[1] = m->depth;
     m->pair[1].data = bytes;
     m->pair[1].row_stride = m->depth.row_stride ? stride : 0;
