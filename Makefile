@@ -6,7 +6,7 @@
 #                whose tool is missing fails (ALLOW_SKIP=1: it skips instead)
 #   make bench   install gnuplot and Embree too, then the benchmark (bench/)
 #   make bench-plain-vs-native  linear_rt's CPU rows, plain build / -march=native
-#   make examples  build/minimal, ssr, ao, shadows, vulkan_inline
+#   make examples  build/minimal, ssr, ao, shadows, vulkan_inline, vulkan_trace
 #   make spv     compile shaders/*.comp and regenerate shaders_spv.h (needs glslang)
 #   make clean
 CC ?= cc
@@ -58,7 +58,7 @@ SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl) linear_rt.h # the kerne
 SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 
 # what `make test` runs, one count each in its summary line
-TESTS := test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-demo test-examples test-bench
+TESTS := test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-vulkan-trace test-demo test-examples test-bench
 
 # hardening (sanitizers with clang, valgrind, static checks, limits) and the
 # fuzzers: their own makefiles, which add their tests to TESTS
@@ -110,7 +110,7 @@ $(B)/minimal: examples/minimal.c $(LIB) | deps $(B)
 $(B)/ssr $(B)/ao $(B)/shadows: $(B)/%: examples/%.c $(EXAMPLE_HDR) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) -O3 $< -o $@ $(LDLIBS)
 
-examples: $(addprefix $(B)/,$(EXAMPLES)) $(B)/vulkan_inline
+examples: $(addprefix $(B)/,$(EXAMPLES)) $(B)/vulkan_inline $(B)/vulkan_trace
 
 # the README's pictures: the demo's, at 512x512
 pictures: $(B)/demo $(B)/ssr
@@ -326,6 +326,26 @@ test-vulkan:
 	[ "$$CI" != "true" ]
 endif
 
+# examples/vulkan_trace.c: the plain GPU trace as a user writes it (the
+# header's API only), held to lrt_trace bit for bit with the validation
+# layer on. Its exit 77 is "no Vulkan loader or device" (1 under CI=true).
+ifeq ($(HAVE_VULKAN),1)
+$(B)/vulkan_trace: examples/vulkan_trace.c $(LIB) $(SPV_H) | deps $(B)
+	$(CC) $(STD) $(STRICT) $(CFLAGS) $(VK_PROGRAM_FLAGS) $< -o $@ -lm $(VK_LIBS)
+
+test-vulkan-trace: $(B)/vulkan_trace
+	@$(B)/vulkan_trace; rc=$$?; \
+	if [ $$rc -eq 77 ]; then echo "test-vulkan-trace: skipped: no Vulkan device"; exit 0; fi; \
+	if [ $$rc -eq 0 ]; then echo "test-vulkan-trace: ok"; fi; exit $$rc
+else
+.PHONY: $(B)/vulkan_trace
+$(B)/vulkan_trace:
+	@echo "vulkan_trace: not built: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"
+test-vulkan-trace:
+	@echo "test-vulkan-trace: skipped: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"; \
+	[ "$$CI" != "true" ]
+endif
+
 # make check: the quick loop while working, well under a minute on a 2-core
 # machine: the reference's and the core CPU tests, the traversal paths bit
 # for bit, and (where there is a Vulkan device) one Vulkan smoke test with
@@ -443,7 +463,7 @@ TEST_PROGRAMS = $(addprefix $(FB)/,$(FUZZERS)) \
     test_limits_csan test_limits_m32 test_limits test_limits_isan test_core_san_sse2 test_core \
     test_core_scalar test_core_sse2 test_paths test_examples $(EXAMPLES) demo bench \
     test_threads test_threads_tsan test_reference test_reference_san test_reference_csan spv2h static_tu.c) \
-  $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,test_vulkan test_vulkan_threads test_vulkan_threads_tsan)) \
+  $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,test_vulkan test_vulkan_threads test_vulkan_threads_tsan vulkan_trace)) \
   $(if $(filter 11,$(HAVE_VULKAN)$(VI_HAVE_GLSLANG)),$(B)/vulkan_inline)
 
 test-programs: $(TEST_PROGRAMS)
