@@ -291,7 +291,7 @@ static const float camera_light_world[3] = {0.55f, 0.6f, 0.35f};
 
 /* Texel k's ray of a set, as the examples build it from a camera: a
    view-space segment from the texel's position, clipped and projected by
-   lrt_camera_segment ([tmin, tmax] = [0, 1]), its origin lifted by the
+   lrt_camera_surface_ray ([tmin, tmax] = [0, 1]), its origin lifted by the
    texel's lift. 0 when the texel has none (the sky, no normal, a surface
    facing away from the light, no part of the segment between the planes):
    the examples give those an invalid ray; the benchmark leaves them out.
@@ -337,9 +337,7 @@ static int camera_ray(const scene *sc, int kind, size_t k, lrt_ray *ray)
         if (surface_dot(n, l) <= 0.0f) return 0; /* shadowed by itself */
         for (c = 0; c < 3; ++c) to[c] = p[c] + CAMERA_SHADOW_LENGTH * l[c];
     }
-    if (!lrt_camera_segment(&sc->camera, p, to, ray)) return 0;
-    ray->origin[2] -= sc->lift[k];
-    return 1;
+    return lrt_camera_surface_ray(&sc->camera, p, to, sc->lift[k], ray);
 }
 
 static void make_set(ray_set *rs, const scene *sc, int kind, size_t sample)

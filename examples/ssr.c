@@ -3,7 +3,7 @@
    For each texel: its view-space position and normal (rebuilt from depth by
    example.h), the view ray reflected about the normal, clipped to the near
    and far planes and projected to a screen-space segment
-   (lrt_camera_segment), lifted off its own surface, traced to the closest
+   and lifted off its own surface (lrt_camera_surface_ray), traced to the closest
    hit; shaded from the colour buffer at the hit texel, or from the sky when
    the ray leaves the screen or reaches the far plane unblocked.
 
@@ -73,7 +73,7 @@ static void ssr__rays_row(void *ctx, uint32_t j)
         to[0] = p[0] + r[0] * 1e4f;
         to[1] = p[1] + r[1] * 1e4f;
         to[2] = p[2] + r[2] * 1e4f;
-        if (lrt_camera_segment(&f->camera, p, to, ray)) ray->origin[2] -= f->lift[k];
+        lrt_camera_surface_ray(&f->camera, p, to, f->lift[k], ray);
     }
 }
 
