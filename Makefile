@@ -211,6 +211,7 @@ test-sanitize: test-sanitize-reference test-sanitize-core
 test-header: | deps $(B)
 	@printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n' > $(B)/header_tu.c
 	@awk '/^```c$$/ { f = 1; next } /^```$$/ { if (f) exit } f' README.md > $(B)/readme_sample.c
+	@awk 'NR > 60 { exit } /^-- 8< --$$/ { n++; next } n == 1' linear_rt.h > $(B)/header_sample.c
 	@n=0; bad=0; \
 	run() { echo "  $$*"; if "$$@"; then n=$$((n + 1)); else bad=$$((bad + 1)); fi; }; \
 	j=$(B)/header_jobs; rm -rf $$j; mkdir -p $$j; k=0; q=; p=0; \
@@ -251,8 +252,13 @@ test-header: | deps $(B)
 	printf '#define LINEAR_RT_SELF "lrt_copy.h"\n#define LINEAR_RT_IMPLEMENTATION\n#include "renamed/lrt_copy.h"\n' > $(B)/header_renamed_tu.c; \
 	job gcc $(STD) $(STRICT) -c $(B)/header_renamed_tu.c -o $(B)/header_renamed.o; \
 	job gcc $(STD) $(STRICT) -I. $(B)/readme_sample.c -o $(B)/readme_sample -lm; \
+	job gcc $(STD) $(STRICT) -I. $(B)/header_sample.c -o $(B)/header_sample -lm; \
 	flush; run $(B)/readme_sample; \
+	if [ $$(awk 'NR <= 60 && /^-- 8< --$$/' linear_rt.h | wc -l) = 2 ]; then echo "  the header's example lies within its first 60 lines"; n=$$((n + 1)); \
+	else echo "  FAIL: the header's example is not within its first 60 lines"; bad=$$((bad + 1)); fi; \
+	run $(B)/header_sample; \
 	job g++ -x c++ -std=c++11 $(STRICT) -I. -c $(B)/readme_sample.c -o $(B)/readme_sample_gxx.o; \
+	job g++ -x c++ -std=c++11 $(STRICT) -I. -c $(B)/header_sample.c -o $(B)/header_sample_gxx.o; \
 	flush; if gcc $(STD) -E $(B)/header_tu.c | grep -q 'vulkan'; then echo "  FAIL: the CPU-only build includes Vulkan headers"; bad=$$((bad + 1)); \
 	else echo "  the CPU-only build includes no Vulkan header"; n=$$((n + 1)); fi; \
 	if [ "$(HAVE_VULKAN)" = 1 ]; then \

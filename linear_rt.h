@@ -1,44 +1,75 @@
-/* linear_rt.h - v0.1 - screen-space ray tracing by a BVH over the depth buffer
+/* linear_rt.h - v0.2 - exact screen-space ray tracing by a BVH over the depth buffer
 
-   Exact, fast screen-space rays (reflections, ambient occlusion, contact
-   shadows) for C and C++ engines. The depth buffer is read as a heightmap
-   (h = 1 - z); an 8-wide BVH is laid over it once; each frame only its heights
-   are refitted; rays walk it with a traversal made for this one tree shape.
-   What a hit means is fixed by docs/MODEL.md of the project: every texel is the
-   closed box [i,i+1] x [j,j+1] x [depth,1] (with thickness: [depth, back])
-   and a ray hits the first box it touches.
+   Reflections, ambient occlusion and contact shadows traced against the
+   depth buffer read as a heightfield: an 8-wide BVH laid over it once,
+   refitted each frame, walked to the first texel a ray touches (texel (i, j)
+   is the box [i,i+1] x [j,j+1] x [depth,1]: docs/MODEL.md of the project).
+   A CPU path, and Vulkan kernels (shaders_spv.h) that answer as it does.
 
-   SECTIONS (each has its anchor: search for ">>walk" and the like)
-     >>usage       DO THIS, USE (CPU), USE (VULKAN), BARRIERS, the tree's layout
-     >>contract    what the kernels and this file share (C and glslang read it)
-     >>api         declarations: limits, result codes, depth in, layout, the BVH
-                   and its thickness models, traversal, camera helpers
-     >>vulkan-api  declarations of the Vulkan path (LINEAR_RT_VULKAN)
-     >>impl        the implementation: config macros and the ISA prelude (every
-                   SIMD decision: LRT__SSE, LRT__AVX_BUILT, LRT__AVX_AT_RUN_TIME),
-                   then by the data's path; every SIMD function sits in an
-                   "ISA block:" (AVX2 | SSE2 | scalar versions under one name),
-                   so the functions around them have no #if of their own:
-     >>depth         1. depth in: validation, one texel's raw value, the backs
-     >>heights       2. heights: depth to rounded-up codes, back codes
-     >>layout        3. level geometry and the modified Morton mapping
-     >>nodes         4. nodes: build and update (the refit)
-     >>walk          5. traversal: ray set-up, node and texel tests, the walk
-     >>walk-avx2        the same walk compiled for AVX2, chosen at run time
-     >>camera        6. rays from a camera
-     >>vulkan        7. Vulkan: the kernels' host side (SPIR-V in shaders_spv.h)
-     >>licence     MIT
-
-   DO THIS                                                              >>usage
+   DO THIS in ONE C or C++ file (every other file includes linear_rt.h alone):
        #define LINEAR_RT_IMPLEMENTATION
        #include "linear_rt.h"
-   in ONE C or C++ file. Every other file includes "linear_rt.h" alone.
-   Needs nothing but the C standard library.
 
-   USE (CPU)
-       // describe the depth buffer: data, width, height, row stride in bytes
-       // (0: packed), format (or LRT_FORMAT_UNORM8 / _UNORM16), flags, back map
-       lrt_depth depth = {pixels, 1024, 1024, 0, LRT_FORMAT_FLOAT32, 0, NULL};
+   EXAMPLE (complete: make test compiles and runs the lines between the marks)
+-- 8< --
+#define LINEAR_RT_IMPLEMENTATION
+#include "linear_rt.h"
+#include <stdio.h>
+int main(void)
+{
+    static float texels[64 * 64]; // depth, 0 near: a wall at 0.5
+    static lrt_bvh bvh;           // zeroed before its first build
+    lrt_depth depth = {texels, 64, 64, 0, LRT_FORMAT_FLOAT32, 0, NULL};
+    lrt_ray ray = {{10.5f, 20.5f, 0.0f}, 0.0f, {0.0f, 0.0f, 1.0f}, 1.0f};
+    lrt_hit hit;
+    int i;
+    for (i = 0; i < 64 * 64; ++i) texels[i] = 0.5f;
+    if (lrt_bvh_build(&bvh, &depth, NULL, NULL) != LRT_SUCCESS) return 1;
+    lrt_bvh_update(&bvh, &depth, NULL); // each frame, after the depth changed
+    lrt_trace(&bvh, &depth, &ray, &hit, 1, 0);
+    printf("kind %u t %g texel %u %u\n", (unsigned)hit.kind, (double)hit.t, (unsigned)hit.x, (unsigned)hit.y);
+    lrt_bvh_destroy(&bvh);
+    return hit.kind == LRT_HIT && hit.t == 0.5f ? 0 : 1;
+}
+-- 8< --
+   OPTIONS (define before the IMPLEMENTATION include) [default]
+     LINEAR_RT_STATIC, LINEAR_RT_API  the API's linkage [extern]
+     LINEAR_RT_ASSERT(x)            internal checks [assert of <assert.h>]
+     LINEAR_RT_MALLOC(size, user), LINEAR_RT_FREE(ptr, user)  both or
+                                    neither: lrt_bvh_build's allocator [malloc, free]
+     LINEAR_RT_NO_SIMD              plain C walk [SSE2 / AVX2 on x86-64]
+     LINEAR_RT_NO_AVX               SSE2 alone [AVX2 walk too]
+     LINEAR_RT_NO_RUNTIME_DISPATCH  AVX2 only if the build targets it [gcc and
+                                    clang on x86-64 compile it and pick by the CPU]
+     LINEAR_RT_SELF                 this file's name, for that second pass ["linear_rt.h"]
+     LINEAR_RT_VULKAN               the lrt_vk_* API, in every file using it [off]
+     LINEAR_RT_VULKAN_DEVICE_HELPER lrt_vk_device_create (loads the loader) [off]
+     LINEAR_RT_COUNT_NODE_TEST(level), LINEAR_RT_COUNT_TEXEL_TEST()  profiling [nothing]
+
+   SECTIONS: each opens with a banner that ends in ">>" and its name (search for it)
+     usage         USE (CPU), USE (VULKAN), BARRIERS, INPUT, THE TREE: below
+     contract      what the kernels and this file share (C and glslang read it)
+     api           declarations: limits, result codes, depth in, layout, the BVH
+                   and its thickness models, traversal, camera helpers
+     vulkan-api    declarations of the Vulkan path (LINEAR_RT_VULKAN)
+     impl          the implementation: config macros and the ISA prelude (every
+                   SIMD decision: LRT__SSE, LRT__AVX_BUILT, LRT__AVX_AT_RUN_TIME),
+                   then by the data's path; every SIMD function sits in an
+                   "ISA block:" (AVX2 | SSE2 | scalar versions under one name):
+     depth           1. depth in: validation, one texel's raw value, the backs
+     heights         2. heights: depth to rounded-up codes, back codes
+     layout          3. level geometry and the modified Morton mapping
+     nodes           4. nodes: build and update (the refit)
+     exact           5. the exact arithmetic at the edge of float range, the rare set-up
+     walk            6. traversal: ray set-up, node and texel tests, the walk
+     walk-avx2          the same walk compiled for AVX2, chosen at run time
+     batch-avx2         eight rays at once (AVX2)
+     camera        7. rays from a camera
+     vulkan        8. Vulkan: the kernels' host side (SPIR-V in shaders_spv.h)
+     licence       MIT
+
+   USE (CPU)                                                            >>usage
+       lrt_depth depth = {texels, width, height, row_stride_bytes, LRT_FORMAT_FLOAT32, flags, NULL};
        lrt_bvh bvh = {0};                                      // zeroed (C++: = {})
        lrt_result r = lrt_bvh_build(&bvh, &depth, NULL, NULL); // once per size
        ...each frame, after the depth changed:
@@ -53,6 +84,7 @@
    with something else.
    lrt_trace_range() traces a slice of a batch: the BVH and depth are only
    read while tracing, so threads may trace disjoint slices at once.
+
 
    USE (VULKAN)
    The same three algorithms as compute kernels (shaders/, embedded as
@@ -89,7 +121,7 @@
    node array byte for byte (lrt_vk_bvh.layout is an lrt_layout), and the
    kernels answer what the CPU answers (docs/MODEL.md: same kind and texel, t
    within float rounding): the CPU and the kernels run one walk, with no
-   stack (lrt__walk_origin and lrt_walk_origin, >>walk), which finds the
+   stack (lrt__walk_origin and lrt_walk_origin, section walk), which finds the
    first texel hit in visiting order: the kernels start it at each ray's
    origin, the CPU there or at the lowest node holding the segment.
    Host-side helper for tools, tests and examples (not for engines, which
@@ -97,6 +129,7 @@
    lrt_vk_device_create loads the Vulkan loader at run time (dlopen: link
    with -ldl on old glibc), makes an instance, device and compute queue,
    optionally with the validation layer, and fills an lrt_vk_context_desc.
+
 
    BARRIERS. The library records one barrier, inside build (its fill of the
    counters -> its dispatch); you record every other one, as with VMA. Below,
@@ -134,45 +167,6 @@
    in earlier submissions to the queue need these barriers too (a fence
    orders the host, not the next submission's reads).
 
-   OPTIONS (define before the IMPLEMENTATION include)
-       LINEAR_RT_STATIC            make every function static to this file
-       LINEAR_RT_API               linkage of the API (default: extern)
-       LINEAR_RT_ASSERT(x)         internal checks (default: assert from <assert.h>)
-       LINEAR_RT_MALLOC(size,user) / LINEAR_RT_FREE(ptr,user)
-                                   default allocator when lrt_bvh_build gets no
-                                   lrt_allocator (default: malloc / free); define
-                                   both or neither
-       LINEAR_RT_NO_SIMD           plain C instead of the SSE2 / AVX2 child test
-                                   (the answers are the same bit for bit)
-       LINEAR_RT_NO_AVX            SSE2 only: no AVX2 walk, neither compiled in
-                                   (-mavx2 -mfma, -march=native) nor chosen at
-                                   run time
-       LINEAR_RT_NO_RUNTIME_DISPATCH  no AVX2 walk unless the build targets it.
-                                   By default gcc and clang on x86-64 compile the
-                                   walk twice (SSE2, and AVX2 + FMA by a target
-                                   pragma) and lrt_trace picks by the CPU; other
-                                   compilers choose at compile time (__AVX2__)
-       LINEAR_RT_SELF              the name this file includes itself by for
-                                   that second pass (default "linear_rt.h",
-                                   found beside itself): set it for a renamed copy
-       LINEAR_RT_VULKAN            the lrt_vk_* API and its implementation
-                                   (define it for the API in every file that
-                                   uses it, as for the implementation)
-       LINEAR_RT_VULKAN_DEVICE_HELPER  lrt_vk_device_create (dlopen of the loader)
-       LINEAR_RT_COUNT_NODE_TEST(level)  profiling: evaluated by the CPU walk
-                                   at each node test: level 0 for the one
-                                   texel of a ray that needs no walk, 1 for a
-                                   level-1 node's texels, 2 and up for a
-                                   node's children (default: nothing; the
-                                   benchmark's counts, bench/visits.c)
-       LINEAR_RT_COUNT_TEXEL_TEST()  profiling: at each exact test of a
-                                   texel that a level-1 node's codes let
-                                   through (the SSE2 and scalar walk, whose
-                                   level-1 test is the kernels'; the AVX2
-                                   walk reads float depth with no codes)
-   Memory: lrt_bvh_build allocates once (allocator hooks or the macros);
-   lrt_bvh_build_in uses caller-owned memory sized by lrt_bvh_memory_size.
-   Update and trace never allocate.
 
    INPUT
    Depth maps of 1x1 to LINEAR_RT_MAX_DIM x LINEAR_RT_MAX_DIM texels with any
@@ -185,6 +179,7 @@
    (GPUs may flush subnormals: docs/MODEL.md).
    Data needs no alignment (it is read with memcpy).
 
+
    THE TREE (see the sections of the implementation, which follow the data)
    - level 0 is the texels; level L+1 groups level L's nodes in 4x2 blocks
      when L is even and 2x4 blocks when L is odd, up to a 1x1 root level.
@@ -195,7 +190,7 @@
      make each level-1 node one 32-bit word and a 16-bit scale: its 8
      texels' codes as 4-bit steps j down from the node's own height H (in
      its parent), code = H - ((j * scale) >> 4), the scale 16/15 of the
-     node's spread, so step 15 lands on its lowest texel (>>nodes:
+     node's spread, so step 15 lands on its lowest texel (section nodes:
      lrt__compact_steps). The scales follow the level's words. A far floor,
      whose 8 texels differ by a few 16-bit steps, keeps them exactly; a node
      across an edge (a pole or a slab over a floor) keeps its highest and
@@ -221,11 +216,13 @@
      the codes are not the input itself, e.g. float input, or any input in
      8-bit trees).
 
+
    WHAT IT DOES NOT DO
    - no GPU work of its own: it records into your command buffers and never
      submits, waits or owns a queue; no view-space rays (the caller clips them
      to the near plane and projects them to screen space); constant and
      relative thickness only under a perspective projection (near, far).
+
 
    LICENCE: MIT, at the end of this file.
 */
@@ -235,7 +232,7 @@
    file gets this block alone (shaders/lrt_common.glsl, and an engine's shader
    before shaders/linear_rt.glsl, as examples/vulkan_inline does). The C API
    takes its values from here; the C side checks the push constants' layout
-   at compile time (>>vulkan). Values carry a u: unsigned in both languages. */
+   at compile time (section vulkan). Values carry a u: unsigned in both languages. */
 #ifndef LINEAR_RT_CONTRACT
 #define LINEAR_RT_CONTRACT
 #define LRT_K_MAX_LEVELS 16u            /* stored levels never exceed this */
@@ -892,7 +889,7 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
    ========================================================================== */
 #ifdef LINEAR_RT_IMPLEMENTATION
 #if !defined(LINEAR_RT_IMPLEMENTATION_DONE) || defined(LRT__AVX2_PASS)
-#ifndef LRT__AVX2_PASS /* the AVX2 pass (>>walk-avx2) compiles only the walk */
+#ifndef LRT__AVX2_PASS /* the AVX2 pass (section walk-avx2) compiles only the walk */
 #define LINEAR_RT_IMPLEMENTATION_DONE
 
 #include <string.h>
@@ -911,7 +908,7 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
 #endif
 /* AVX2 and FMA (8 children in one register): compiled in when the build
    targets them (-mavx2 -mfma, -march=native); otherwise, with gcc or clang on
-   x86-64, compiled as a second pass of the walk (>>walk-avx2) and chosen at
+   x86-64, compiled as a second pass of the walk (section walk-avx2) and chosen at
    run time by one CPU probe (lrt__cpu_has_avx2). Every path computes the same
    floats: the answers are equal bit for bit. AVX2 earns its place over
    SSE2 alone by 1.33x (geometric mean of 74 rows, both node widths; every
@@ -929,7 +926,7 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
 #define LRT__AVX_BUILT 0
 #define LRT__AVX_AT_RUN_TIME 0
 #endif
-#define LRT__AVX LRT__AVX_BUILT /* the pass being compiled: AVX2 or not (>>walk-avx2 redefines it) */
+#define LRT__AVX LRT__AVX_BUILT /* the pass being compiled: AVX2 or not (section walk-avx2 redefines it) */
 #ifndef LINEAR_RT_SELF
 #define LINEAR_RT_SELF "linear_rt.h" /* for the AVX2 pass: this file, found beside itself */
 #endif
@@ -4769,7 +4766,7 @@ struct lrt_vk_context {
 #undef LRT__VK_MEMBER
 };
 
-/* The push constants of >>contract, the same fields the kernels declare. */
+/* The push constants of the contract block, the same fields the kernels declare. */
 typedef struct lrt__vk_push {
     LRT_K_VK_PUSH_CONSTANTS(uint32_t, float)
 } lrt__vk_push;
