@@ -1375,9 +1375,10 @@ static uint32_t lrt__model_back_codes4(const lrt_layout *L, const lrt_depth *dep
     const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
     const __m128 one = _mm_set1_ps(1.0f), k0 = _mm_set1_ps(L->back_k[0]), k1 = _mm_set1_ps(L->back_k[1]);
     const __m128 vmax_f = _mm_set1_ps((float)vmax);
-    const __m128d q = _mm_set1_pd((double)qmax), vmax_d = _mm_set1_pd((double)vmax);
+    const __m128d q = _mm_set1_pd((double)qmax), vmax_d = _mm_set1_pd((double)vmax), per_v = _mm_set1_pd((double)(qmax / vmax));
     const __m128i vmax_i = _mm_set1_epi32((int)vmax);
     uint32_t i = 0;
+    LINEAR_RT_ASSERT(qmax % vmax == 0u);
     for (; n - i >= 4u; i += 4) {
         __m128i raw = _mm_setzero_si128(), cl, ch;
         __m128d xl, xh;
@@ -1407,13 +1408,13 @@ static uint32_t lrt__model_back_codes4(const lrt_layout *L, const lrt_depth *dep
         xl = _mm_mul_pd(_mm_cvtps_pd(b), q); /* exact in double */
         xh = _mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(b, b)), q);
         if (format != LRT_FORMAT_FLOAT32) {
-            /* the plate, where b * vmax <= v (exact): x = v * qmax / vmax instead, whose
-               ceil is exact (a quotient that is not an integer is 1 / vmax from one) */
+            /* the plate, where b * vmax <= v (exact): x = v * qmax / vmax instead, an
+               integer (qmax is a multiple of vmax: 65535 = 255 * 257) */
             const __m128d vl = _mm_cvtepi32_pd(raw), vh = _mm_cvtepi32_pd(_mm_shuffle_epi32(raw, _MM_SHUFFLE(3, 2, 3, 2)));
             const __m128d pl = _mm_cmple_pd(_mm_mul_pd(_mm_cvtps_pd(b), vmax_d), vl);
             const __m128d ph = _mm_cmple_pd(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(b, b)), vmax_d), vh);
-            xl = _mm_or_pd(_mm_andnot_pd(pl, xl), _mm_and_pd(pl, _mm_div_pd(_mm_mul_pd(vl, q), vmax_d)));
-            xh = _mm_or_pd(_mm_andnot_pd(ph, xh), _mm_and_pd(ph, _mm_div_pd(_mm_mul_pd(vh, q), vmax_d)));
+            xl = _mm_or_pd(_mm_andnot_pd(pl, xl), _mm_and_pd(pl, _mm_mul_pd(vl, per_v)));
+            xh = _mm_or_pd(_mm_andnot_pd(ph, xh), _mm_and_pd(ph, _mm_mul_pd(vh, per_v)));
         }
         cl = _mm_cvttpd_epi32(xl); /* ceil as lrt__float_back_codes4 */
         ch = _mm_cvttpd_epi32(xh);
@@ -1448,6 +1449,22 @@ static void lrt__row_model_back_codes(const lrt_layout *L, const lrt_depth *dept
         c = (uint32_t)x;
         codes[i] = c + ((double)c < x);
     }
+}
+
+/* The back codes of the 256 values of an 8-bit depth under a CONSTANT or
+   RELATIVE model, for looking up: lrt__row_model_back_codes of a row of
+   the values 0-255 under the map's flags, indexed by the stored byte. */
+static void lrt__unorm8_model_table(const lrt_layout *L, const lrt_depth *depth, uint32_t qmax, uint32_t table[256])
+{
+    unsigned char values[256];
+    lrt_depth row = *depth;
+    uint32_t v;
+    for (v = 0; v < 256u; ++v) values[v] = (unsigned char)v;
+    row.data = values;
+    row.width = 256;
+    row.height = 1;
+    row.row_stride = 256;
+    lrt__row_model_back_codes(L, &row, 256, 0, 0, 256, qmax, table);
 }
 
 /* ---- ISA block: a level-1 node's 4 + 4 16-bit codes (two texel rows)
@@ -1625,9 +1642,14 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
     const uint32_t qmax = 65535u;
     const size_t codes_at = back ? lrt__back_code_index(L) : 0u;
     const int compact = L->level1_node_bytes == 6u;
-    uint32_t codes[2][64 + 4];
+    uint32_t codes[2][64 + 4], table[256];
     size_t back_stride = 0;
     uint32_t nx, ny, r, s, chunk;
+    /* 8-bit depth under a model: 256 back codes, looked up, where the
+       texels outnumber them (a small update computes its own) */
+    const int look_up = back && L->thickness != LRT_THICKNESS_BACK_MAP && depth->format == LRT_FORMAT_UNORM8 &&
+                        (size_t)(nx1 - nx0 + 1u) * (ny1 - ny0 + 1u) * 8u >= 1024u;
+    if (look_up) lrt__unorm8_model_table(L, depth, qmax, table);
     if (back) (void)lrt__check_back(depth, L->thickness, &back_stride); /* checked by the caller */
     for (ny = ny0; ny <= ny1; ++ny) {
         const size_t row = lrt_layout_node_index(L, 1, 0, ny);
@@ -1641,7 +1663,9 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
                 uint32_t ty = ny * 2u + r;
                 real = tx0 >= L->width ? 0u : (L->width - tx0 < n ? L->width - tx0 : n);
                 if (ty >= L->height) real = 0;
-                if (real && back && L->thickness != LRT_THICKNESS_BACK_MAP)
+                if (real && look_up)
+                    for (s = 0; s < real; ++s) codes[r][s] = table[((const unsigned char *)depth->data + stride * ty)[tx0 + s]];
+                else if (real && back && L->thickness != LRT_THICKNESS_BACK_MAP)
                     lrt__row_model_back_codes(L, depth, stride, ty, tx0, real, qmax, codes[r]);
                 else if (real && back)
                     lrt__row_back_codes(depth, (const unsigned char *)depth->data + stride * ty,
