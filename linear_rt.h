@@ -1362,10 +1362,15 @@ static void lrt__row_back_codes(const lrt_depth *depth, const unsigned char *dro
 }
 
 /* ---- ISA block: a row's back codes under a CONSTANT or RELATIVE model, 4
-   at a time (SSE2 | scalar: none): lrt__map_raw, lrt__model_back and
-   lrt__model_back_bits' plate in lanes, the same float operations in the
-   same order (minps keeps 1 for a NaN b, maxps keeps d unless b > d), then
-   lrt__float_back_codes4's ceil; returns how many it did ---- */
+   at a time (SSE2 | scalar: none): lrt__map_raw and lrt__model_back in
+   lanes, the same float operations in the same order (minps keeps 1 for a
+   NaN b, maxps keeps d unless b > d), then ceil(b * 65535) in float:
+   with B = b * 65536 (exact), t = trunc(B) and f = B - t (exact, in [0, 1)),
+   b * 65535 = t + f - b, f - b in [-1, 1), so the ceil is t + (f > b), less
+   1 where f - b = -1, that is b = 1. A unorm plate (lrt__model_back_bits)
+   needs no lane of its own: its code, v * 65535 / vmax (an integer), is
+   ceil(b * 65535) too, b * vmax being at most v and, as b >= d, the
+   rounded v / vmax, above v (1 - 2^-24). Returns how many it did ---- */
 #if LRT__SSE
 static uint32_t lrt__model_back_codes4(const lrt_layout *L, const lrt_depth *depth, const unsigned char *row, uint32_t x0,
                                        uint32_t n, uint32_t qmax, uint32_t *codes)
@@ -1374,53 +1379,44 @@ static uint32_t lrt__model_back_codes4(const lrt_layout *L, const lrt_depth *dep
     const int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0, constant = L->thickness == LRT_THICKNESS_CONSTANT;
     const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
     const __m128 one = _mm_set1_ps(1.0f), k0 = _mm_set1_ps(L->back_k[0]), k1 = _mm_set1_ps(L->back_k[1]);
-    const __m128 vmax_f = _mm_set1_ps((float)vmax);
-    const __m128d q = _mm_set1_pd((double)qmax), vmax_d = _mm_set1_pd((double)vmax), per_v = _mm_set1_pd((double)(qmax / vmax));
+    const __m128 vmax_f = _mm_set1_ps((float)vmax), scale = _mm_set1_ps(65536.0f);
     const __m128i vmax_i = _mm_set1_epi32((int)vmax);
     uint32_t i = 0;
-    LINEAR_RT_ASSERT(qmax % vmax == 0u);
+    if (qmax != 65535u) return 0; /* the ceil above is that of b * (2^16 - 1) */
     for (; n - i >= 4u; i += 4) {
-        __m128i raw = _mm_setzero_si128(), cl, ch;
-        __m128d xl, xh;
-        __m128 d, b;
+        __m128 d, b, B, f;
+        __m128i t;
         if (format == LRT_FORMAT_FLOAT32) {
             d = _mm_loadu_ps((const float *)(const void *)(row + 4 * (size_t)(x0 + i)));
             if (reversed) d = _mm_sub_ps(one, d);
             d = lrt__clamp_depth4(d);
         } else {
+            __m128i v;
             if (format == LRT_FORMAT_UNORM8) {
-                int32_t v;
-                memcpy(&v, row + x0 + i, 4);
-                raw = _mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(v), raw), raw);
+                int32_t bytes;
+                memcpy(&bytes, row + x0 + i, 4);
+                v = _mm_unpacklo_epi8(_mm_cvtsi32_si128(bytes), _mm_setzero_si128());
             } else {
-                raw = _mm_unpacklo_epi16(_mm_loadl_epi64((const __m128i *)(const void *)(row + 2 * (size_t)(x0 + i))), raw);
+                v = _mm_loadl_epi64((const __m128i *)(const void *)(row + 2 * (size_t)(x0 + i)));
             }
-            if (reversed) raw = _mm_sub_epi32(vmax_i, raw);
-            d = _mm_div_ps(_mm_cvtepi32_ps(raw), vmax_f); /* lrt__raw_to_float */
+            v = _mm_unpacklo_epi16(v, _mm_setzero_si128());
+            if (reversed) v = _mm_sub_epi32(vmax_i, v);
+            d = _mm_div_ps(_mm_cvtepi32_ps(v), vmax_f); /* lrt__raw_to_float */
         }
         if (constant) {
-            const __m128 u = _mm_sub_ps(k0, d), qd = _mm_div_ps(k0, u);
-            b = _mm_add_ps(d, _mm_div_ps(k1, _mm_div_ps(_mm_add_ps(qd, k1), u)));
+            const __m128 u = _mm_sub_ps(k0, d), q = _mm_div_ps(k0, u);
+            b = _mm_add_ps(d, _mm_div_ps(k1, _mm_div_ps(_mm_add_ps(q, k1), u)));
         } else {
             b = _mm_div_ps(_mm_add_ps(d, k0), k1);
         }
         b = _mm_max_ps(_mm_min_ps(b, one), d);
-        xl = _mm_mul_pd(_mm_cvtps_pd(b), q); /* exact in double */
-        xh = _mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(b, b)), q);
-        if (format != LRT_FORMAT_FLOAT32) {
-            /* the plate, where b * vmax <= v (exact): x = v * qmax / vmax instead, an
-               integer (qmax is a multiple of vmax: 65535 = 255 * 257) */
-            const __m128d vl = _mm_cvtepi32_pd(raw), vh = _mm_cvtepi32_pd(_mm_shuffle_epi32(raw, _MM_SHUFFLE(3, 2, 3, 2)));
-            const __m128d pl = _mm_cmple_pd(_mm_mul_pd(_mm_cvtps_pd(b), vmax_d), vl);
-            const __m128d ph = _mm_cmple_pd(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(b, b)), vmax_d), vh);
-            xl = _mm_or_pd(_mm_andnot_pd(pl, xl), _mm_and_pd(pl, _mm_mul_pd(vl, per_v)));
-            xh = _mm_or_pd(_mm_andnot_pd(ph, xh), _mm_and_pd(ph, _mm_mul_pd(vh, per_v)));
-        }
-        cl = _mm_cvttpd_epi32(xl); /* ceil as lrt__float_back_codes4 */
-        ch = _mm_cvttpd_epi32(xh);
-        cl = _mm_sub_epi32(cl, _mm_shuffle_epi32(_mm_castpd_si128(_mm_cmplt_pd(_mm_cvtepi32_pd(cl), xl)), _MM_SHUFFLE(3, 3, 2, 0)));
-        ch = _mm_sub_epi32(ch, _mm_shuffle_epi32(_mm_castpd_si128(_mm_cmplt_pd(_mm_cvtepi32_pd(ch), xh)), _MM_SHUFFLE(3, 3, 2, 0)));
-        _mm_storeu_si128((__m128i *)(void *)(codes + i), _mm_unpacklo_epi64(cl, ch));
+        B = _mm_mul_ps(b, scale);
+        t = _mm_cvttps_epi32(B);
+        f = _mm_sub_ps(B, _mm_cvtepi32_ps(t));
+        /* the compares' all-ones lanes are -1: t + 1 where f > b, t - 1 where b = 1 */
+        t = _mm_sub_epi32(t, _mm_castps_si128(_mm_cmpgt_ps(f, b)));
+        t = _mm_add_epi32(t, _mm_castps_si128(_mm_cmpeq_ps(b, one)));
+        _mm_storeu_si128((__m128i *)(void *)(codes + i), t);
     }
     return i;
 }
