@@ -1364,13 +1364,14 @@ static void lrt__row_back_codes(const lrt_depth *depth, const unsigned char *dro
 /* ---- ISA block: a row's back codes under a CONSTANT or RELATIVE model, 4
    at a time (SSE2 | scalar: none): lrt__map_raw and lrt__model_back in
    lanes, the same float operations in the same order (minps keeps 1 for a
-   NaN b, maxps keeps d unless b > d), then ceil(b * 65535) in float:
-   with B = b * 65536 (exact), t = trunc(B) and f = B - t (exact, in [0, 1)),
-   b * 65535 = t + f - b, f - b in [-1, 1), so the ceil is t + (f > b), less
-   1 where f - b = -1, that is b = 1. A unorm plate (lrt__model_back_bits)
-   needs no lane of its own: its code, v * 65535 / vmax (an integer), is
-   ceil(b * 65535) too, b * vmax being at most v and, as b >= d, the
-   rounded v / vmax, above v (1 - 2^-24). Returns how many it did ---- */
+   NaN b, maxps keeps d unless b > d), then ceil(b * 65535) in float, for
+   b in [0, 1]: B = b * 65536 is exact, t = trunc(B), f = B - t is exact and
+   in [0, 1), and b * 65535 = t + f - b with f - b in [-1, 1), so the ceil
+   is t + 1 where f > b, t - 1 where f - b = -1 (b = 1), else t. A unorm's
+   plate (lrt__model_back_bits: b * vmax <= v) needs no lane of its own: its
+   code, the integer c = v * 65535 / vmax, is ceil(b * 65535) as well, for
+   b * 65535 lies in (c - 1, c], b being at most v / vmax and at least d,
+   v / vmax rounded to float. Returns how many it did ---- */
 #if LRT__SSE
 static uint32_t lrt__model_back_codes4(const lrt_layout *L, const lrt_depth *depth, const unsigned char *row, uint32_t x0,
                                        uint32_t n, uint32_t qmax, uint32_t *codes)
