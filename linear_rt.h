@@ -1419,6 +1419,70 @@ static void lrt__row_back_codes(const lrt_depth *depth, const unsigned char *dro
     }
 }
 
+/* ---- ISA block: a row's back codes under a CONSTANT or RELATIVE model, 4
+   at a time (SSE2 | scalar: none): lrt__map_raw and lrt__model_back in
+   lanes, the same float operations in the same order (minps keeps 1 for a
+   NaN b, maxps keeps d unless b > d), then ceil(b * 65535) in float, for
+   b in [0, 1]: B = b * 65536 is exact, t = trunc(B), f = B - t is exact and
+   in [0, 1), and b * 65535 = t + f - b with f - b in [-1, 1), so the ceil
+   is t + 1 where f > b, t - 1 where f - b = -1 (b = 1), else t. A unorm's
+   plate (lrt__model_back_bits: b * vmax <= v) needs no lane of its own: its
+   code, the integer c = v * 65535 / vmax, is ceil(b * 65535) as well, for
+   b * 65535 lies in (c - 1, c], b being at most v / vmax and at least d,
+   v / vmax rounded to float. Returns how many it did ---- */
+#if LRT__SSE
+static uint32_t lrt__model_back_codes4(const lrt_layout *L, const lrt_depth *depth, const unsigned char *row, uint32_t x0,
+                                       uint32_t n, uint32_t qmax, uint32_t *codes)
+{
+    const lrt_format format = depth->format;
+    const int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0, constant = L->thickness == LRT_THICKNESS_CONSTANT;
+    const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
+    const __m128 one = _mm_set1_ps(1.0f), k0 = _mm_set1_ps(L->back_k[0]), k1 = _mm_set1_ps(L->back_k[1]);
+    const __m128 vmax_f = _mm_set1_ps((float)vmax), scale = _mm_set1_ps(65536.0f);
+    const __m128i vmax_i = _mm_set1_epi32((int)vmax);
+    uint32_t i = 0;
+    if (qmax != 65535u) return 0; /* the ceil above is that of b * (2^16 - 1) */
+    for (; n - i >= 4u; i += 4) {
+        __m128 d, b, B, f;
+        __m128i t;
+        if (format == LRT_FORMAT_FLOAT32) {
+            d = _mm_loadu_ps((const float *)(const void *)(row + 4 * (size_t)(x0 + i)));
+            if (reversed) d = _mm_sub_ps(one, d);
+            d = lrt__clamp_depth4(d);
+        } else {
+            __m128i v;
+            if (format == LRT_FORMAT_UNORM8) {
+                int32_t bytes;
+                memcpy(&bytes, row + x0 + i, 4);
+                v = _mm_unpacklo_epi8(_mm_cvtsi32_si128(bytes), _mm_setzero_si128());
+            } else {
+                v = _mm_loadl_epi64((const __m128i *)(const void *)(row + 2 * (size_t)(x0 + i)));
+            }
+            v = _mm_unpacklo_epi16(v, _mm_setzero_si128());
+            if (reversed) v = _mm_sub_epi32(vmax_i, v);
+            d = _mm_div_ps(_mm_cvtepi32_ps(v), vmax_f); /* lrt__raw_to_float */
+        }
+        if (constant) {
+            const __m128 u = _mm_sub_ps(k0, d), q = _mm_div_ps(k0, u);
+            b = _mm_add_ps(d, _mm_div_ps(k1, _mm_div_ps(_mm_add_ps(q, k1), u)));
+        } else {
+            b = _mm_div_ps(_mm_add_ps(d, k0), k1);
+        }
+        b = _mm_max_ps(_mm_min_ps(b, one), d);
+        B = _mm_mul_ps(b, scale);
+        t = _mm_cvttps_epi32(B);
+        f = _mm_sub_ps(B, _mm_cvtepi32_ps(t));
+        /* the compares' all-ones lanes are -1: t + 1 where f > b, t - 1 where b = 1 */
+        t = _mm_sub_epi32(t, _mm_castps_si128(_mm_cmpgt_ps(f, b)));
+        t = _mm_add_epi32(t, _mm_castps_si128(_mm_cmpeq_ps(b, one)));
+        _mm_storeu_si128((__m128i *)(void *)(codes + i), t);
+    }
+    return i;
+}
+#else
+#define lrt__model_back_codes4(L, depth, row, x0, n, qmax, codes) 0u /* the loop does them all */
+#endif
+
 /* Back codes of texels [x0, x0+n) of row y under a CONSTANT or RELATIVE
    model: ceil(b * qmax) of lrt__model_back's float b, as above. */
 static void lrt__row_model_back_codes(const lrt_layout *L, const lrt_depth *depth, size_t stride, uint32_t y, uint32_t x0,
@@ -1426,7 +1490,7 @@ static void lrt__row_model_back_codes(const lrt_layout *L, const lrt_depth *dept
 {
     const uint32_t vmax = depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
     uint32_t i;
-    for (i = 0; i < n; ++i) {
+    for (i = lrt__model_back_codes4(L, depth, (const unsigned char *)depth->data + stride * y, x0, n, qmax, codes); i < n; ++i) {
         const uint32_t raw = lrt__depth_raw(depth, stride, x0 + i, y), bits = lrt__model_back_bits(L, depth->format, raw);
         float b;
         double x;
@@ -1440,6 +1504,22 @@ static void lrt__row_model_back_codes(const lrt_layout *L, const lrt_depth *dept
         c = (uint32_t)x;
         codes[i] = c + ((double)c < x);
     }
+}
+
+/* The back codes of the 256 values of an 8-bit depth under a CONSTANT or
+   RELATIVE model, for looking up: lrt__row_model_back_codes of a row of
+   the values 0-255 under the map's flags, indexed by the stored byte. */
+static void lrt__unorm8_model_table(const lrt_layout *L, const lrt_depth *depth, uint32_t qmax, uint32_t table[256])
+{
+    unsigned char values[256];
+    lrt_depth row = *depth;
+    uint32_t v;
+    for (v = 0; v < 256u; ++v) values[v] = (unsigned char)v;
+    row.data = values;
+    row.width = 256;
+    row.height = 1;
+    row.row_stride = 256;
+    lrt__row_model_back_codes(L, &row, 256, 0, 0, 256, qmax, table);
 }
 
 /* ---- ISA block: a level-1 node's 4 + 4 16-bit codes (two texel rows)
@@ -1617,9 +1697,14 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
     const uint32_t qmax = 65535u;
     const size_t codes_at = back ? lrt__back_code_index(L) : 0u;
     const int compact = L->level1_node_bytes == 6u;
-    uint32_t codes[2][64 + 4];
+    uint32_t codes[2][64 + 4], table[256];
     size_t back_stride = 0;
     uint32_t nx, ny, r, s, chunk;
+    /* 8-bit depth under a model: 256 back codes, looked up, where the
+       texels outnumber them (a small update computes its own) */
+    const int look_up = back && L->thickness != LRT_THICKNESS_BACK_MAP && depth->format == LRT_FORMAT_UNORM8 &&
+                        (size_t)(nx1 - nx0 + 1u) * (ny1 - ny0 + 1u) * 8u >= 1024u;
+    if (look_up) lrt__unorm8_model_table(L, depth, qmax, table);
     if (back) (void)lrt__check_back(depth, L->thickness, &back_stride); /* checked by the caller */
     for (ny = ny0; ny <= ny1; ++ny) {
         const size_t row = lrt_layout_node_index(L, 1, 0, ny);
@@ -1633,7 +1718,9 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
                 uint32_t ty = ny * 2u + r;
                 real = tx0 >= L->width ? 0u : (L->width - tx0 < n ? L->width - tx0 : n);
                 if (ty >= L->height) real = 0;
-                if (real && back && L->thickness != LRT_THICKNESS_BACK_MAP)
+                if (real && look_up)
+                    for (s = 0; s < real; ++s) codes[r][s] = table[((const unsigned char *)depth->data + stride * ty)[tx0 + s]];
+                else if (real && back && L->thickness != LRT_THICKNESS_BACK_MAP)
                     lrt__row_model_back_codes(L, depth, stride, ty, tx0, real, qmax, codes[r]);
                 else if (real && back)
                     lrt__row_back_codes(depth, (const unsigned char *)depth->data + stride * ty,

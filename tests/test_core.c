@@ -758,6 +758,85 @@ static void test_update(void)
     free(back);
 }
 
+/* ---- 4b. back codes of a thickness model: the row's lanes against one texel --- */
+/* A row's CONSTANT and RELATIVE back codes (four at a time where the build
+   has SSE2: lrt__model_back_codes4) against the scalar recipe, one texel a
+   row (lrt__model_back_bits, its plate included), and the 8-bit look-up
+   table against both: every unorm value, float depths the model clamps
+   (NaN, infinities, above 1, below 0, -0, subnormal) and ones near its
+   edges (0, 1, the least normal, just below 1), each Z direction, far
+   planes finite and not, thin and thick layers. The node bytes rest on it. */
+static void test_model_back_codes(void)
+{
+    static const float models[][4] = {/* thickness, value, near, far */
+        {LRT_THICKNESS_CONSTANT, 0.3f, 0.1f, 100.0f}, {LRT_THICKNESS_CONSTANT, 1e-6f, 0.1f, 100.0f},
+        {LRT_THICKNESS_CONSTANT, 1e3f, 0.01f, 1e5f}, {LRT_THICKNESS_CONSTANT, 0.3f, 0.1f, INFINITY},
+        {LRT_THICKNESS_CONSTANT, 1e-3f, 1.0f, 2.0f}, {LRT_THICKNESS_RELATIVE, 0.05f, 0.1f, 100.0f},
+        {LRT_THICKNESS_RELATIVE, 1e-7f, 0.1f, 100.0f}, {LRT_THICKNESS_RELATIVE, 10.0f, 0.1f, INFINITY},
+        {LRT_THICKNESS_RELATIVE, 0.5f, 1.0f, 1.5f}};
+    static const uint32_t specials[] = {0x7fc00000u, 0xffc00001u, 0x7f800001u, 0x7f800000u, 0xff800000u, 0x3fc00000u,
+                                        0x3f800000u, 0x3f7fffffu, 0x3f7ffffeu, 0x00000000u, 0x80000000u, 0x00000001u,
+                                        0x007fffffu, 0x00800000u, 0x80800000u, 0xbe800000u, 0x33800000u, 0x3f000000u};
+    const uint32_t n = 65536u, nspecial = (uint32_t)(sizeof specials / sizeof specials[0]);
+    unsigned char *row = (unsigned char *)malloc((size_t)n * 4u);
+    uint32_t *lanes = (uint32_t *)malloc((size_t)n * 4u), *one = (uint32_t *)malloc((size_t)n * 4u), table[256];
+    uint32_t i, m, seed = 2463534242u; /* a generator of its own: the other tests' maps stay as they were */
+    int f, reversed;
+    for (f = 1; f <= 3; ++f) {
+        const lrt_format format = (lrt_format)f;
+        const uint32_t count = format == LRT_FORMAT_UNORM8 ? 256u : n, bpp = format == LRT_FORMAT_FLOAT32 ? 4u : (uint32_t)f;
+        for (i = 0; i < count; ++i) {
+            if (format == LRT_FORMAT_UNORM8) {
+                row[i] = (unsigned char)i;
+            } else if (format == LRT_FORMAT_UNORM16) {
+                const uint16_t v = (uint16_t)i;
+                memcpy(row + (size_t)i * 2u, &v, 2);
+            } else { /* the specials, then any bits, uniform depths, depths near 1 and 8-bit steps */
+                float d, u;
+                seed ^= seed << 13;
+                seed ^= seed >> 17;
+                seed ^= seed << 5;
+                u = (float)(seed >> 8) / 16777216.0f;
+                memcpy(&d, i < nspecial ? &specials[i] : &seed, 4);
+                if (i >= nspecial && i % 4u != 0u) d = i % 4u == 1u ? u : i % 4u == 2u ? 1.0f - u * 1e-4f : (float)(i % 256u) / 255.0f;
+                memcpy(row + (size_t)i * 4u, &d, 4);
+            }
+        }
+        for (reversed = 0; reversed <= 1; ++reversed)
+            for (m = 0; m < sizeof models / sizeof models[0]; ++m) {
+                lrt_build_options opt;
+                lrt_layout L;
+                lrt_depth dm;
+                uint32_t bad = 0, first = 0;
+                memset(&opt, 0, sizeof opt);
+                opt.thickness = (uint32_t)models[m][0];
+                opt.thickness_value = models[m][1];
+                opt.near_z = models[m][2];
+                opt.far_z = models[m][3];
+                memset(&dm, 0, sizeof dm);
+                dm.data = row;
+                dm.width = count;
+                dm.height = 1;
+                dm.format = format;
+                dm.flags = reversed ? LRT_DEPTH_REVERSED_Z : 0u;
+                CHECK(lrt__options_layout(16, 16, format, &opt, &L) == LRT_SUCCESS, "model back codes: layout of model %u", m);
+                lrt__row_model_back_codes(&L, &dm, (size_t)count * bpp, 0, 0, count, 65535u, lanes);
+                for (i = 0; i < count; ++i) lrt__row_model_back_codes(&L, &dm, (size_t)count * bpp, 0, i, 1, 65535u, one + i);
+                if (format == LRT_FORMAT_UNORM8) lrt__unorm8_model_table(&L, &dm, 65535u, table);
+                for (i = 0; i < count; ++i)
+                    if (lanes[i] != one[i] || (format == LRT_FORMAT_UNORM8 && table[i] != one[i])) {
+                        if (bad++ == 0) first = i;
+                    }
+                CHECK(bad == 0, "model back codes: format %d%s model %u: %u of %u differ, the first texel %u: row %u, one %u, table %u",
+                      f, reversed ? " reversed" : "", m, bad, count, first, lanes[first], one[first],
+                      format == LRT_FORMAT_UNORM8 ? table[first] : one[first]);
+            }
+    }
+    free(row);
+    free(lanes);
+    free(one);
+}
+
 /* ---- 5. bad arguments ------------------------------------------------------------ */
 static int g_allocs, g_frees;
 static void *count_alloc(void *user, size_t n) { ++*(int *)user; ++g_allocs; return malloc(n); }
@@ -1089,6 +1168,7 @@ int main(int argc, char **argv)
     RUN_TEST(test_compact_codes);
     RUN_TEST(test_compact_boundaries);
     RUN_TEST(test_update);
+    RUN_TEST(test_model_back_codes);
     RUN_TEST(test_bad_arguments);
     RUN_TEST(test_ranges);
     RUN_TEST(test_differential);
