@@ -425,7 +425,7 @@ bench: bench-deps
 # otherwise, for any A/B of the CPU walk in one run: e.g. TWIN_CFLAGS=
 # -DLINEAR_RT_NO_AVX (the SSE2 walk against the AVX2 one), or PLAIN_CFLAGS=
 # -DLINEAR_RT_NO_AVX TWIN_CFLAGS=-DLINEAR_RT_NO_SIMD (plain C against SSE2);
-# the twin's rows keep the name " native" (docs/MEASUREMENTS.md).
+# the twin's rows keep the name " native".
 RUNS ?= 1
 TWIN_CFLAGS ?= -march=native
 PLAIN_CFLAGS ?=

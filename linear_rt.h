@@ -895,11 +895,8 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
 #include <string.h>
 #include <math.h>
 /* SSE2 is the x86-64 baseline: compiled wherever the compiler targets it.
-   It earns its place: the walk with SSE2 node tests runs at 1.78x the plain
-   C one (LINEAR_RT_NO_SIMD), the geometric mean of the benchmark's 74 CPU
-   rows (secondary rays 1.2-2.7x, camera rays 1.0-1.1x); numbers and
-   commands for both SIMD paths in docs/MEASUREMENTS.md ("What each SIMD
-   path earns"). */
+   It tests 4 children (or texels) at once where the plain C walk
+   (LINEAR_RT_NO_SIMD) tests one (what each path earns: docs/PERFORMANCE.md). */
 #if defined(__SSE2__) && !defined(LINEAR_RT_NO_SIMD)
 #include <emmintrin.h>
 #define LRT__SSE 1
@@ -910,9 +907,8 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
    targets them (-mavx2 -mfma, -march=native); otherwise, with gcc or clang on
    x86-64, compiled as a second pass of the walk (section walk-avx2) and chosen at
    run time by one CPU probe (lrt__cpu_has_avx2). Every path computes the same
-   floats: the answers are equal bit for bit. AVX2 earns its place over
-   SSE2 alone by 1.33x (geometric mean of 74 rows, both node widths; every
-   row but the terraces' reflections, 0.92-0.94x there). */
+   floats: the answers are equal bit for bit. AVX2 tests a node's 8
+   children in one register. */
 #if LRT__SSE && defined(__AVX2__) && defined(__FMA__) && !defined(LINEAR_RT_NO_AVX)
 #include <immintrin.h>
 #define LRT__AVX_BUILT 1 /* the whole file is compiled for AVX2 */
@@ -1596,9 +1592,9 @@ LRT__FORCE_INLINE uint32_t lrt__compact_bounds(const uint32_t *c0, const uint32_
    quotient below 16, where it counts: the half moves an integer quotient
    0.5 / scale (at least 7.6e-6) above its integer and leaves any other as
    far below the next one, and the two roundings err by at most 2^-23 of a
-   quotient below 16 (1.9e-6); checked for all 2.27e9 pairs of a scale and
-   an H - code with a quotient up to 17 (docs/MEASUREMENTS.md), and at
-   every step's edge by test_core.c:test_compact_boundaries */
+   quotient below 16 (1.9e-6); checked once for all 2.27e9 pairs of a
+   scale and an H - code with a quotient up to 17, and at every step's edge
+   by test_core.c:test_compact_boundaries */
 LRT__FORCE_INLINE uint32_t lrt__compact_steps(const uint32_t *c0, const uint32_t *c1, uint32_t h, uint32_t scale, float inv)
 {
     const __m128i top = _mm_set1_epi32((int)h); /* 16 (H - code) in 32-bit lanes, then in float */
@@ -2713,10 +2709,10 @@ LRT__FORCE_INLINE int lrt__rare_bits(const lrt_ray *ray)
    nonzero v_k still 2^-100 or more and tmax still finite. That scaled ray
    takes the common set-up, which is all lrt__setup_rare would do with it
    but for the kind of a miss, there decided on the caller's ray: here by
-   the clip, as for any ordinary ray. The benchmark's terraces reflect
-   most rays straight back at the camera this way (a v.z of about 10^6):
-   that set 2.6-2.75x (docs/MEASUREMENTS.md, "Large directions without the
-   rare set-up"). Returns e (16 to 125), or 0: lrt__setup_rare. */
+   the clip, as for any ordinary ray. Camera-facing steps reflect rays
+   straight back at the camera this way (a v.z of about 10^6): common in a
+   frame, so not left to the rare set-up. Returns e (16 to 125), or 0:
+   lrt__setup_rare. */
 LRT__FORCE_INLINE int lrt__huge_direction(const lrt_ray *ray, uint32_t width, uint32_t height)
 {
     uint32_t u[8];
@@ -3383,9 +3379,9 @@ LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray
 #endif
 
 /* The t where the ray's z meets texel (tx, ty)'s back depth (a tree with
-   a thickness model), the way lrt__depth_plane meets its depth. Not inlined: in the
-   texel test it made every trace loop larger, and primary rays of infinite
-   trees ran at 0.65x (build/bench --only "linear_rt cpu 16" --size 512). */
+   a thickness model), the way lrt__depth_plane meets its depth. Not inlined:
+   in the texel test it made every trace loop larger, the infinite trees'
+   too, which never call it. */
 static LRT__NOINLINE float lrt__back_plane(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty)
 {
     const lrt_format format = w->depth->format;
@@ -3704,18 +3700,12 @@ LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *
    texel it starts in, or behind it) and goes far (its start node at level 4
    or above, and 16 texels or more along x or y); otherwise at the start
    node, from which it goes down. (The kernels start at the origin: this
-   rule there won segments and lost reflections, docs/MEASUREMENTS.md.)
-   Measured on the benchmark's scenes against the walk down alone (two
-   alternated runs, 1 thread): shadow rays 2.2x on poles and 1.27x on noise,
-   flat rays over 8-bit steps 1.6x, reflections 0.96-1.13x; the walk from
-   the origin everywhere lost on rays that meet nothing (0.34x: one test of
-   the start node ends them), on AO rays of 8 texels (terraces 0.7x) and on
-   random segments (0.73-0.94x), which the rule sends down from the start
-   node. The surface test reads one depth: random rays on a 2048 x 2048 map
-   pay that miss (0.5-0.84x, noisy). Not yet told apart: long rays that
-   leave the surface towards the camera and meet nothing, 0.58x from the
-   origin in a one-file timer (200-texel rays rising 0.5 in z); limiting
-   the walk to rays going away from the camera lost the shadow gains. */
+   rule there won segments and lost reflections.) Long rays from the surface
+   (shadows past thin poles, flat rays over 8-bit steps) win from the
+   origin, which skips the nodes above; rays that meet nothing lose (one
+   test of the start node ends them), and so do short ones. The surface
+   test reads one depth, a cache miss for random rays on a large map; the
+   figures: docs/PERFORMANCE.md. */
 #define LRT__ORIGIN_MIN_LEVEL 4u
 #define LRT__ORIGIN_MIN_REACH 16.0f
 #define LRT__ORIGIN_SURFACE (1.0f / 64.0f)
@@ -4214,9 +4204,9 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
    differently here (tests/test_paths.c holds every path to the same bits,
    also with -ffp-contract=fast). A helper defined before the walk and called
    from it must be LRT__FORCE_INLINE: GCC does not inline a plain inline
-   function of another tuning into this pass, and one such call
-   (lrt__clamp_depth) ran a 3x2 map's rays at half speed (make test-header
-   checks the pass's calls).
+   function of another tuning into this pass, and an out-of-line call per
+   texel costs more than the texel test (make test-header checks the
+   pass's calls).
    ========================================================================== */
 #if LRT__AVX_AT_RUN_TIME
 #define LRT__AVX2_PASS
@@ -4227,9 +4217,8 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #else
 #pragma GCC push_options
 #if __GNUC__ >= 8
-/* tuned as for a recent AVX2 core: GCC's generic tuning (which serves
-   pre-AVX2 cores too) ran primary rays at 0.89x of a -march=native build
-   here, this at 0.98x (docs/MEASUREMENTS.md "The AVX2 walk in a plain build") */
+/* tuned as for a recent AVX2 core: GCC's generic tuning serves pre-AVX2
+   cores too, which never run this pass */
 #pragma GCC target("avx2,fma,bmi,bmi2,tune=icelake-server")
 #else
 #pragma GCC target("avx2,fma,bmi,bmi2")
@@ -4780,9 +4769,8 @@ typedef struct lrt__vk_module {
 /* the four kernels, then the same for trees with a thickness model, of
    16-bit nodes, then of 8-bit nodes (specialization constant 0,
    lrt_back_trees, true: other trees' pipelines carry no back code; constant
-   1, lrt_back_node_bits, the node width: known to the compiler, it ran
-   their secondary rays on lavapipe at 1.35-1.75x, where the infinite trees'
-   gained nothing, docs/MEASUREMENTS.md) */
+   1, lrt_back_node_bits, the node width: known to the compiler, it drops
+   the other width's code from the back-code reads) */
 enum { LRT__VK_REFIT_BUFFER, LRT__VK_REFIT_IMAGE, LRT__VK_TRACE_BUFFER, LRT__VK_TRACE_IMAGE, LRT__VK_MODULES,
        LRT__VK_PIPELINES = 3 * LRT__VK_MODULES };
 
@@ -4910,7 +4898,7 @@ static int lrt__vk_has_extension(lrt_vk_context *c, const char *name, const VkAl
    the shader asks for RoundingModeRTE; an NVIDIA H200 without it built
    thickness trees whose back codes differed from the CPU's and answered
    5% of the test rays with other last bits of t; with it, those agreed bit
-   for bit (docs/MEASUREMENTS.md). glslang has no GLSL for these modes, so
+   for bit. glslang has no GLSL for these modes, so
    the host adds them to each kernel's SPIR-V (1.5: the capabilities are
    core): an OpCapability each, and an OpExecutionMode each for the entry
    point, 32-bit floats. */
@@ -4993,7 +4981,7 @@ static int lrt__vk_supports(lrt_vk_context *c, const lrt_vk_requirements *req)
     if (p12.shaderRoundingModeRTEFloat32 && p12.roundingModeIndependence != VK_SHADER_FLOAT_CONTROLS_INDEPENDENCE_NONE)
         c->float_modes |= LRT__VK_FLOAT_RTE;
     /* not on lavapipe: its kernels agree with the CPU bit for bit without
-       it, and with it ran 1M segments at 0.95x (build/demo, 3 alternated runs) */
+       it, and it slows them there */
     if (p12.shaderSignedZeroInfNanPreserveFloat32 && p12.driverID != VK_DRIVER_ID_MESA_LLVMPIPE)
         c->float_modes |= LRT__VK_FLOAT_KEEP_INF_NAN;
 #define LRT__NEED(want, have) if ((want) && !(have)) return 0
@@ -5026,9 +5014,8 @@ static void lrt__vk_destroy_objects(lrt_vk_context *c)
 }
 
 /* Whether the trace kernel reads nodes through a uniform texel buffer, which
-   llvmpipe loads without a branch per lane as it does not a storage buffer
-   (lavapipe: secondary rays 0.96-1.33x, geometric mean 1.08x,
-   docs/MEASUREMENTS.md "Nodes read as texels"): where the device's texel
+   llvmpipe loads without a branch per lane as it does not a storage buffer:
+   where the device's texel
    buffers hold every tree it can trace, the smaller of the largest tree
    (LINEAR_RT_MAX_DIM squared texels, 16-bit nodes, back codes) and
    maxStorageBufferRange. Else (the Vulkan minimum is 65536 texels) the

@@ -60,7 +60,7 @@
 #define LRT_THICKNESS_RELATIVE LRT_K_THICKNESS_RELATIVE
 
 // false: no back-map trees here, and their code folds away (a branch the
-// compiler cannot remove costs lavapipe 0.55-0.67x on secondary rays)
+// compiler cannot remove costs lavapipe on every secondary ray)
 #ifndef LRT_BACK_TREES
 #define LRT_BACK_TREES true
 #endif
@@ -370,10 +370,9 @@ float lrt_ldexp(float x, int k)
 
 // The rare set-up's parts and axes are picked by selects among named
 // components: as float arrays indexed per lane, they cost lavapipe on every
-// dispatch whatever rays came (1M primary rays 28.9 ms instead of 22.5; as
-// vectors indexed per lane, secondary rays 4-15% slower than with selects).
-// The walk's pending masks (m[lv >> 2]) stay indexed: selects there measured
-// 0.93-0.99x. docs/MEASUREMENTS.md "What lavapipe pays for".
+// dispatch whatever rays came, and as vectors indexed per lane more than
+// selects. The walk's pending masks (m[lv >> 2]) stay indexed: selects
+// there cost more (docs/PERFORMANCE.md).
 float lrt_pick(vec4 v, int k) { return k == 0 ? v.x : k == 1 ? v.y : k == 2 ? v.z : v.w; }
 float lrt_axis(vec3 v, int k) { return k == 0 ? v.x : k == 1 ? v.y : v.z; }
 vec4 lrt_put(vec4 v, int k, float f) { return vec4(k == 0 ? f : v.x, k == 1 ? f : v.y, k == 2 ? f : v.z, k == 3 ? f : v.w); }
@@ -1041,8 +1040,8 @@ uvec4 lrt_mask_set(uvec4 m, uint lv, uint bits)
 }
 
 // the 8 codes from code slot0 on (a node's) in one go: 4 words, one load
-// of a uvec4 where the includer gives LRT_NODE_QUAD (lavapipe: secondary
-// rays 1.03-1.10x, docs/MEASUREMENTS.md)
+// of a uvec4 where the includer gives LRT_NODE_QUAD (fewer loads, each
+// behind a branch per lane on llvmpipe)
 uvec4 lrt_node_words(uint slot0)
 {
 #ifdef LRT_NODE_QUAD
@@ -1171,8 +1170,7 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
     // the depth plane bounds a child's entry where the ray goes away from
     // the camera, its exit where it comes nearer; the back plane the other
     // way round. Selects, no branch in the slot loop: llvmpipe branches on
-    // every if a lane may take (1.05-1.09x on lavapipe, docs/MEASUREMENTS.md
-    // "The kernels' node test without per-slot branches")
+    // every if a lane may take
     bool nz = s.neg.z != 0u;
     uint met = 0u; // bit slot: the child of that slot met
     for (uint slot = 0u; slot < 8u; ++slot) { // 4x2: slot = row << 2 | column; 2x4: row << 1 | column

@@ -31,10 +31,9 @@ layout(set = 0, binding = LRT_K_VK_BINDING_NODES, std430) LRT_NODES_ACCESS buffe
 #define LRT_NODE_WORD(i) lrt_nodes.words[i]
 // the trace kernel reads a node's codes in one uvec4 load: through a texel
 // view of the same buffer where the host says so (lrt_node_texels: llvmpipe
-// reads a texel buffer without a branch per lane: 1.08x (16-bit) and 1.07x
-// (8-bit) on lavapipe, docs/MEASUREMENTS.md "Nodes read as texels"; single
-// words read so: 0.95x and 1.00x), else from the storage buffer (a device
-// with small texel buffers)
+// reads a texel buffer without a branch per lane; single words read so did
+// not gain), else from the storage buffer (a device with small texel
+// buffers)
 #ifdef LRT_NODES_QUADS
 layout(set = 0, binding = LRT_K_VK_BINDING_NODES, std430) readonly buffer LrtNodeQuads { uvec4 quads[]; } lrt_node_quads;
 layout(set = 0, binding = LRT_K_VK_BINDING_NODE_TEXELS) uniform utextureBuffer lrt_node_view;
@@ -52,8 +51,7 @@ uvec4 lrt_node_quad(uint i)
 layout(constant_id = 0) const bool lrt_back_trees = false;
 #define LRT_BACK_TREES lrt_back_trees
 // and their node width (8: a compact level 1, or 16): a constant, so the
-// decoding folds (back trees' secondary rays ran on lavapipe at 1.35-1.75x
-// with their width a constant, docs/MEASUREMENTS.md)
+// decoding folds
 layout(constant_id = 1) const uint lrt_back_node_bits = 16u;
 
 #include "linear_rt.glsl"

@@ -12,8 +12,8 @@
 # Why medians of alternated runs: on a shared 2-core VM single runs are
 # skewed (some come out up to 1.6x faster than the rest), so the best of a
 # few runs picks whichever build was lucky; medians of 11 put rows whose
-# code did not change within about 0.88-1.14x (docs/MEASUREMENTS.md,
-# "Medians on lavapipe"). Set LP_NUM_THREADS=1 for lavapipe rows.
+# code did not change within about 0.88-1.14x (docs/PERFORMANCE.md, "The
+# machine and its noise"). Set LP_NUM_THREADS=1 for lavapipe rows.
 # Results stay in $BENCH_AB_DIR (default: a new directory under /tmp).
 set -eu
 if [ $# -lt 2 ]; then sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 2; fi
@@ -28,7 +28,7 @@ i=1
 while [ "$i" -le "$runs" ]; do
     # each build first in every other run: the order may tilt a row by a few
     # percent (a change of no effect read 1.039 with the new build always
-    # second and 0.998 with it first, docs/MEASUREMENTS.md)
+    # second and 0.998 with it first)
     if [ $((i % 2)) -eq 1 ]; then order="old new"; else order="new old"; fi
     for b in $order; do
         if [ "$b" = old ]; then exe=$old; else exe=$new; fi

@@ -7,7 +7,7 @@
 # AVX2 walk chosen at run time) and built with -march=native, as the methods
 # "linear_rt cpu N" and "linear_rt cpu N native". Each scene times both on
 # the same rays one after the other, so the machine's slow and fast phases
-# (docs/MEASUREMENTS.md, "The machine and its noise": whole runs move by
+# (docs/PERFORMANCE.md, "The machine and its noise": whole runs move by
 # 10-40%) fall on both alike. This runs `--only "linear_rt cpu"` RUNS times
 # (default 1), keeps each row's best M rays/s and prints plain / native per
 # row, the rows below 0.9x and the geometric mean; it exits 1 when a row is
