@@ -60,12 +60,13 @@ int main(void)
      heights         2. heights: depth to rounded-up codes, back codes
      layout          3. level geometry and the modified Morton mapping
      nodes           4. nodes: build and update (the refit)
-     exact           5. the exact arithmetic at the edge of float range, the rare set-up
-     walk            6. traversal: ray set-up, node and texel tests, the walk
-     walk-avx2          the same walk compiled for AVX2, chosen at run time
-     batch-avx2         eight rays at once (AVX2)
+     setup           5. a ray's set-up: the exact arithmetic at the edge of float
+                        range, the rare set-up, the common one, the start node
+     walk            6. the walk: node and texel tests, the walk itself
+     batch-avx2         eight rays at once (AVX2), and the trace loop
      camera        7. rays from a camera
      vulkan        8. Vulkan: the kernels' host side (SPIR-V in shaders_spv.h)
+     walk-avx2     9. setup, walk and batch-avx2 compiled again for AVX2
      licence       MIT
 
    USE (CPU)                                                            >>usage
@@ -1988,85 +1989,14 @@ LINEAR_RT_DEF lrt_result lrt_bvh_update(lrt_bvh *bvh, const lrt_depth *depth, co
 /* lrt_hit is 4 words on the CPU and in the kernels' hit buffer (lrt_trace.comp) */
 typedef char lrt__hit_is_16_bytes[sizeof(lrt_hit) == 16 && sizeof(lrt_ray) == 32 ? 1 : -1];
 
-#endif /* !LRT__AVX2_PASS: the walk follows, compiled in every pass */
-
-/* ================================================================== >>walk
-   5. Traversal (RayQuery.Proceed of the design), specialised for this tree:
-      no triangles, no instances, no stored boxes. A node's children form a
-      4x2 or 2x4 grid, so their x/y slabs come from 5+3 shared planes; the
-      only per-child work is the z plane of its height. Children are visited
-      front to back (row-major order with the axes flipped by the ray's
-      direction signs is front to back for any straight line), so the first
-      texel hit found is the closest and the walk stops there. One walk
-      (lrt__walk_origin, the kernels' lrt_walk_origin step for step) starts
-      at the lowest node holding the whole segment and goes down, or, for a
-      long ray that starts on the surface, at the level-1 node where it
-      starts and climbs: the same order, the same first hit.
-      Every t of a plane is (plane - o) * (1/v): monotone in the plane, so a
-      child's interval never exceeds its parent's and culling never loses a
-      hit the final texel test would find. A 0 direction component gives
-      infinite inverses and NaN exactly on a plane; NaN is dropped by the
-      max/min accumulations, which makes such slabs closed, as the model says.
-      Rays at the edge of float range (a component below 2^-100 or above
-      2^16) are set up apart (lrt__setup_rare), so that these same floats
-      stay exact for them: ordinary rays pay one test on their bits.
+/* ================================================================= >>setup
+   5. A ray's set-up: the types the walk shares, the exact arithmetic at the
+      edge of float range and the rare set-up (lrt__setup_rare), the set-up
+      every ray takes (lrt__setup_ray) and where its walk starts
+      (lrt__start_node). Rays at the edge of float range (a component below
+      2^-100 or above 2^16) are set up apart, so that the walk's floats stay
+      exact for them: ordinary rays pay one test on their bits.
    ========================================================================== */
-
-/* The node test's register: 8 lanes with AVX2, 4 with SSE2. */
-#if LRT__AVX
-typedef __m256 lrt__lanes;
-#define LRT__BROADCAST(x) _mm256_set1_ps(x)
-/* a * b + c where a * b is exact (small integers times powers of two), so
-   fused or not it is the same float: one instruction where FMA is there */
-#define LRT__EXACT_MADD8(a, b, c) _mm256_fmadd_ps(a, b, c)
-#elif LRT__SSE
-typedef __m128 lrt__lanes;
-#define LRT__BROADCAST(x) _mm_set1_ps(x)
-#endif
-
-typedef struct lrt__ray_setup {
-    float o[3], v[3], iv[3];
-    uint32_t neg_x, neg_y, neg_z; /* sign bits of the direction (-0 counts) */
-    float t_lo, t_hi;             /* the ray clipped to the screen and to z <= 1 */
-    float t_base;                 /* t of the origin used here on the caller's ray */
-    int zk;                       /* 0, or z (o.z, v.z and every depth plane) is scaled by 2^zk (lrt__setup_rare) */
-    const struct lrt__signs *sg;  /* the node test's constants of the x and y direction signs (lrt__walk_setup) */
-#if LRT__SSE
-    lrt__lanes vo[3], viv[3], vt_lo, vt_hi; /* the same, broadcast once for every node test */
-#endif
-#if LRT__AVX
-    /* the node test above level 1 (lrt__cull_children): a plane's t in one
-       fused step, p * iv + c, with c moved out by more than that step's
-       error (lrt__cull_axis) */
-    lrt__lanes cull_iv[2], cull_enter[2], cull_exit[2], cull_za, cull_zb, cull_hi;
-    lrt__lanes cull_ba, cull_bb; /* the back plane's t: back code * ba + bb (back-map trees) */
-#endif
-} lrt__ray_setup;
-
-/* What the node test needs of a ray's x and y direction signs: four sets,
-   made once per trace call, so a ray only picks one. */
-typedef struct lrt__signs {
-    uint32_t flip[2];             /* front-to-back slot order of wide (4x2) and tall (2x4) nodes */
-#if LRT__AVX
-    /* AVX2 tests a node's children in visiting order: lane k is slot
-       k ^ flip[tall], whose codes order[tall] fetches and whose column and
-       row planes (in spans) these are, so a mask needs no reordering */
-    __m256i order[2];
-    __m256 kx_enter[2], kx_exit[2], ky_enter[2], ky_exit[2];
-#elif LRT__SSE
-    __m128 k_enter[2], k_exit[2]; /* entering / leaving plane of 4 columns (x) or rows (y), in spans */
-    __m128 k_rows2, k_cols2;      /* 2 rows (columns): enter, leave of the 1st, of the 2nd (cols: enters, then leaves) */
-#endif
-} lrt__signs;
-
-/* The lane of a node test's enter / exit arrays that holds the child met
-   vis-th in visiting order (slot vis ^ flip): AVX2 tests in visiting order
-   (lrt__signs), SSE2 and scalar code in slot order. */
-#if LRT__AVX
-#define LRT__LANE(vis, slot) (vis)
-#else
-#define LRT__LANE(vis, slot) (slot)
-#endif
 
 /* max/min that drop a NaN candidate (acc is never NaN) */
 #define LRT__MAX_KEEP(cand, acc) ((cand) > (acc) ? (cand) : (acc))
@@ -2089,7 +2019,7 @@ LRT__FORCE_INLINE float lrt__widen(float exit)
     return w <= 3.40282347e38f ? w : exit;
 }
 
-static int lrt__finite(float f) { return f - f == 0.0f; }
+LRT__FORCE_INLINE int lrt__finite(float f) { return f - f == 0.0f; }
 
 LRT__FORCE_INLINE uint32_t lrt__sign_bit(float f)
 {
@@ -2106,7 +2036,7 @@ LRT__FORCE_INLINE void lrt__slab(float lo, float hi, float o, float iv, uint32_t
     *exit = LRT__MIN_KEEP(neg ? a : b, *exit);
 }
 
-static float lrt__maxf(float a, float b) { return a > b ? a : b; }
+LRT__FORCE_INLINE float lrt__maxf(float a, float b) { return a > b ? a : b; }
 
 /* Error-free sum (Knuth) and product of floats: a + b = *s + *e and
    a * b = *p + *e exactly. The product's error is exact in double (a float
@@ -2114,14 +2044,14 @@ static float lrt__maxf(float a, float b) { return a > b ? a : b; }
    the kernels get the same floats from Dekker's split. Both are exact where
    nothing overflows and the product's error is no subnormal: every caller
    keeps its operands so. */
-static void lrt__two_sum(float a, float b, float *s, float *e)
+LRT__FORCE_INLINE void lrt__two_sum(float a, float b, float *s, float *e)
 {
     float ss = a + b, bb = ss - a;
     *s = ss;
     *e = (a - (ss - bb)) + (b - bb);
 }
 
-static void lrt__two_prod(float a, float b, float *p, float *e)
+LRT__FORCE_INLINE void lrt__two_prod(float a, float b, float *p, float *e)
 {
     *p = a * b;
     *e = (float)((double)a * (double)b - (double)*p);
@@ -2132,7 +2062,7 @@ static void lrt__two_prod(float a, float b, float *p, float *e)
    first: the kernels (shaders/linear_rt.glsl) compute the same floats. ---- */
 
 /* floor(log2 |f|) of a finite nonzero float, subnormals included */
-static int lrt__ilogb(float f)
+LRT__FORCE_INLINE int lrt__ilogb(float f)
 {
     uint32_t u;
     int e = -150;
@@ -2147,7 +2077,7 @@ static int lrt__ilogb(float f)
 }
 
 /* 2^k exactly, k in [-149, 127] */
-static float lrt__pow2(int k)
+LRT__FORCE_INLINE float lrt__pow2(int k)
 {
     uint32_t u = k >= -126 ? (uint32_t)(k + 127) << 23 : 1u << (k + 149);
     float f;
@@ -2226,70 +2156,6 @@ static float lrt__expansion_div(const float *acc, int m, float y, int shift)
     q = hi / y;
     lrt__two_prod(q, y, &p, &e); /* q y = p + e; hi - p is exact (p is within an ulp of hi) */
     return ldexpf(q + (((hi - p) - e) + lo) / y, k + shift);
-}
-
-/* The t where the ray's z meets the depth plane of a raw depth. A unorm v
-   is no float: v/max - o.z is taken as (v - o.z max)/max with o.z max split
-   exactly, else its rounding, divided by a grazing ray's tiny v.z, would move
-   the hit along the texel top by far more than float rounding of t. v = max
-   is depth 1, the far plane, computed as the clip computes it. The kernels
-   compute the same floats (lrt_depth_plane). A ray whose z is scaled by
-   2^zk (lrt__setup_rare: a v.z too small to invert beside the other
-   components) scales the depth by 2^zk too, exactly. */
-static float lrt__depth_plane_scaled(const lrt__ray_setup *s, lrt_format format, uint32_t raw)
-{
-    const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
-    float p, e, n;
-    if (format == LRT_FORMAT_FLOAT32 || raw == vmax) {
-        float d = 1.0f;
-        if (format == LRT_FORMAT_FLOAT32) memcpy(&d, &raw, 4);
-        return (ldexpf(d, s->zk) - s->o[2]) * s->iv[2];
-    }
-    lrt__two_prod(s->o[2], (float)vmax, &p, &e);
-    n = (ldexpf((float)raw, s->zk) - p) - e;
-    return (n * (vmax == 255u ? 1.0f / 255.0f : 1.0f / 65535.0f)) * s->iv[2];
-}
-
-LRT__FORCE_INLINE float lrt__depth_plane(const lrt__ray_setup *s, lrt_format format, uint32_t raw)
-{
-    const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
-    float p, e, n;
-    if (s->zk) return lrt__depth_plane_scaled(s, format, raw); /* rare */
-    if (format == LRT_FORMAT_FLOAT32 || raw == vmax) {
-        float d = 1.0f;
-        if (format == LRT_FORMAT_FLOAT32) memcpy(&d, &raw, 4);
-        return (d - s->o[2]) * s->iv[2];
-    }
-    lrt__two_prod(s->o[2], (float)vmax, &p, &e);
-    n = ((float)raw - p) - e;
-    return (n * (vmax == 255u ? 1.0f / 255.0f : 1.0f / 65535.0f)) * s->iv[2];
-}
-
-/* Clips the ray to the screen rectangle and to 0 <= z <= 1 (nothing solid
-   lies in front of the near plane or beyond the far one; a depth plane's t
-   is then only ever taken for a z in range, where o.z * 65535 cannot
-   overflow). Returns the kind a miss would have: off the screen when the
-   rectangle's part of [tmin, tmax] is empty or ends before tmax. */
-LRT__FORCE_INLINE uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t height, float tmin, float tmax)
-{
-    /* the far plane's t the way the texel test computes depth planes, so a
-       far-plane texel (depth 1) is met exactly at the clip */
-    float xy_enter = -INFINITY, xy_exit = INFINITY, t1 = lrt__depth_plane(s, LRT_FORMAT_FLOAT32, 0x3f800000u);
-    float t0 = (0.0f - s->o[2]) * s->iv[2]; /* v.z = 0: -inf, +inf or NaN (o.z = 0: dropped) */
-    uint32_t kind;
-    lrt__slab(0.0f, (float)width, s->o[0], s->iv[0], s->neg_x, &xy_enter, &xy_exit);
-    lrt__slab(0.0f, (float)height, s->o[1], s->iv[1], s->neg_y, &xy_enter, &xy_exit);
-    s->t_lo = LRT__MAX_KEEP(xy_enter, tmin);
-    s->t_hi = LRT__MIN_KEEP(xy_exit, tmax);
-    kind = (s->t_lo > s->t_hi || xy_exit < tmax) ? LRT_MISS_OFF_SCREEN : LRT_MISS_TMAX;
-    if (s->neg_z) {
-        s->t_lo = LRT__MAX_KEEP(t1, s->t_lo);
-        s->t_hi = LRT__MIN_KEEP(t0, s->t_hi);
-    } else {
-        s->t_lo = LRT__MAX_KEEP(t0, s->t_lo);
-        s->t_hi = LRT__MIN_KEEP(t1, s->t_hi);
-    }
-    return kind;
 }
 
 /* The restart of a far-away ray (below): (b1 + b2) + (plane - o_a) v_b / v_a,
@@ -2389,7 +2255,7 @@ static int lrt__on_screen_at_tmax(const lrt_ray *ray, uint32_t width, uint32_t h
 /* A subnormal float read as 0 of its sign (docs/MODEL.md: a GPU may flush
    them, and every tracer must answer alike); in integers, so that no mode
    of the FPU changes it. */
-LRT__INLINE float lrt__flush_float(float f)
+LRT__FORCE_INLINE float lrt__flush_float(float f)
 {
     uint32_t u;
     memcpy(&u, &f, 4);
@@ -2411,7 +2277,7 @@ static const lrt_ray *lrt__flush_ray(const lrt_ray *ray, lrt_ray *copy)
 
 /* t 2^e, a positive t kept positive and every t finite (a scaled tmin or
    tmax that underflowed to 0 made [tmin, tmax] start on the origin: fuzz 3) */
-static float lrt__scale_t(float t, int e)
+LRT__FORCE_INLINE float lrt__scale_t(float t, int e)
 {
     float r = ldexpf(t, e);
     if (r == 0.0f && t > 0.0f) return 1.40129846e-45f; /* the least float */
@@ -2473,6 +2339,152 @@ static int lrt__point_in(float o, uint32_t neg, int zero, float hi, int past)
 {
     if (!past) return o >= 0.0f && o <= hi;
     return (o > 0.0f || (o == 0.0f && (!neg || zero))) && (o < hi || (o == hi && (neg || zero)));
+}
+
+/* The lowest set bit of m (m != 0). */
+LRT__FORCE_INLINE uint32_t lrt__lowest_bit(uint32_t m)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return (uint32_t)__builtin_ctz(m);
+#else
+    uint32_t k = 0;
+    while (!((m >> k) & 1u)) ++k;
+    return k;
+#endif
+}
+
+/* Bits needed to write m: 0 for 0. */
+LRT__FORCE_INLINE uint32_t lrt__bit_length(uint32_t m)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return m ? 32u - (uint32_t)__builtin_clz(m) : 0u;
+#else
+    uint32_t k = 0;
+    while (m >> k) ++k;
+    return k;
+#endif
+}
+
+#endif /* !LRT__AVX2_PASS: the rest of sections setup, walk and batch-avx2 is compiled in every pass */
+
+/* The node test's register: 8 lanes with AVX2, 4 with SSE2. */
+#if LRT__AVX
+typedef __m256 lrt__lanes;
+#define LRT__BROADCAST(x) _mm256_set1_ps(x)
+/* a * b + c where a * b is exact (small integers times powers of two), so
+   fused or not it is the same float: one instruction where FMA is there */
+#define LRT__EXACT_MADD8(a, b, c) _mm256_fmadd_ps(a, b, c)
+#elif LRT__SSE
+typedef __m128 lrt__lanes;
+#define LRT__BROADCAST(x) _mm_set1_ps(x)
+#endif
+
+typedef struct lrt__ray_setup {
+    float o[3], v[3], iv[3];
+    uint32_t neg_x, neg_y, neg_z; /* sign bits of the direction (-0 counts) */
+    float t_lo, t_hi;             /* the ray clipped to the screen and to z <= 1 */
+    float t_base;                 /* t of the origin used here on the caller's ray */
+    int zk;                       /* 0, or z (o.z, v.z and every depth plane) is scaled by 2^zk (lrt__setup_rare) */
+    const struct lrt__signs *sg;  /* the node test's constants of the x and y direction signs (lrt__walk_setup) */
+#if LRT__SSE
+    lrt__lanes vo[3], viv[3], vt_lo, vt_hi; /* the same, broadcast once for every node test */
+#endif
+#if LRT__AVX
+    /* the node test above level 1 (lrt__cull_children): a plane's t in one
+       fused step, p * iv + c, with c moved out by more than that step's
+       error (lrt__cull_axis) */
+    lrt__lanes cull_iv[2], cull_enter[2], cull_exit[2], cull_za, cull_zb, cull_hi;
+    lrt__lanes cull_ba, cull_bb; /* the back plane's t: back code * ba + bb (back-map trees) */
+#endif
+} lrt__ray_setup;
+
+/* What the node test needs of a ray's x and y direction signs: four sets,
+   made once per trace call, so a ray only picks one. */
+typedef struct lrt__signs {
+    uint32_t flip[2];             /* front-to-back slot order of wide (4x2) and tall (2x4) nodes */
+#if LRT__AVX
+    /* AVX2 tests a node's children in visiting order: lane k is slot
+       k ^ flip[tall], whose codes order[tall] fetches and whose column and
+       row planes (in spans) these are, so a mask needs no reordering */
+    __m256i order[2];
+    __m256 kx_enter[2], kx_exit[2], ky_enter[2], ky_exit[2];
+#elif LRT__SSE
+    __m128 k_enter[2], k_exit[2]; /* entering / leaving plane of 4 columns (x) or rows (y), in spans */
+    __m128 k_rows2, k_cols2;      /* 2 rows (columns): enter, leave of the 1st, of the 2nd (cols: enters, then leaves) */
+#endif
+} lrt__signs;
+
+/* The lane of a node test's enter / exit arrays that holds the child met
+   vis-th in visiting order (slot vis ^ flip): AVX2 tests in visiting order
+   (lrt__signs), SSE2 and scalar code in slot order. */
+#if LRT__AVX
+#define LRT__LANE(vis, slot) (vis)
+#else
+#define LRT__LANE(vis, slot) (slot)
+#endif
+
+/* The t where the ray's z meets the depth plane of a raw depth. A unorm v
+   is no float: v/max - o.z is taken as (v - o.z max)/max with o.z max split
+   exactly, else its rounding, divided by a grazing ray's tiny v.z, would move
+   the hit along the texel top by far more than float rounding of t. v = max
+   is depth 1, the far plane, computed as the clip computes it. The kernels
+   compute the same floats (lrt_depth_plane). A ray whose z is scaled by
+   2^zk (lrt__setup_rare: a v.z too small to invert beside the other
+   components) scales the depth by 2^zk too, exactly. */
+static float lrt__depth_plane_scaled(const lrt__ray_setup *s, lrt_format format, uint32_t raw)
+{
+    const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
+    float p, e, n;
+    if (format == LRT_FORMAT_FLOAT32 || raw == vmax) {
+        float d = 1.0f;
+        if (format == LRT_FORMAT_FLOAT32) memcpy(&d, &raw, 4);
+        return (ldexpf(d, s->zk) - s->o[2]) * s->iv[2];
+    }
+    lrt__two_prod(s->o[2], (float)vmax, &p, &e);
+    n = (ldexpf((float)raw, s->zk) - p) - e;
+    return (n * (vmax == 255u ? 1.0f / 255.0f : 1.0f / 65535.0f)) * s->iv[2];
+}
+
+LRT__FORCE_INLINE float lrt__depth_plane(const lrt__ray_setup *s, lrt_format format, uint32_t raw)
+{
+    const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
+    float p, e, n;
+    if (s->zk) return lrt__depth_plane_scaled(s, format, raw); /* rare */
+    if (format == LRT_FORMAT_FLOAT32 || raw == vmax) {
+        float d = 1.0f;
+        if (format == LRT_FORMAT_FLOAT32) memcpy(&d, &raw, 4);
+        return (d - s->o[2]) * s->iv[2];
+    }
+    lrt__two_prod(s->o[2], (float)vmax, &p, &e);
+    n = ((float)raw - p) - e;
+    return (n * (vmax == 255u ? 1.0f / 255.0f : 1.0f / 65535.0f)) * s->iv[2];
+}
+
+/* Clips the ray to the screen rectangle and to 0 <= z <= 1 (nothing solid
+   lies in front of the near plane or beyond the far one; a depth plane's t
+   is then only ever taken for a z in range, where o.z * 65535 cannot
+   overflow). Returns the kind a miss would have: off the screen when the
+   rectangle's part of [tmin, tmax] is empty or ends before tmax. */
+LRT__FORCE_INLINE uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t height, float tmin, float tmax)
+{
+    /* the far plane's t the way the texel test computes depth planes, so a
+       far-plane texel (depth 1) is met exactly at the clip */
+    float xy_enter = -INFINITY, xy_exit = INFINITY, t1 = lrt__depth_plane(s, LRT_FORMAT_FLOAT32, 0x3f800000u);
+    float t0 = (0.0f - s->o[2]) * s->iv[2]; /* v.z = 0: -inf, +inf or NaN (o.z = 0: dropped) */
+    uint32_t kind;
+    lrt__slab(0.0f, (float)width, s->o[0], s->iv[0], s->neg_x, &xy_enter, &xy_exit);
+    lrt__slab(0.0f, (float)height, s->o[1], s->iv[1], s->neg_y, &xy_enter, &xy_exit);
+    s->t_lo = LRT__MAX_KEEP(xy_enter, tmin);
+    s->t_hi = LRT__MIN_KEEP(xy_exit, tmax);
+    kind = (s->t_lo > s->t_hi || xy_exit < tmax) ? LRT_MISS_OFF_SCREEN : LRT_MISS_TMAX;
+    if (s->neg_z) {
+        s->t_lo = LRT__MAX_KEEP(t1, s->t_lo);
+        s->t_hi = LRT__MIN_KEEP(t0, s->t_hi);
+    } else {
+        s->t_lo = LRT__MAX_KEEP(t0, s->t_lo);
+        s->t_hi = LRT__MIN_KEEP(t1, s->t_hi);
+    }
+    return kind;
 }
 
 /* The set-up of a ray at the edge of float range (lrt__setup_ray says which:
@@ -2918,29 +2930,6 @@ static void lrt__walk_init(lrt__walk *w, const lrt_bvh *bvh, const lrt_depth *de
     for (i = 0; i < 4u; ++i) lrt__signs_init(&w->signs[i], i & 1u, i >> 1);
 }
 
-LRT__FORCE_INLINE uint32_t lrt__lowest_bit(uint32_t m)
-{
-#if defined(__GNUC__) || defined(__clang__)
-    return (uint32_t)__builtin_ctz(m);
-#else
-    uint32_t k = 0;
-    while (!((m >> k) & 1u)) ++k;
-    return k;
-#endif
-}
-
-/* Bits needed to write m: 0 for 0. */
-LRT__FORCE_INLINE uint32_t lrt__bit_length(uint32_t m)
-{
-#if defined(__GNUC__) || defined(__clang__)
-    return m ? 32u - (uint32_t)__builtin_clz(m) : 0u;
-#else
-    uint32_t k = 0;
-    while (m >> k) ++k;
-    return k;
-#endif
-}
-
 /* Lowest level whose single node holds texels i0 to i1 on both axes, and
    that node. Two texel indices share a node of a level exactly when their
    highest differing bit is below the level's span, so the level is a
@@ -3076,6 +3065,25 @@ LRT__FORCE_INLINE __m128i lrt__load_codes(const uint16_t *codes)
     return _mm_loadu_si128((const __m128i *)(const void *)codes);
 }
 #endif
+
+/* ================================================================== >>walk
+   6. The walk (RayQuery.Proceed of the design), specialised for this tree:
+      no triangles, no instances, no stored boxes. A node's children form a
+      4x2 or 2x4 grid, so their x/y slabs come from 5+3 shared planes; the
+      only per-child work is the z plane of its height. Children are visited
+      front to back (row-major order with the axes flipped by the ray's
+      direction signs is front to back for any straight line), so the first
+      texel hit found is the closest and the walk stops there. One walk
+      (lrt__walk_origin, the kernels' lrt_walk_origin step for step) starts
+      at the lowest node holding the whole segment and goes down, or, for a
+      long ray that starts on the surface, at the level-1 node where it
+      starts and climbs: the same order, the same first hit.
+      Every t of a plane is (plane - o) * (1/v): monotone in the plane, so a
+      child's interval never exceeds its parent's and culling never loses a
+      hit the final texel test would find. A 0 direction component gives
+      infinite inverses and NaN exactly on a plane; NaN is dropped by the
+      max/min accumulations, which makes such slabs closed, as the model says.
+   ========================================================================== */
 
 /* ---- ISA block: the node tests (AVX2 | SSE2 | scalar) ----------------------
    lrt__test_children in each; AVX2 also has lrt__cull_children (levels
@@ -3897,6 +3905,10 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
     lrt__trace_from(w, ray, hit, &s, t_scale, kind, lv, nx, ny, px, py, NULL, 0);
 }
 
+/* ============================================================ >>batch-avx2
+   Eight rays at once (AVX2): set up side by side, then each walked, and the
+   trace loop (lrt__trace_walk) that takes a batch in eights where it can.
+   ========================================================================== */
 #if LRT__AVX
 /* Eight rays set up side by side: the same floats as lrt__setup_ray,
    lrt__start_node and lrt__cull_constants, one ray a lane, with no branch
@@ -4193,235 +4205,14 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #endif
 
 #ifndef LRT__AVX2_PASS
-/* ============================================================= >>walk-avx2
-   The AVX2 pass. A build for plain x86-64 (no -mavx2) compiles the walk
-   above a second time, here: this file includes itself with LRT__AVX2_PASS
-   defined, which skips everything but the walk, and every function of it is
-   compiled for AVX2, FMA, BMI1 and BMI2 (a target pragma) under a name
-   ending in _avx2. lrt_trace_range calls that walk where the CPU has all
-   four (lrt__cpu_has_avx2: one look at the CPU-feature bits that libgcc or
-   compiler-rt fill once at start-up). The walk's float steps never fuse
-   differently here (tests/test_paths.c holds every path to the same bits,
-   also with -ffp-contract=fast). A helper defined before the walk and called
-   from it must be LRT__FORCE_INLINE: GCC does not inline a plain inline
-   function of another tuning into this pass, and an out-of-line call per
-   texel costs more than the texel test (make test-header checks the
-   pass's calls).
-   ========================================================================== */
+/* The AVX2 walk, compiled at the end of this file (section walk-avx2), and
+   the one look at the CPU that picks it: libgcc / compiler-rt read CPUID
+   and whether the OS saves the AVX state (XGETBV) once at start-up. */
 #if LRT__AVX_AT_RUN_TIME
-#define LRT__AVX2_PASS
-#undef LRT__AVX
-#define LRT__AVX 1
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx2,fma,bmi,bmi2"))), apply_to = function)
-#else
-#pragma GCC push_options
-#if __GNUC__ >= 8
-/* tuned as for a recent AVX2 core: GCC's generic tuning serves pre-AVX2
-   cores too, which never run this pass */
-#pragma GCC target("avx2,fma,bmi,bmi2,tune=icelake-server")
-#else
-#pragma GCC target("avx2,fma,bmi,bmi2")
-#endif
-#endif
-
-#define lrt__back_plane lrt__back_plane_avx2
-#define lrt__batch8 lrt__batch8_avx2
-#define lrt__bit_length lrt__bit_length_avx2
-#define lrt__bits_in lrt__bits_in_avx2
-#define lrt__box8 lrt__box8_avx2
-#define lrt__broadcast_ray lrt__broadcast_ray_avx2
-#define lrt__child_slabs lrt__child_slabs_avx2
-#define lrt__children_slot lrt__children_slot_avx2
-#define lrt__clip lrt__clip_avx2
-#define lrt__codes lrt__codes_avx2
-#define lrt__crossing lrt__crossing_avx2
-#define lrt__crossing_sum lrt__crossing_sum_avx2
-#define lrt__cull_axis lrt__cull_axis_avx2
-#define lrt__cull_axis8 lrt__cull_axis8_avx2
-#define lrt__cull_children lrt__cull_children_avx2
-#define lrt__cull_constants lrt__cull_constants_avx2
-#define lrt__depth_plane lrt__depth_plane_avx2
-#define lrt__depth_plane_scaled lrt__depth_plane_scaled_avx2
-#define lrt__entered_later lrt__entered_later_avx2
-#define lrt__expansion_sign lrt__expansion_sign_avx2
-#define lrt__expansion_value lrt__expansion_value_avx2
-#define lrt__expansion_div lrt__expansion_div_avx2
-#define lrt__face lrt__face_avx2
-#define lrt__far_origin lrt__far_origin_avx2
-#define lrt__finite lrt__finite_avx2
-#define lrt__grow lrt__grow_avx2
-#define lrt__grow_prod lrt__grow_prod_avx2
-#define lrt__ilogb lrt__ilogb_avx2
-#define lrt__flush_float lrt__flush_float_avx2
-#define lrt__flush_ray lrt__flush_ray_avx2
-#define lrt__lanes lrt__lanes_avx2
-#define lrt__huge_direction lrt__huge_direction_avx2
-#define lrt__huge8 lrt__huge8_avx2
-#define lrt__far8 lrt__far8_avx2
-#define lrt__compact_codes lrt__compact_codes_avx2
-#define lrt__level1_codes lrt__level1_codes_avx2
-#define lrt__level1_codes_hit lrt__level1_codes_hit_avx2
-#define lrt__level1_hit lrt__level1_hit_avx2
-#define lrt__load_codes lrt__load_codes_avx2
-#define lrt__lowest_bit lrt__lowest_bit_avx2
-#define lrt__maxf lrt__maxf_avx2
-#define lrt__node_slot lrt__node_slot_avx2
-#define lrt__on_screen_at_tmax lrt__on_screen_at_tmax_avx2
-#define lrt__order_mask lrt__order_mask_avx2
-#define lrt__plane_t lrt__plane_t_avx2
-#define lrt__point_in lrt__point_in_avx2
-#define lrt__pow2 lrt__pow2_avx2
-#define lrt__prefetch_children lrt__prefetch_children_avx2
-#define lrt__prefetch_rows lrt__prefetch_rows_avx2
-#define lrt__rare_bits lrt__rare_bits_avx2
-#define lrt__ray_lanes lrt__ray_lanes_avx2
-#define lrt__ray_setup lrt__ray_setup_avx2
-#define lrt__report_hit lrt__report_hit_avx2
-#define lrt__scale_t lrt__scale_t_avx2
-#define lrt__set_direction lrt__set_direction_avx2
-#define lrt__setup8 lrt__setup8_avx2
-#define lrt__setup_rare lrt__setup_rare_avx2
-#define lrt__setup_ray lrt__setup_ray_avx2
-#define lrt__side lrt__side_avx2
-#define lrt__sign_bit lrt__sign_bit_avx2
-#define lrt__signif lrt__signif_avx2
-#define lrt__signs lrt__signs_avx2
-#define lrt__signs_init lrt__signs_init_avx2
-#define lrt__signs_lanes_init lrt__signs_lanes_init_avx2
-#define lrt__slab lrt__slab_avx2
-#define lrt__slabs8 lrt__slabs8_avx2
-#define lrt__start_level lrt__start_level_avx2
-#define lrt__start_node lrt__start_node_avx2
-#define lrt__test_children lrt__test_children_avx2
-#define lrt__test_texel lrt__test_texel_avx2
-#define lrt__clamp_depth8 lrt__clamp_depth8_avx2
-#define lrt__texel_range lrt__texel_range_avx2
-#define lrt__texels8 lrt__texels8_avx2
-#define lrt__trace8 lrt__trace8_avx2
-#define lrt__trace_batches lrt__trace_batches_avx2
-#define lrt__trace_from lrt__trace_from_avx2
-#define lrt__trace_one lrt__trace_one_avx2
-#define lrt__trace_walk lrt__trace_walk_avx2
-#define lrt__two_prod lrt__two_prod_avx2
-#define lrt__two_sum lrt__two_sum_avx2
-#define lrt__walk lrt__walk_avx2
-#define lrt__walk_init lrt__walk_init_avx2
-#define lrt__walk_level lrt__walk_level_avx2
-#define lrt__walk_origin lrt__walk_origin_avx2
-#define lrt__child lrt__child_avx2
-#define lrt__walk_up lrt__walk_up_avx2
-#define lrt__walk_down lrt__walk_down_avx2
-#define lrt__from_origin lrt__from_origin_avx2
-#define lrt__walk_setup lrt__walk_setup_avx2
-#define lrt__widen lrt__widen_avx2
-#define lrt__widen8 lrt__widen8_avx2
-#define lrt__z_plane8 lrt__z_plane8_avx2
-#include LINEAR_RT_SELF
-#undef lrt__back_plane
-#undef lrt__batch8
-#undef lrt__bit_length
-#undef lrt__bits_in
-#undef lrt__box8
-#undef lrt__broadcast_ray
-#undef lrt__child_slabs
-#undef lrt__children_slot
-#undef lrt__clip
-#undef lrt__codes
-#undef lrt__crossing
-#undef lrt__crossing_sum
-#undef lrt__cull_axis
-#undef lrt__cull_axis8
-#undef lrt__cull_children
-#undef lrt__cull_constants
-#undef lrt__depth_plane
-#undef lrt__depth_plane_scaled
-#undef lrt__entered_later
-#undef lrt__expansion_sign
-#undef lrt__expansion_value
-#undef lrt__expansion_div
-#undef lrt__face
-#undef lrt__far_origin
-#undef lrt__finite
-#undef lrt__grow
-#undef lrt__grow_prod
-#undef lrt__ilogb
-#undef lrt__lanes
-#undef lrt__huge_direction
-#undef lrt__huge8
-#undef lrt__far8
-#undef lrt__compact_codes
-#undef lrt__level1_codes
-#undef lrt__level1_codes_hit
-#undef lrt__level1_hit
-#undef lrt__load_codes
-#undef lrt__lowest_bit
-#undef lrt__maxf
-#undef lrt__node_slot
-#undef lrt__on_screen_at_tmax
-#undef lrt__order_mask
-#undef lrt__plane_t
-#undef lrt__point_in
-#undef lrt__pow2
-#undef lrt__prefetch_children
-#undef lrt__prefetch_rows
-#undef lrt__rare_bits
-#undef lrt__ray_lanes
-#undef lrt__ray_setup
-#undef lrt__report_hit
-#undef lrt__scale_t
-#undef lrt__flush_ray
-#undef lrt__flush_float
-#undef lrt__set_direction
-#undef lrt__setup8
-#undef lrt__setup_rare
-#undef lrt__setup_ray
-#undef lrt__side
-#undef lrt__sign_bit
-#undef lrt__signif
-#undef lrt__signs
-#undef lrt__signs_init
-#undef lrt__signs_lanes_init
-#undef lrt__slab
-#undef lrt__slabs8
-#undef lrt__start_level
-#undef lrt__start_node
-#undef lrt__test_children
-#undef lrt__test_texel
-#undef lrt__texel_range
-#undef lrt__texels8
-#undef lrt__clamp_depth8
-#undef lrt__trace8
-#undef lrt__trace_batches
-#undef lrt__trace_from
-#undef lrt__trace_one
-#undef lrt__trace_walk
-#undef lrt__two_prod
-#undef lrt__two_sum
-#undef lrt__walk
-#undef lrt__walk_init
-#undef lrt__walk_level
-#undef lrt__walk_origin
-#undef lrt__child
-#undef lrt__walk_up
-#undef lrt__walk_down
-#undef lrt__from_origin
-#undef lrt__walk_setup
-#undef lrt__widen
-#undef lrt__widen8
-#undef lrt__z_plane8
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
-#undef LRT__AVX
-#define LRT__AVX LRT__AVX_BUILT
-#undef LRT__AVX2_PASS
-
+static void lrt__trace_walk_avx2(const lrt_bvh *bvh, const lrt_depth *depth, size_t stride, const lrt_ray *rays,
+                                 lrt_hit *hits, size_t first, size_t end);
 static int lrt__cpu_has_avx2(void)
 {
-    /* libgcc / compiler-rt read CPUID and whether the OS saves the AVX state (XGETBV) */
     return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
            __builtin_cpu_supports("bmi2");
 }
@@ -6068,6 +5859,105 @@ LINEAR_RT_DEF void lrt_vk_device_destroy(lrt_vk_device *device)
 }
 #endif
 #endif /* LINEAR_RT_VULKAN_DEVICE_HELPER implementation */
+/* ============================================================= >>walk-avx2
+   The AVX2 pass, last in the implementation: for plain x86-64, this file
+   includes itself with LRT__AVX2_PASS defined, which compiles sections
+   setup (but its exact arithmetic), walk and batch-avx2 again for AVX2,
+   FMA, BMI1 and BMI2, under names ending in _avx2; nothing follows, so the
+   names need no #undef. What they call of the once-compiled code must be
+   LRT__FORCE_INLINE, the rare set-up's calls excepted (make test-header
+   checks it); tests/test_paths.c holds both walks to the same bits.
+   ========================================================================== */
+#if LRT__AVX_AT_RUN_TIME && !defined(LRT__AVX2_PASS) && !defined(LRT__AVX2_DONE)
+#define LRT__AVX2_DONE
+#define LRT__AVX2_PASS
+#undef LRT__AVX
+#define LRT__AVX 1
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2,fma,bmi,bmi2"))), apply_to = function)
+#else
+#pragma GCC push_options
+#if __GNUC__ >= 8
+#pragma GCC target("avx2,fma,bmi,bmi2,tune=icelake-server") /* generic tuning serves pre-AVX2 cores too */
+#else
+#pragma GCC target("avx2,fma,bmi,bmi2")
+#endif
+#endif
+
+#define lrt__back_plane lrt__back_plane_avx2
+#define lrt__batch8 lrt__batch8_avx2
+#define lrt__bits_in lrt__bits_in_avx2
+#define lrt__box8 lrt__box8_avx2
+#define lrt__broadcast_ray lrt__broadcast_ray_avx2
+#define lrt__child_slabs lrt__child_slabs_avx2
+#define lrt__children_slot lrt__children_slot_avx2
+#define lrt__clip lrt__clip_avx2
+#define lrt__codes lrt__codes_avx2
+#define lrt__cull_axis lrt__cull_axis_avx2
+#define lrt__cull_axis8 lrt__cull_axis8_avx2
+#define lrt__cull_children lrt__cull_children_avx2
+#define lrt__cull_constants lrt__cull_constants_avx2
+#define lrt__depth_plane lrt__depth_plane_avx2
+#define lrt__depth_plane_scaled lrt__depth_plane_scaled_avx2
+#define lrt__face lrt__face_avx2
+#define lrt__lanes lrt__lanes_avx2
+#define lrt__huge_direction lrt__huge_direction_avx2
+#define lrt__huge8 lrt__huge8_avx2
+#define lrt__far8 lrt__far8_avx2
+#define lrt__compact_codes lrt__compact_codes_avx2
+#define lrt__level1_codes lrt__level1_codes_avx2
+#define lrt__level1_codes_hit lrt__level1_codes_hit_avx2
+#define lrt__level1_hit lrt__level1_hit_avx2
+#define lrt__load_codes lrt__load_codes_avx2
+#define lrt__node_slot lrt__node_slot_avx2
+#define lrt__order_mask lrt__order_mask_avx2
+#define lrt__prefetch_children lrt__prefetch_children_avx2
+#define lrt__prefetch_rows lrt__prefetch_rows_avx2
+#define lrt__rare_bits lrt__rare_bits_avx2
+#define lrt__ray_lanes lrt__ray_lanes_avx2
+#define lrt__ray_setup lrt__ray_setup_avx2
+#define lrt__report_hit lrt__report_hit_avx2
+#define lrt__set_direction lrt__set_direction_avx2
+#define lrt__setup8 lrt__setup8_avx2
+#define lrt__setup_rare lrt__setup_rare_avx2
+#define lrt__setup_ray lrt__setup_ray_avx2
+#define lrt__signs lrt__signs_avx2
+#define lrt__signs_init lrt__signs_init_avx2
+#define lrt__signs_lanes_init lrt__signs_lanes_init_avx2
+#define lrt__slabs8 lrt__slabs8_avx2
+#define lrt__start_level lrt__start_level_avx2
+#define lrt__start_node lrt__start_node_avx2
+#define lrt__test_children lrt__test_children_avx2
+#define lrt__test_texel lrt__test_texel_avx2
+#define lrt__clamp_depth8 lrt__clamp_depth8_avx2
+#define lrt__texel_range lrt__texel_range_avx2
+#define lrt__texels8 lrt__texels8_avx2
+#define lrt__trace8 lrt__trace8_avx2
+#define lrt__trace_batches lrt__trace_batches_avx2
+#define lrt__trace_from lrt__trace_from_avx2
+#define lrt__trace_one lrt__trace_one_avx2
+#define lrt__trace_walk lrt__trace_walk_avx2
+#define lrt__walk lrt__walk_avx2
+#define lrt__walk_init lrt__walk_init_avx2
+#define lrt__walk_level lrt__walk_level_avx2
+#define lrt__walk_origin lrt__walk_origin_avx2
+#define lrt__child lrt__child_avx2
+#define lrt__walk_up lrt__walk_up_avx2
+#define lrt__walk_down lrt__walk_down_avx2
+#define lrt__from_origin lrt__from_origin_avx2
+#define lrt__walk_setup lrt__walk_setup_avx2
+#define lrt__widen8 lrt__widen8_avx2
+#define lrt__z_plane8 lrt__z_plane8_avx2
+#include LINEAR_RT_SELF
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+#undef LRT__AVX
+#define LRT__AVX LRT__AVX_BUILT
+#undef LRT__AVX2_PASS
+#endif /* the AVX2 pass */
 #endif /* LINEAR_RT_IMPLEMENTATION */
 
 #endif /* LRT_GLSL */
