@@ -43,12 +43,9 @@ static inline void surface_positions_row(const lrt_camera *cam, const float *dep
    The normal is the cross product of one horizontal and one vertical
    difference of positions; of the two neighbours on each axis, the one with
    the smaller depth step is used, so that a silhouette does not bend the
-   normal of the surface in front of it.
-   The lift: texels are flat-topped boxes (docs/MODEL.md), so on a sloped surface
-   the next texel's top stands up to half a texel's slope above the true
-   surface between them; a ray leaving the surface is lifted towards the eye
-   by that much (half the depth steps to the chosen neighbours, plus 1%) and
-   starts at tmin = 0, clear of its own surface's stairs. */
+   normal of the surface in front of it. The lift is THE LIFT of
+   linear_rt.h, lrt_surface_lift of the depth steps to those neighbours;
+   lrt_camera_surface_ray applies it. */
 static inline void surface_normals_row(const float *depth, const float *pos, uint32_t w, uint32_t h, uint32_t j,
                                        float *nrm, float *lift)
 {
