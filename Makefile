@@ -93,8 +93,8 @@ FORCE:
 EXAMPLE_HDR := examples/example.h examples/depth_file.h examples/surface.h $(SCENE) $(LIB)
 EXAMPLES := minimal ssr ao shadows
 
-$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c tests/support/march_cpu.c tests/support/bench.h tests/support/march_common.h $(EXAMPLE_HDR) $(REF) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
-	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" examples/demo.c tests/support/march_cpu.c -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
+$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c bench/march_cpu.c bench/bench.h bench/march_common.h $(EXAMPLE_HDR) $(REF) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
+	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" examples/demo.c bench/march_cpu.c -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
 
 # install first, then a new make: HAVE_VULKAN and the like are read when make
 # reads this file, so the build must come from a make started after the install
@@ -372,8 +372,8 @@ test-demo: $(B)/demo
 # peers glslang (their kernels are compiled here into build/, never committed).
 HAVE_EMBREE := $(shell test -f /usr/include/embree3/rtcore.h && echo 1)
 HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
-BENCH_SRC := bench/main.c bench/m_linear_rt.c bench/visits.c bench/m_embree.c tests/support/march_cpu.c bench/m_vk_peers.c
-BENCH_HDR := tests/support/bench.h tests/support/march_common.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
+BENCH_SRC := bench/main.c bench/m_linear_rt.c bench/visits.c bench/m_embree.c bench/march_cpu.c bench/m_vk_peers.c
+BENCH_HDR := bench/bench.h bench/march_common.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
 BENCH_FLAGS := $(STD) $(WARN) $(CFLAGS) -O3 $(NATIVE)
 BENCH_LIBS := $(LDLIBS)
 BENCH_DEPS :=

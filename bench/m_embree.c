@@ -81,8 +81,8 @@
    buffers, which it allocates here), net after the commit, plus this file's
    per-triangle texel table (4 bytes a triangle). Checked against the
    process's RSS growth around a build: within 2% (1024x1024 yard: 377 MB). */
-#include "../tests/support/bench.h"
-#include "../tests/support/march_common.h"
+#include "bench.h"
+#include "march_common.h"
 
 #include <float.h>
 #include <stdio.h>

@@ -15,7 +15,7 @@
      GPU hits checked against the CPU hits; also the segments. No device:
      the demo says why and shows the CPU table alone.
    Then the pictures, into out/ (examples/ssr.c, ao.c and shadows.c, and the
-   benchmark's 64-step linear march, tests/support/march_cpu.c): the scene's
+   benchmark's 64-step linear march, bench/march_cpu.c): the scene's
    colour and depth, reflections traced with linear_rt and the same rays
    marched in 64 steps, side by side, ambient occlusion and contact shadows;
    each with its time, and the share of reflection rays on which the march
@@ -31,7 +31,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "example.h" /* linear_rt.h's implementation, the frame, PNG out */
-#include "../tests/support/bench.h"
+#include "../bench/bench.h"
 #include "../tests/support/reference.h"
 #include "scene.h"
 #define EXAMPLE_NO_MAIN
@@ -411,9 +411,9 @@ static void usage(const char *argv0)
             example_options_usage(), (unsigned)LINEAR_RT_MAX_DIM);
 }
 
-double bench_now_ms(void) { return example_now_ms(); } /* for tests/support/march_cpu.c */
+double bench_now_ms(void) { return example_now_ms(); } /* for bench/march_cpu.c */
 
-/* The 64-step linear march of the benchmark (tests/support/march_cpu.c), on the
+/* The 64-step linear march of the benchmark (bench/march_cpu.c), on the
    same rays: what an engine would write instead. */
 static int march64_trace(const example_frame *f, const lrt_ray *rays, lrt_hit *hits, int threads, double *ms)
 {

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // vkp_march64.comp - the classic fixed-step linear march with binary
-// refinement (scored, not exact): tests/support/march_cpu.c's "march64 cpu" in
+// refinement (scored, not exact): bench/march_cpu.c's "march64 cpu" in
 // float. The ray's interval clipped to the screen box [t0, t1] is cut into
 // 64 equal steps; the samples at t0 + k (t1 - t0) / 64, k = 0..64, read the
 // depth of the texel under the point. The first sample at or behind it

@@ -1,4 +1,4 @@
-/* tests/support/march_cpu.c - classic screen-space marching on the CPU: what an
+/* bench/march_cpu.c - classic screen-space marching on the CPU: what an
    engine programmer writes today instead of linear_rt. Approximate methods,
    scored against the reference (exact = 0), each its own bench_method:
 
@@ -21,7 +21,7 @@
    these methods are their sampling, not their rounding).
 
    Threads: trace splits the batch into `threads` contiguous slices on
-   pthreads (tests/support/march_common.h). */
+   pthreads (bench/march_common.h). */
 #include "bench.h"
 #include "march_common.h"
 

@@ -1,10 +1,10 @@
-/* tests/support/march_common.h - what the CPU peers of the benchmark share
-   (bench/m_embree.c, tests/support/march_cpu.c): docs/MODEL.md's ray validation, the
+/* bench/march_common.h - what the CPU peers of the benchmark share
+   (bench/m_embree.c, bench/march_cpu.c): docs/MODEL.md's ray validation, the
    clip of a ray to the screen box, the rule that tells the two kinds of miss
    apart, and a parallel-for over a batch of rays on pthreads.
 
    The marching math itself (fixed-step march, DDA, Hi-Z) lives in
-   tests/support/march_cpu.c; its comments state each step in terms a shader can
+   bench/march_cpu.c; its comments state each step in terms a shader can
    follow. Everything here is `static inline` (no unused-function warnings),
    C99, double precision for set-up (no overflow for any finite float ray). */
 #ifndef LINEAR_RT_BENCH_MARCH_COMMON_H
