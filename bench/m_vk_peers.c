@@ -73,7 +73,7 @@
    validation): each warning or error is printed to stderr and counted in
    vkp_validation_messages. */
 #include "bench.h"
-#include "march_common.h" /* bmc_depth: the model's clamp */
+#include "march_common.h" /* march_depth: the model's clamp */
 
 #include <math.h>
 #include <stdio.h>
@@ -878,10 +878,10 @@ static void vkp_upload_depth(vkp *p, const bench_scene *sc)
 {
     float *d = (float *)p->depth.map;
     size_t i, count = (size_t)p->w * p->h;
-    for (i = 0; i < count; ++i) d[i] = bmc_depth(sc->depth[i]);
+    for (i = 0; i < count; ++i) d[i] = march_depth(sc->depth[i]);
     p->has_back = sc->back != NULL;
     for (i = 0; p->has_back && i < count; ++i) {
-        const float b = bmc_depth(sc->back[i]);
+        const float b = march_depth(sc->back[i]);
         d[count + i] = b > d[i] ? b : d[i];
     }
 }
