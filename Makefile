@@ -89,12 +89,12 @@ $(B)/config.stamp: FORCE | $(B)
 FORCE:
 
 # ---- demo and examples ----------------------------------------------------------
-# The examples' shared code, and what the demo adds: the benchmark's march.
+# The examples' shared code, and what the demo adds: the classic march.
 EXAMPLE_HDR := examples/example.h examples/depth_file.h examples/surface.h $(SCENE) $(LIB)
 EXAMPLES := minimal ssr ao shadows
 
-$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c bench/march_cpu.c bench/bench.h bench/march_common.h $(EXAMPLE_HDR) $(REF) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
-	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" examples/demo.c bench/march_cpu.c -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
+$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c examples/march.h $(EXAMPLE_HDR) $(REF) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
+	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" $< -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
 
 # install first, then a new make: HAVE_VULKAN and the like are read when make
 # reads this file, so the build must come from a make started after the install
@@ -373,7 +373,7 @@ test-demo: $(B)/demo
 HAVE_EMBREE := $(shell test -f /usr/include/embree3/rtcore.h && echo 1)
 HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
 BENCH_SRC := bench/main.c bench/m_linear_rt.c bench/visits.c bench/m_embree.c bench/march_cpu.c bench/m_vk_peers.c
-BENCH_HDR := bench/bench.h bench/march_common.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
+BENCH_HDR := bench/bench.h bench/march_common.h examples/march.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
 BENCH_FLAGS := $(STD) $(WARN) $(CFLAGS) -O3 $(NATIVE)
 BENCH_LIBS := $(LDLIBS)
 BENCH_DEPS :=

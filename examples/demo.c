@@ -15,7 +15,7 @@
      GPU hits checked against the CPU hits; also the segments. No device:
      the demo says why and shows the CPU table alone.
    Then the pictures, into out/ (examples/ssr.c, ao.c and shadows.c, and the
-   benchmark's 64-step linear march, bench/march_cpu.c): the scene's
+   classic 64-step linear march of examples/march.h): the scene's
    colour and depth, reflections traced with linear_rt and the same rays
    marched in 64 steps, side by side, ambient occlusion and contact shadows;
    each with its time, and the share of reflection rays on which the march
@@ -31,9 +31,9 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "example.h" /* linear_rt.h's implementation, the frame, PNG out */
-#include "../bench/bench.h"
 #include "../tests/support/reference.h"
 #include "scene.h"
+#include "march.h" /* the classic march, for the side-by-side picture */
 #define EXAMPLE_NO_MAIN
 #include "ssr.c"
 #include "ao.c"
@@ -411,39 +411,35 @@ static void usage(const char *argv0)
             example_options_usage(), (unsigned)LINEAR_RT_MAX_DIM);
 }
 
-double bench_now_ms(void) { return example_now_ms(); } /* for bench/march_cpu.c */
+/* The classic 64-step march (march.h) on the same rays, row by row: what an
+   engine would write instead. It reads the depth alone (no thickness). */
+#define DEMO_MARCH_STEPS 64
+typedef struct march_rows {
+    march_map map;
+    const lrt_ray *rays;
+    lrt_hit *hits;
+} march_rows;
 
-/* The 64-step linear march of the benchmark (bench/march_cpu.c), on the
-   same rays: what an engine would write instead. */
-static int march64_trace(const example_frame *f, const lrt_ray *rays, lrt_hit *hits, int threads, double *ms)
+static void march_row(void *ctx, uint32_t j)
 {
-    bench_method ms_all[16];
-    bench_scene sc;
-    bench_rays rs;
-    char why[256];
-    int k, count = bench_add_march_cpu(ms_all, 16), found = -1, bad = 1;
-    for (k = 0; k < count; ++k)
-        if (!strcmp(ms_all[k].name, "march64 cpu")) found = k;
-    memset(&sc, 0, sizeof sc);
-    sc.name = "frame";
-    sc.width = f->w;
-    sc.height = f->h;
-    sc.depth = f->depth;
-    sc.lrt = f->lrt[0];
-    sc.lrt.back = NULL; /* the march reads the depth alone */
-    rs.name = "reflection";
-    rs.rays = rays;
-    rs.count = (size_t)f->w * f->h;
-    rs.flags = 0;
-    if (found >= 0) {
-        bench_method *m = &ms_all[found];
-        double build_ms;
-        bad = m->open(m, f->w, f->h, threads, why, sizeof why) || m->build(m, &sc, &build_ms, why, sizeof why) ||
-              m->trace(m, &sc, &rs, hits, ms, why, sizeof why);
-        if (bad) fprintf(stderr, "march64: %s\n", why);
-    }
-    for (k = 0; k < count; ++k) ms_all[k].close(&ms_all[k]);
-    return bad;
+    const march_rows *q = (const march_rows *)ctx;
+    size_t k, first = (size_t)j * q->map.w;
+    for (k = first; k < first + q->map.w; ++k) march_linear(&q->map, DEMO_MARCH_STEPS, &q->rays[k], &q->hits[k]);
+}
+
+static void march64_trace(const example_frame *f, const lrt_ray *rays, lrt_hit *hits, int threads, double *ms)
+{
+    march_rows q;
+    double t0;
+    q.map.depth = f->depth;
+    q.map.back = NULL;
+    q.map.w = f->w;
+    q.map.h = f->h;
+    q.rays = rays;
+    q.hits = hits;
+    t0 = example_now_ms();
+    example_parallel_rows(f->h, threads, "reflections, 64-step march", march_row, &q);
+    *ms = example_now_ms() - t0;
 }
 
 /* The pictures of the frame (the scene, or the user's files) into o->out_dir. */
@@ -489,29 +485,26 @@ static int pictures(const example_options *o)
     ms_ssr = example_now_ms() - t0;
     ssr_shade(&f, hits, img);
     bad |= example_write_png(o->out_dir, "ssr.png", f.w, f.h, 3, img);
-    if (march64_trace(&f, rays, march_hits, o->threads, &ms_march) == 0) {
-        ssr_shade(&f, march_hits, img2);
-        bad |= example_write_png(o->out_dir, "ssr_march64.png", f.w, f.h, 3, img2);
-        for (j = 0; j < f.h; ++j) { /* linear_rt left, march right */
-            memcpy(&both[(size_t)j * f.w * 6], &img[(size_t)j * f.w * 3], (size_t)f.w * 3);
-            memcpy(&both[(size_t)j * f.w * 6 + (size_t)f.w * 3], &img2[(size_t)j * f.w * 3], (size_t)f.w * 3);
-        }
-        bad |= example_write_png(o->out_dir, "ssr_side_by_side.png", 2 * f.w, f.h, 3, both);
-        for (k = 0; k < n; ++k) { /* where the march answers otherwise: white on the colour, darkened */
-            int hit_a = hits[k].kind == LRT_HIT, hit_b = march_hits[k].kind == LRT_HIT, same;
-            same = hit_a == hit_b && (!hit_a || (hits[k].x == march_hits[k].x && hits[k].y == march_hits[k].y));
-            img2[3 * k] = img2[3 * k + 1] = img2[3 * k + 2] = 255;
-            if (same || hits[k].kind == LRT_MISS_INVALID_RAY) {
-                for (j = 0; j < 3; ++j) img2[3 * k + j] = (uint8_t)(f.rgb[3 * k + j] / 4);
-            }
-            if (hits[k].kind == LRT_MISS_INVALID_RAY) continue;
-            ++traced;
-            agree += (size_t)same;
-        }
-        bad |= example_write_png(o->out_dir, "ssr_difference.png", f.w, f.h, 3, img2);
-    } else {
-        bad = 1;
+    march64_trace(&f, rays, march_hits, o->threads, &ms_march);
+    ssr_shade(&f, march_hits, img2);
+    bad |= example_write_png(o->out_dir, "ssr_march64.png", f.w, f.h, 3, img2);
+    for (j = 0; j < f.h; ++j) { /* linear_rt left, march right */
+        memcpy(&both[(size_t)j * f.w * 6], &img[(size_t)j * f.w * 3], (size_t)f.w * 3);
+        memcpy(&both[(size_t)j * f.w * 6 + (size_t)f.w * 3], &img2[(size_t)j * f.w * 3], (size_t)f.w * 3);
     }
+    bad |= example_write_png(o->out_dir, "ssr_side_by_side.png", 2 * f.w, f.h, 3, both);
+    for (k = 0; k < n; ++k) { /* where the march answers otherwise: white on the colour, darkened */
+        int hit_a = hits[k].kind == LRT_HIT, hit_b = march_hits[k].kind == LRT_HIT, same;
+        same = hit_a == hit_b && (!hit_a || (hits[k].x == march_hits[k].x && hits[k].y == march_hits[k].y));
+        img2[3 * k] = img2[3 * k + 1] = img2[3 * k + 2] = 255;
+        if (same || hits[k].kind == LRT_MISS_INVALID_RAY) {
+            for (j = 0; j < 3; ++j) img2[3 * k + j] = (uint8_t)(f.rgb[3 * k + j] / 4);
+        }
+        if (hits[k].kind == LRT_MISS_INVALID_RAY) continue;
+        ++traced;
+        agree += (size_t)same;
+    }
+    bad |= example_write_png(o->out_dir, "ssr_difference.png", f.w, f.h, 3, img2);
 
     ao_make_rays(&f, ao_rays, AO_RADIUS, o->threads);
     t0 = example_now_ms();
