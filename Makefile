@@ -46,7 +46,7 @@ VK_PROGRAM_FLAGS := $(VK_FLAGS) -DVK_NO_PROTOTYPES
 VK_LIBS := -ldl
 ifeq ($(HAVE_VULKAN),1)
 DEMO_VK := $(VK_PROGRAM_FLAGS)
-DEMO_VK_DEPS := $(SPV_H) $(VK_UTIL)
+DEMO_VK_DEPS := $(SPV_H) examples/vk_small.h
 DEMO_VK_LIBS := $(VK_LIBS)
 endif
 

@@ -39,7 +39,7 @@
 #include "ao.c"
 #include "shadows.c"
 #ifdef LINEAR_RT_VULKAN
-#include "../tests/support/vk_util.h"
+#include "vk_small.h" /* buffers, one command buffer, submit and wait, barriers, timestamps */
 #endif
 
 #include <pthread.h>
@@ -260,34 +260,40 @@ static int same_hit(const lrt_hit *a, const lrt_hit *b)
     return a->x == b->x && a->y == b->y && fabsf(a->t - b->t) <= 1e-5f * (1.0f + fabsf(b->t));
 }
 
-/* One submission: [update] + trace, timestamps around each; returns the
-   dispatches' milliseconds, or -1 without timestamps. */
-static int gpu_frame(vkt *t, lrt_vk_context *ctx, lrt_vk_bvh *bvh, const lrt_vk_depth *depth, VkQueryPool pool,
-                     double period_ns, const vkt_buffer *rays, const vkt_buffer *hits, uint32_t n, int with_update,
+/* compute writes (a build, update or trace) -> the next linear_rt command,
+   a build's counter fill included (linear_rt.h's BARRIERS) */
+static void compute_barrier(vks *t)
+{
+    vks_barrier(t, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+}
+
+/* One submission: [update] + trace, timestamps around each; the
+   dispatches' milliseconds where the queue has timestamps. */
+static int gpu_frame(vks *t, lrt_vk_context *ctx, lrt_vk_bvh *bvh, const lrt_vk_depth *depth,
+                     const vks_buffer *rays, const vks_buffer *hits, uint32_t n, int with_update,
                      double *update_ms, double *trace_ms)
 {
-    uint64_t ts[3];
-    if (vkt_begin(t)) return 1;
-    vkt_compute_barrier(t); /* the previous submission's build, update or trace -> this one */
-    if (pool) {
-        t->vkCmdResetQueryPool(t->cmd, pool, 0, 3);
-        t->vkCmdWriteTimestamp(t->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, pool, 0);
-    }
+    double ms[VKS_TIMESTAMPS - 1];
+    if (vks_begin(t)) return 1;
+    compute_barrier(t); /* the previous submission's build, update or trace -> this one */
+    vks_timestamp(t, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0);
     if (with_update) {
         must(lrt_vk_cmd_update(ctx, t->cmd, bvh, depth, NULL), "lrt_vk_cmd_update");
-        vkt_compute_barrier(t); /* update -> trace on the tree */
+        compute_barrier(t); /* update -> trace on the tree */
     }
-    if (pool) t->vkCmdWriteTimestamp(t->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, 1);
+    vks_timestamp(t, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 1);
     must(lrt_vk_cmd_trace(ctx, t->cmd, bvh, depth, rays->buffer, 0, hits->buffer, 0, n, 0), "lrt_vk_cmd_trace");
-    if (pool) t->vkCmdWriteTimestamp(t->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, 2);
-    vkt_host_barrier(t); /* trace -> the hits read on the host */
-    if (vkt_submit(t)) return 1;
-    if (pool) {
-        VkResult r = t->vkGetQueryPoolResults(t->device, pool, 0, 3, sizeof ts, ts, sizeof ts[0],
-                                              VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
-        if (r != VK_SUCCESS) return vkt_fail("vkGetQueryPoolResults", r);
-        *update_ms = (double)(ts[1] - ts[0]) * period_ns * 1e-6;
-        *trace_ms = (double)(ts[2] - ts[1]) * period_ns * 1e-6;
+    vks_timestamp(t, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 2);
+    /* trace -> the hits read on the host */
+    vks_barrier(t, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                VK_ACCESS_HOST_READ_BIT);
+    if (vks_submit(t)) return 1;
+    if (t->queries) {
+        if (vks_timestamps_ms(t, ms)) return 1;
+        *update_ms = ms[0];
+        *trace_ms = ms[1];
     }
     return 0;
 }
@@ -300,17 +306,18 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
     lrt_vk_bvh bvh = {0};
     lrt_vk_bvh_desc bd;
     lrt_vk_depth vd;
-    vkt t;
-    vkt_buffer db, rb, hb, sb, shb;
-    VkQueryPool pool = VK_NULL_HANDLE;
+    vks t;
+    vks_buffer db, rb, hb, sb, shb;
     const size_t depth_bytes = (size_t)depth->width * depth->height * 4u;
-    double upd[GPU_RUNS], tr[GPU_RUNS], sg[GPU_RUNS], period;
+    double upd[GPU_RUNS], tr[GPU_RUNS], sg[GPU_RUNS];
     lrt_result r;
     size_t i;
     int k;
     memset(g, 0, sizeof *g);
     memset(&t, 0, sizeof t);
     memset(&bvh, 0, sizeof bvh);
+    memset(&db, 0, sizeof db); /* what was never made is not destroyed */
+    rb = hb = sb = shb = db;
     r = lrt_vk_device_create(&dev, 0);
     if (r != LRT_SUCCESS) {
         snprintf(g->why, sizeof g->why, "lrt_vk_device_create: %s", lrt_result_string(r));
@@ -319,14 +326,16 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
     snprintf(g->device, sizeof g->device, "%s, Vulkan %u.%u.%u", dev.properties.deviceName,
              VK_API_VERSION_MAJOR(dev.properties.apiVersion), VK_API_VERSION_MINOR(dev.properties.apiVersion),
              VK_API_VERSION_PATCH(dev.properties.apiVersion));
-    if ((r = lrt_vk_context_create(&dev.desc, &ctx)) != LRT_SUCCESS || vkt_init(&t, &dev)) {
+    if ((r = lrt_vk_context_create(&dev.desc, &ctx)) != LRT_SUCCESS || vks_init(&t, &dev)) {
         snprintf(g->why, sizeof g->why, "Vulkan set-up failed: %s", lrt_result_string(r));
+        vks_free(&t);
+        lrt_vk_context_destroy(ctx);
         lrt_vk_device_destroy(&dev);
         return;
     }
-    if (n > 0xffffffffu || vkt_buffer_create_in(&t, depth_bytes, 1, &db) || vkt_buffer_create_in(&t, n * sizeof *prim, 1, &rb) ||
-        vkt_buffer_create_in(&t, n * sizeof *seg, 1, &sb) || vkt_buffer_create_in(&t, n * sizeof(lrt_hit), 1, &hb) ||
-        vkt_buffer_create_in(&t, n * sizeof(lrt_hit), 1, &shb)) {
+    if (n > 0xffffffffu || vks_buffer_create(&t, depth_bytes, &db) || vks_buffer_create(&t, n * sizeof *prim, &rb) ||
+        vks_buffer_create(&t, n * sizeof *seg, &sb) || vks_buffer_create(&t, n * sizeof(lrt_hit), &hb) ||
+        vks_buffer_create(&t, n * sizeof(lrt_hit), &shb)) {
         snprintf(g->why, sizeof g->why, "Vulkan buffers could not be made");
         goto done;
     }
@@ -347,25 +356,16 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
         snprintf(g->why, sizeof g->why, "lrt_vk_bvh_create: %s", lrt_result_string(r));
         goto done;
     }
-    if (dev.timestamp_valid_bits) {
-        VkQueryPoolCreateInfo qi;
-        memset(&qi, 0, sizeof qi);
-        qi.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
-        qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
-        qi.queryCount = 3;
-        if (t.vkCreateQueryPool(t.device, &qi, NULL, &pool) != VK_SUCCESS) pool = VK_NULL_HANDLE;
-    }
-    g->timed = pool != VK_NULL_HANDLE;
-    period = (double)dev.properties.limits.timestampPeriod;
+    g->timed = t.queries != VK_NULL_HANDLE;
     /* build once (the host wrote the depth before the submission) */
-    if (vkt_begin(&t)) goto done;
+    if (vks_begin(&t)) goto done;
     must(lrt_vk_cmd_build(ctx, t.cmd, &bvh, &vd), "lrt_vk_cmd_build");
-    vkt_compute_barrier(&t);
-    if (vkt_submit(&t)) goto done;
+    compute_barrier(&t);
+    if (vks_submit(&t)) goto done;
     for (k = -1; k < GPU_RUNS; ++k) { /* k = -1: warm-up */
         double u = 0, p = 0, s_ = 0, dummy = 0;
-        if (gpu_frame(&t, ctx, &bvh, &vd, pool, period, &rb, &hb, (uint32_t)n, 1, &u, &p) ||
-            gpu_frame(&t, ctx, &bvh, &vd, pool, period, &sb, &shb, (uint32_t)n, 0, &dummy, &s_))
+        if (gpu_frame(&t, ctx, &bvh, &vd, &rb, &hb, (uint32_t)n, 1, &u, &p) ||
+            gpu_frame(&t, ctx, &bvh, &vd, &sb, &shb, (uint32_t)n, 0, &dummy, &s_))
             goto done;
         if (k >= 0) {
             upd[k] = u;
@@ -389,16 +389,15 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
     }
     g->ran = 1;
 done:
-    if (pool) t.vkDestroyQueryPool(t.device, pool, NULL);
     lrt_vk_bvh_destroy(ctx, &bvh);
     if (t.device) {
-        vkt_buffer_destroy(&t, &db);
-        vkt_buffer_destroy(&t, &rb);
-        vkt_buffer_destroy(&t, &sb);
-        vkt_buffer_destroy(&t, &hb);
-        vkt_buffer_destroy(&t, &shb);
+        vks_buffer_destroy(&t, &db);
+        vks_buffer_destroy(&t, &rb);
+        vks_buffer_destroy(&t, &sb);
+        vks_buffer_destroy(&t, &hb);
+        vks_buffer_destroy(&t, &shb);
     }
-    vkt_free(&t);
+    vks_free(&t);
     lrt_vk_context_destroy(ctx);
     lrt_vk_device_destroy(&dev);
     if (!g->ran && !g->why[0]) snprintf(g->why, sizeof g->why, "a Vulkan call failed (see above)");
