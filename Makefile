@@ -93,7 +93,7 @@ FORCE:
 EXAMPLE_HDR := examples/example.h examples/depth_file.h examples/surface.h $(SCENE) $(LIB)
 EXAMPLES := minimal ssr ao shadows
 
-$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c examples/march.h $(EXAMPLE_HDR) $(REF) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
+$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c examples/march.h $(EXAMPLE_HDR) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
 	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" $< -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
 
 # install first, then a new make: HAVE_VULKAN and the like are read when make
@@ -359,9 +359,16 @@ check: | deps $(B)
 	$(B)/test_paths
 	$(if $(CHECK_VK),$(B)/test_vulkan test_smoke,@echo "check: no Vulkan headers here: the Vulkan smoke test is skipped")
 
-test-demo: $(B)/demo
-	$(B)/demo --size 128 --out $(B)/demo_out
-	@echo "test-demo: ok, every checked ray agrees with the reference"
+# The demo at 128x128 (its own checks: 2 threads == 1, GPU == CPU bit for
+# bit), then its CPU answers (--dump) judged by the exact reference:
+# tests/test_demo.c, every primary ray and every segment at this size.
+$(B)/test_demo: tests/test_demo.c $(LIB) $(REF) $(SCENE) tests/support/check.h | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) $< -o $@ $(LDLIBS)
+
+test-demo: $(B)/demo $(B)/test_demo
+	$(B)/demo --size 128 --out $(B)/demo_out --dump $(B)/demo_answers.bin
+	$(B)/test_demo $(B)/demo_answers.bin
+	@echo "test-demo: ok, the demo's checks pass and every checked ray agrees with the reference"
 
 # ---- benchmark ------------------------------------------------------------------
 # make bench: every method on the same rays (bench/main.c), results in
@@ -461,7 +468,7 @@ TEST_PROGRAMS = $(addprefix $(FB)/,$(FUZZERS)) \
   $(if $(filter 1,$(HAVE_VULKAN)),$(B)/test_vulkan_csan) \
   $(addprefix $(B)/,test_core_csan test_core_san test_core_m32 test_limits_isan32 test_core_isan \
     test_limits_csan test_limits_m32 test_limits test_limits_isan test_core_san_sse2 test_core \
-    test_core_scalar test_core_sse2 test_paths test_examples $(EXAMPLES) demo bench \
+    test_core_scalar test_core_sse2 test_paths test_examples $(EXAMPLES) demo test_demo bench \
     test_threads test_threads_tsan test_reference test_reference_san test_reference_csan spv2h static_tu.c) \
   $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,test_vulkan test_vulkan_threads test_vulkan_threads_tsan vulkan_trace)) \
   $(if $(filter 11,$(HAVE_VULKAN)$(VI_HAVE_GLSLANG)),$(B)/vulkan_inline)
