@@ -229,17 +229,17 @@ static size_t count_hits(const lrt_hit *hits, size_t count)
 }
 
 /* ---- the same workload on Vulkan ---------------------------------------------- */
+#define GPU_RUNS 9 /* timed runs after one warm-up */
 typedef struct gpu_run {
     int ran;                    /* 0: not run, why says why */
     char why[200];
-    char device[VK_MAX_PHYSICAL_DEVICE_NAME_SIZE + 64];
+    char device[320];           /* the device's name (VK_MAX_PHYSICAL_DEVICE_NAME_SIZE: 256) and version */
     double update_ms, prim_ms, seg_ms; /* GPU timestamps: medians */
     int timed;
     size_t prim_same, seg_same; /* equal to the CPU's, bit for bit */
 } gpu_run;
 
 #ifdef LINEAR_RT_VULKAN
-#define GPU_RUNS 9
 
 /* The same answer, bit for bit: t, texel, kind and face (the kernels follow
    the CPU step by step in float). */
