@@ -11,7 +11,8 @@
      "dda vulkan"           per-pixel DDA, stride 1, thickness 0.02
      "hiz64 vulkan"         min-depth Hi-Z traversal, at most 64 iterations
    The marches are scored, not exact: the algorithms of bench/march_cpu.c
-   ("march64 cpu", "dda cpu", "hiz64 cpu"), in float. Kernels:
+   ("march64 cpu": examples/march.h's march_linear; "dda cpu", "hiz64 cpu"),
+   in float. Kernels:
    bench/shaders/vkp_*.comp (each says exactly what it computes).
 
    The BVHs. Both take the texels in Z (Morton) order: lavapipe's builder
