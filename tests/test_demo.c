@@ -8,7 +8,7 @@
    sample of SEGMENT_SAMPLE segments (every one of them where there are no
    more; make test-demo's 128x128 has 16384). It also checks that FILE holds
    the demo's workload: the map is examples/scene.h's default scene at that
-   size, and the primary rays are one per texel centre, straight into the
+   size (within rounding), and the primary rays are one per texel centre, straight into the
    depth over [0, 1].
      build/test_demo FILE     (make test-demo runs the demo, then this)
    Ends with "N passed, M failed"; exit 1 on a failure, 2 on a bad file. */
@@ -17,6 +17,7 @@
 #include "support/reference.h"
 #include "support/check.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -131,12 +132,16 @@ static void check_workload(const answers *a)
 {
     scene_camera cam = scene_default_camera();
     float *scene = (float *)malloc(a->n * sizeof *scene);
-    size_t i, j, wrong = 0, hits = 0;
+    size_t i, j, wrong = 0, hits = 0, off = 0;
     CHECK(a->w == a->h, "the demo's map is square: %ux%u", a->w, a->h);
     if (scene && a->w == a->h) {
+        /* within rounding: the scene's float maths gives other last bits under
+           other flags (-O0, -ffp-contract=fast: 1.3e-6 at most); a texel on a
+           silhouette may even see another object */
         scene_render((int)a->w, (int)a->h, &cam, scene, NULL);
-        CHECK(memcmp(scene, a->depth, a->n * sizeof *scene) == 0, "the map is examples/scene.h's scene at %ux%u",
-              a->w, a->h);
+        for (i = 0; i < a->n; ++i) off += !(fabsf(scene[i] - a->depth[i]) <= 1e-5f);
+        CHECK(off <= a->n / 1000, "the map is not examples/scene.h's scene at %ux%u: %lu texels off by more than 1e-5",
+              a->w, a->h, (unsigned long)off);
     }
     free(scene);
     for (j = 0; j < a->h; ++j)
