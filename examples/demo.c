@@ -9,8 +9,8 @@
    - reflection-like random segments (one per texel) on 1 and 2 threads;
    - with --dump FILE, the map, both sets of rays and the CPU's hits into
      FILE, for a judge: make test-demo holds every primary ray and a fixed
-     sample of the segments to the tests' exact reference tracer (docs/MODEL.md's
-     "Right, and how right").
+     sample of the segments to the tests' exact reference tracer
+     (docs/MODEL.md's "Right, and how right").
    - built with LINEAR_RT_VULKAN (make demo does where <vulkan/vulkan.h> is
      installed): the same map on the first Vulkan device (lavapipe on a
      machine with no GPU): build once, then update + primary trace, GPU
@@ -24,7 +24,8 @@
    marched in 64 steps, side by side, ambient occlusion and contact shadows;
    each with its time, and the share of reflection rays on which the march
    agrees with linear_rt (same hit texel, or both miss).
-   Exits 0 if every checked ray agrees, 1 otherwise (2: bad arguments or file).
+   Exits 0 if every check passes (and --dump wrote its file), 1 otherwise
+   (2: bad arguments or file).
 
    make demo              (builds build/demo with -O3 and runs it)
    build/demo --size 128  (a smaller map)
