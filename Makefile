@@ -46,7 +46,7 @@ VK_PROGRAM_FLAGS := $(VK_FLAGS) -DVK_NO_PROTOTYPES
 VK_LIBS := -ldl
 ifeq ($(HAVE_VULKAN),1)
 DEMO_VK := $(VK_PROGRAM_FLAGS)
-DEMO_VK_DEPS := $(SPV_H) $(VK_UTIL)
+DEMO_VK_DEPS := $(SPV_H) examples/vk_small.h
 DEMO_VK_LIBS := $(VK_LIBS)
 endif
 
@@ -89,12 +89,12 @@ $(B)/config.stamp: FORCE | $(B)
 FORCE:
 
 # ---- demo and examples ----------------------------------------------------------
-# The examples' shared code, and what the demo adds: the benchmark's march.
+# The examples' shared code, and what the demo adds: the classic march.
 EXAMPLE_HDR := examples/example.h examples/depth_file.h examples/surface.h $(SCENE) $(LIB)
 EXAMPLES := minimal ssr ao shadows
 
-$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c tests/support/march_cpu.c tests/support/bench.h tests/support/march_common.h $(EXAMPLE_HDR) $(REF) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
-	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" examples/demo.c tests/support/march_cpu.c -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
+$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c examples/march.h $(EXAMPLE_HDR) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
+	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" $< -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
 
 # install first, then a new make: HAVE_VULKAN and the like are read when make
 # reads this file, so the build must come from a make started after the install
@@ -365,9 +365,16 @@ check: | deps $(B)
 	$(B)/test_paths
 	$(if $(CHECK_VK),$(B)/test_vulkan test_smoke,@echo "check: no Vulkan headers here: the Vulkan smoke test is skipped")
 
-test-demo: $(B)/demo
-	$(B)/demo --size 128 --out $(B)/demo_out
-	@echo "test-demo: ok, every checked ray agrees with the reference"
+# The demo at 128x128 (its own checks: 2 threads == 1, GPU == CPU bit for
+# bit), then its CPU answers (--dump) judged by the exact reference:
+# tests/test_demo.c, every primary ray and every segment at this size.
+$(B)/test_demo: tests/test_demo.c $(LIB) $(REF) $(SCENE) tests/support/check.h | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) $< -o $@ $(LDLIBS)
+
+test-demo: $(B)/demo $(B)/test_demo
+	$(B)/demo --size 128 --out $(B)/demo_out --dump $(B)/demo_answers.bin
+	$(B)/test_demo $(B)/demo_answers.bin
+	@echo "test-demo: ok, the demo's checks pass and every checked ray agrees with the reference"
 
 # ---- benchmark ------------------------------------------------------------------
 # make bench: every method on the same rays (bench/main.c), results in
@@ -378,8 +385,8 @@ test-demo: $(B)/demo
 # peers glslang (their kernels are compiled here into build/, never committed).
 HAVE_EMBREE := $(shell test -f /usr/include/embree3/rtcore.h && echo 1)
 HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
-BENCH_SRC := bench/main.c bench/m_linear_rt.c bench/visits.c bench/m_embree.c tests/support/march_cpu.c bench/m_vk_peers.c
-BENCH_HDR := tests/support/bench.h tests/support/march_common.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
+BENCH_SRC := bench/main.c bench/m_linear_rt.c bench/visits.c bench/m_embree.c bench/march_cpu.c bench/m_vk_peers.c
+BENCH_HDR := bench/bench.h bench/march_common.h examples/march.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
 BENCH_FLAGS := $(STD) $(WARN) $(CFLAGS) -O3 $(NATIVE)
 BENCH_LIBS := $(LDLIBS)
 BENCH_DEPS :=
@@ -467,7 +474,7 @@ TEST_PROGRAMS = $(addprefix $(FB)/,$(FUZZERS)) \
   $(if $(filter 1,$(HAVE_VULKAN)),$(B)/test_vulkan_csan) \
   $(addprefix $(B)/,test_core_csan test_core_san test_core_m32 test_limits_isan32 test_core_isan \
     test_limits_csan test_limits_m32 test_limits test_limits_isan test_core_san_sse2 test_core \
-    test_core_scalar test_core_sse2 test_paths test_examples $(EXAMPLES) demo bench \
+    test_core_scalar test_core_sse2 test_paths test_examples $(EXAMPLES) demo test_demo bench \
     test_threads test_threads_tsan test_reference test_reference_san test_reference_csan spv2h static_tu.c) \
   $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,test_vulkan test_vulkan_threads test_vulkan_threads_tsan vulkan_trace)) \
   $(if $(filter 11,$(HAVE_VULKAN)$(VI_HAVE_GLSLANG)),$(B)/vulkan_inline)

@@ -81,8 +81,8 @@
    buffers, which it allocates here), net after the commit, plus this file's
    per-triangle texel table (4 bytes a triangle). Checked against the
    process's RSS growth around a build: within 2% (1024x1024 yard: 377 MB). */
-#include "../tests/support/bench.h"
-#include "../tests/support/march_common.h"
+#include "bench.h"
+#include "march_common.h"
 
 #include <float.h>
 #include <stdio.h>
@@ -200,7 +200,7 @@ typedef struct emb_geo {
     size_t nt;
 } emb_geo;
 
-static float emb_d(const emb_geo *g, uint32_t i, uint32_t j) { return bmc_depth(g->D[(size_t)j * g->W + i]); }
+static float emb_d(const emb_geo *g, uint32_t i, uint32_t j) { return march_depth(g->D[(size_t)j * g->W + i]); }
 
 /* the vertex of texel (i, j)'s top at its corner (k, m), k in {i, i+1}, m in {j, j+1} */
 static unsigned int emb_cv(const emb_geo *g, uint32_t i, uint32_t j, uint32_t k, uint32_t m)
@@ -401,7 +401,7 @@ static int emb_build(bench_method *m, const bench_scene *sc, double *ms, char *w
     /* vertices: 4 per texel (its top's corners), then the border at z = 1 */
     for (j = 0; j < H; ++j)
         for (i = 0; i < W; ++i) {
-            const float d = bmc_depth(D[(size_t)j * W + i]);
+            const float d = march_depth(D[(size_t)j * W + i]);
             float *p = vtx + 12u * ((size_t)j * W + i);
             p[0] = (float)i;       p[1] = (float)j;       p[2] = d;
             p[3] = (float)(i + 1); p[4] = (float)j;       p[5] = d;
@@ -505,12 +505,12 @@ static int emb_on_box(const emb_context *c, unsigned int prim, float t, uint32_t
     tx = e->prim_texel[prim];
     if (tx == EMB_NO_TEXEL) { /* the back face z = 1: the texel under the point */
         for (k = 0; k < 2; ++k)
-            cell[k] = c->side[k] ? emb_cell(c->o[k], c->side[k], n[k]) : bmc_texel(c->o[k] + (double)t * c->v[k], n[k]);
+            cell[k] = c->side[k] ? emb_cell(c->o[k], c->side[k], n[k]) : march_texel(c->o[k] + (double)t * c->v[k], n[k]);
         lo_z = 0.0;
     } else {
         cell[0] = tx & 0xffffu;
         cell[1] = tx >> 16;
-        lo_z = (double)bmc_depth(c->jb->depth[(size_t)cell[1] * e->w + cell[0]]);
+        lo_z = (double)march_depth(c->jb->depth[(size_t)cell[1] * e->w + cell[0]]);
     }
     for (k = 0; k < 3; ++k) {
         const double tv = (double)t * c->v[k], p = c->o[k] + tv;
@@ -561,8 +561,8 @@ static void emb_filter(const struct RTCFilterFunctionNArguments *a)
 static int emb_inside(const emb_job *jb, const lrt_ray *r, uint32_t *ti, uint32_t *tj)
 {
     const uint32_t W = jb->e->w, H = jb->e->h;
-    const double x = bmc_at(r->origin[0], r->dir[0], r->tmin), y = bmc_at(r->origin[1], r->dir[1], r->tmin),
-                 z = bmc_at(r->origin[2], r->dir[2], r->tmin);
+    const double x = march_at(r->origin[0], r->dir[0], r->tmin), y = march_at(r->origin[1], r->dir[1], r->tmin),
+                 z = march_at(r->origin[2], r->dir[2], r->tmin);
     double fx, fy;
     uint32_t i0, i1, j0, j1, i, j;
     if (!(x >= 0.0 && x <= (double)W && y >= 0.0 && y <= (double)H && z <= 1.0)) return 0;
@@ -574,7 +574,7 @@ static int emb_inside(const emb_job *jb, const lrt_ray *r, uint32_t *ti, uint32_
     j0 = (y == fy && fy > 0.0) ? (uint32_t)fy - 1u : j1;
     for (j = j0; j <= j1; ++j)
         for (i = i0; i <= i1; ++i)
-            if (z >= (double)bmc_depth(jb->depth[(size_t)j * W + i])) {
+            if (z >= (double)march_depth(jb->depth[(size_t)j * W + i])) {
                 *ti = i;
                 *tj = j;
                 return 1;
@@ -607,8 +607,8 @@ static void emb_one(const emb_job *jb, const lrt_ray *r, lrt_hit *hit)
     emb_context c;
     uint32_t ti, tj;
     int k;
-    if (!bmc_ray_valid(r)) {
-        bmc_set_miss(hit, LRT_MISS_INVALID_RAY);
+    if (!march_ray_valid(r)) {
+        march_set_miss(hit, LRT_MISS_INVALID_RAY);
         return;
     }
     if (emb_inside(jb, r, &ti, &tj)) {
@@ -620,7 +620,7 @@ static void emb_one(const emb_job *jb, const lrt_ray *r, lrt_hit *hit)
         return;
     }
     if (r->tmin == r->tmax || (r->dir[0] == 0.0f && r->dir[1] == 0.0f && r->dir[2] == 0.0f)) {
-        bmc_set_miss(hit, bmc_miss_kind(r, e->w, e->h)); /* the ray is its point at tmin: not in the solid */
+        march_set_miss(hit, march_miss_kind(r, e->w, e->h)); /* the ray is its point at tmin: not in the solid */
         return;
     }
     if (emb_restart(r)) {
@@ -632,8 +632,8 @@ static void emb_one(const emb_job *jb, const lrt_ray *r, lrt_hit *hit)
            is scaled by a power of two to [0.5, 1). */
         double t0, t1, vm = 0.0, ts, te, plane, tp;
         int ex, ax = 0;
-        if (!bmc_clip(r, e->w, e->h, &t0, &t1)) {
-            bmc_set_miss(hit, bmc_miss_kind(r, e->w, e->h));
+        if (!march_clip(r, e->w, e->h, &t0, &t1)) {
+            march_set_miss(hit, march_miss_kind(r, e->w, e->h));
             return;
         }
         for (k = 0; k < 3; ++k)
@@ -652,7 +652,7 @@ static void emb_one(const emb_job *jb, const lrt_ray *r, lrt_hit *hit)
                                  : (float)(((double)r->origin[k] * va - oa * (double)r->dir[k] + plane * (double)r->dir[k]) / va);
         } else {
             ts = r->tmin;
-            for (k = 0; k < 3; ++k) org[k] = (float)bmc_at(r->origin[k], r->dir[k], r->tmin);
+            for (k = 0; k < 3; ++k) org[k] = (float)march_at(r->origin[k], r->dir[k], r->tmin);
         }
         for (k = 0; k < 3; ++k) dir[k] = (float)ldexp((double)r->dir[k], -ex);
         /* the end: the restarted ray's own exit from the screen box, one unit
@@ -665,8 +665,8 @@ static void emb_one(const emb_job *jb, const lrt_ray *r, lrt_hit *hit)
             q.tmin = 0.0f;
             q.tmax = FLT_MAX;
             te = ldexp((double)r->tmax - ts, ex);
-            if (!bmc_clip(&q, e->w, e->h, &q0, &q1) || te < 0.0) {
-                bmc_set_miss(hit, bmc_miss_kind(r, e->w, e->h));
+            if (!march_clip(&q, e->w, e->h, &q0, &q1) || te < 0.0) {
+                march_set_miss(hit, march_miss_kind(r, e->w, e->h));
                 return;
             }
             if (q1 + 2.0 < te) te = q1 + 2.0; /* |dir| >= 0.5 on the axis a: one unit or more */
@@ -725,7 +725,7 @@ static void emb_one(const emb_job *jb, const lrt_ray *r, lrt_hit *hit)
         ray.flags = 0;
         rtcOccluded1(e->scene, &c.ctx, &ray);
         if (!c.found) {
-            bmc_set_miss(hit, bmc_miss_kind(r, e->w, e->h));
+            march_set_miss(hit, march_miss_kind(r, e->w, e->h));
             return;
         }
     } else {
@@ -747,15 +747,15 @@ static void emb_one(const emb_job *jb, const lrt_ray *r, lrt_hit *hit)
         rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(e->scene, &c.ctx, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-            bmc_set_miss(hit, bmc_miss_kind(r, e->w, e->h));
+            march_set_miss(hit, march_miss_kind(r, e->w, e->h));
             return;
         }
         c.prim = rh.hit.primID;
         c.t = rh.ray.tfar;
     }
     if (!emb_on_box(&c, c.prim, c.t, &ti, &tj)) { /* only without filter functions */
-        ti = bmc_texel(c.o[0] + (double)c.t * c.v[0], e->w);
-        tj = bmc_texel(c.o[1] + (double)c.t * c.v[1], e->h);
+        ti = march_texel(c.o[0] + (double)c.t * c.v[0], e->w);
+        tj = march_texel(c.o[1] + (double)c.t * c.v[1], e->h);
     }
     t = t_base + (double)c.t * t_scale;
     hit->t = (float)t;

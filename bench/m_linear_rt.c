@@ -19,7 +19,7 @@
 #define LINEAR_RT_VULKAN_DEVICE_HELPER
 #endif
 #define LINEAR_RT_IMPLEMENTATION
-#include "../tests/support/bench.h"
+#include "bench.h"
 
 #include <pthread.h>
 #include <stdio.h>

@@ -10,8 +10,9 @@
      "march64 vulkan"       fixed-step linear march, 64 steps + 8 bisection steps
      "dda vulkan"           per-pixel DDA, stride 1, thickness 0.02
      "hiz64 vulkan"         min-depth Hi-Z traversal, at most 64 iterations
-   The marches are scored, not exact: the algorithms of tests/support/march_cpu.c
-   ("march64 cpu", "dda cpu", "hiz64 cpu"), in float. Kernels:
+   The marches are scored, not exact: the algorithms of bench/march_cpu.c
+   ("march64 cpu": examples/march.h's march_linear; "dda cpu", "hiz64 cpu"),
+   in float. Kernels:
    bench/shaders/vkp_*.comp (each says exactly what it computes).
 
    The BVHs. Both take the texels in Z (Morton) order: lavapipe's builder
@@ -59,7 +60,7 @@
    kernel's first dispatch, where lavapipe compiles it, is run once untimed
    before the first timed build; warming the trace up is the harness's job.
    A trace is timed as a batch of back-to-back dispatches of the same rays
-   (tests/support/bench.h: bench_gpu_batch), as linear_rt's Vulkan methods
+   (bench/bench.h: bench_gpu_batch), as linear_rt's Vulkan methods
    are: an H200 kept its idle clock under single short dispatches.
    The `threads` argument is not used: lavapipe's threads are LP_NUM_THREADS.
 
@@ -72,8 +73,8 @@
    validation layer for these devices (=sync: with synchronization
    validation): each warning or error is printed to stderr and counted in
    vkp_validation_messages. */
-#include "../tests/support/bench.h"
-#include "../tests/support/march_common.h" /* bmc_depth: the model's clamp */
+#include "bench.h"
+#include "march_common.h" /* march_depth: the model's clamp */
 
 #include <math.h>
 #include <stdio.h>
@@ -878,10 +879,10 @@ static void vkp_upload_depth(vkp *p, const bench_scene *sc)
 {
     float *d = (float *)p->depth.map;
     size_t i, count = (size_t)p->w * p->h;
-    for (i = 0; i < count; ++i) d[i] = bmc_depth(sc->depth[i]);
+    for (i = 0; i < count; ++i) d[i] = march_depth(sc->depth[i]);
     p->has_back = sc->back != NULL;
     for (i = 0; p->has_back && i < count; ++i) {
-        const float b = bmc_depth(sc->back[i]);
+        const float b = march_depth(sc->back[i]);
         d[count + i] = b > d[i] ? b : d[i];
     }
 }

@@ -23,7 +23,7 @@
    view-space segments from each texel's position and normal, through
    lrt_camera_segment, origins lifted by the examples' policy. */
 #define _POSIX_C_SOURCE 200809L
-#include "../tests/support/bench.h"
+#include "bench.h"
 #include "../tests/support/reference.h"
 #include "../examples/scene.h"
 #include "../examples/depth_file.h"

@@ -18,7 +18,7 @@ static size_t visits_tests[4]; /* level 0, level 1, above; texels through the le
 #define LINEAR_RT_NO_AVX
 #define LINEAR_RT_STATIC
 #define LINEAR_RT_IMPLEMENTATION
-#include "../tests/support/bench.h"
+#include "bench.h"
 
 #include <stdlib.h>
 #include <string.h>

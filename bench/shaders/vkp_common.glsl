@@ -109,11 +109,12 @@ bool vkp_clip(VkpRay r, out float t0, out float t1)
 
 // The marches' depth test: z at or behind d. On the far plane (d = 1) less a
 // bias of 1e-6, the guard against float rounding that the CPU marches of
-// tests/support/march_cpu.c, in double, do without: a ray that ends exactly on the
-// far plane, z = 1 at the clipped end t1, computes z a few ulps short of it
-// in float. Nowhere else: a ray lifted off its own surface by less than the
-// bias (the examples' lift on flat or 16-bit-quantised far surfaces can be
-// 1e-7) would otherwise hit itself at once.
+// bench/march_cpu.c and examples/march.h, in double, do without: a ray that
+// ends exactly on the far plane, z = 1 at the clipped end t1, computes z a
+// few ulps short of it in float. Nowhere else: a ray lifted off its own
+// surface by less than the bias (the examples' lift on flat or
+// 16-bit-quantised far surfaces can be 1e-7) would otherwise hit itself at
+// once.
 const float VKP_DEPTH_BIAS = 1e-6;
 bool vkp_behind(float z, float d) { return z >= (d >= 1.0 ? d - VKP_DEPTH_BIAS : d); }
 

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // vkp_dda.comp - a per-pixel DDA march with a thickness, after McGuire and
-// Mara (scored, not exact): tests/support/march_cpu.c's "dda cpu" (stride 1) in
+// Mara (scored, not exact): bench/march_cpu.c's "dda cpu" (stride 1) in
 // float. The clipped segment [t0, t1] (parameter s in [0, 1]) is walked
 // along its major screen axis one pixel column (row) at a time: a step is
 // the stretch [sa, sb] of the segment inside one column, in the order the

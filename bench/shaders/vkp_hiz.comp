@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // vkp_hiz.comp - a hierarchical min-depth (Hi-Z) traversal with an iteration
 // cap of 64, after AMD FidelityFX SSSR (scored, not exact):
-// tests/support/march_cpu.c's "hiz64 cpu" in float. Level 0 is the depth map,
+// bench/march_cpu.c's "hiz64 cpu" in float. Level 0 is the depth map,
 // level l+1 the 2x2 minimum of level l (vkp_hiz_mip.comp); a cell of level
 // l covers texels [x 2^l, (x+1) 2^l) x [y 2^l, (y+1) 2^l), clipped to the map.
 // The walk starts at level 0 at the clipped start t0; each iteration looks at

@@ -1,15 +1,15 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // vkp_march64.comp - the classic fixed-step linear march with binary
-// refinement (scored, not exact): tests/support/march_cpu.c's "march64 cpu" in
-// float. The ray's interval clipped to the screen box [t0, t1] is cut into
-// 64 equal steps; the samples at t0 + k (t1 - t0) / 64, k = 0..64, read the
-// depth of the texel under the point. The first sample at or behind it
-// (z >= depth, less vkp_common.glsl's bias, and z <= its back) ends the
-// march: sample 0 is a hit at t0 (the ray starts inside); otherwise 8
-// bisection steps between the sample before (in front) and this one keep the
-// one behind, and its t and texel are reported. A march that ends in front
-// misses, its kind by docs/MODEL.md's rule.
+// refinement (scored, not exact): bench/march_cpu.c's "march64 cpu"
+// (examples/march.h's march_linear) in float. The ray's interval clipped to
+// the screen box [t0, t1] is cut into 64 equal steps; the samples at t0 + k
+// (t1 - t0) / 64, k = 0..64, read the depth of the texel under the point. The
+// first sample at or behind it (z >= depth, less vkp_common.glsl's bias, and
+// z <= its back) ends the march: sample 0 is a hit at t0 (the ray starts
+// inside); otherwise 8 bisection steps between the sample before (in front)
+// and this one keep the one behind, and its t and texel are reported. A march
+// that ends in front misses, its kind by docs/MODEL.md's rule.
 #include "vkp_common.glsl"
 
 const int VKP_STEPS = 64;

@@ -20,7 +20,7 @@
 #define LINEAR_RT_IMPLEMENTATION
 #include "../../linear_rt.h" /* with -DLINEAR_RT_VULKAN -DLINEAR_RT_VULKAN_DEVICE_HELPER */
 #include "../scene.h"
-#include "vk_small.h" /* buffers, one command buffer, submit and wait, barriers, timestamps */
+#include "../vk_small.h" /* buffers, one command buffer, submit and wait, barriers, timestamps */
 #include "vulkan_inline_spv.h" /* contact_shadows_spv[]: contact_shadows.comp, compiled by make */
 
 #include <math.h>
@@ -53,7 +53,7 @@ typedef struct shadow_push {
     float bias;
 } shadow_push;
 
-/* The Vulkan functions of our own pipeline (vk_small.h has the rest). */
+/* The Vulkan functions of our own pipeline (../vk_small.h has the rest). */
 #define OWN_FUNCS(X)                                                                                              \
     X(vkCreateDescriptorSetLayout) X(vkDestroyDescriptorSetLayout) X(vkCreatePipelineLayout)                     \
     X(vkDestroyPipelineLayout) X(vkCreateShaderModule) X(vkDestroyShaderModule) X(vkCreateComputePipelines)      \

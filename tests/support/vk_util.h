@@ -1,4 +1,4 @@
-/* tests/support/vk_util.h - the little Vulkan a test or an example needs around
+/* tests/support/vk_util.h - the little Vulkan a test or the benchmark needs around
    linear_rt's recording functions: host-visible buffers, sampled depth
    images uploaded through a staging buffer, one command buffer submitted
    and waited for, timestamps. Every function pointer comes from the

@@ -1,4 +1,4 @@
-/* tests/support/bench.h - the one interface every method of the benchmark answers to.
+/* bench/bench.h - the one interface every method of the benchmark answers to.
 
    A method (linear_rt on the CPU or on Vulkan, Embree, a ray-query BVH, a
    screen-space march) is a bench_method: it is given a scene (a depth map),
@@ -16,7 +16,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include "../../linear_rt.h"
+#include "../linear_rt.h"
 
 typedef struct bench_scene {
     const char *name;

@@ -1,7 +1,8 @@
-/* examples/vulkan_inline/vk_small.h - the little Vulkan main.c needs around
-   its own pipeline: host-visible buffers, one command buffer submitted and
-   waited for, a memory barrier, timestamps. Every function pointer comes
-   from the lrt_vk_device of linear_rt.h's device helper, so it builds with
+/* examples/vk_small.h - the little Vulkan the demo needs around linear_rt's
+   recording functions, and vulkan_inline/main.c around its own pipeline:
+   host-visible buffers, one command buffer submitted and waited for, a
+   memory barrier, timestamps. Every function pointer comes from the
+   lrt_vk_device of linear_rt.h's device helper, so it builds with
    VK_NO_PROTOTYPES and nothing links against Vulkan. Include after
    linear_rt.h (with LINEAR_RT_VULKAN and LINEAR_RT_VULKAN_DEVICE_HELPER).
    Errors print a line to stderr and return nonzero. */
@@ -43,7 +44,7 @@ typedef struct vks_buffer {
 
 static int vks_fail(const char *what, VkResult r)
 {
-    fprintf(stderr, "vulkan_inline: %s failed: VkResult %d\n", what, (int)r);
+    fprintf(stderr, "vk_small: %s failed: VkResult %d\n", what, (int)r);
     return 1;
 }
 
@@ -108,7 +109,20 @@ static void vks_free(vks *t)
     memset(t, 0, sizeof *t);
 }
 
-/* A storage buffer of size bytes in host-visible, coherent memory, mapped. */
+/* The first memory type among `allowed` with every flag of want, or
+   memoryTypeCount where there is none. */
+static uint32_t vks_memory_type(const vks *t, uint32_t allowed, VkMemoryPropertyFlags want)
+{
+    uint32_t type;
+    for (type = 0; type < t->memory.memoryTypeCount; ++type)
+        if (((allowed >> type) & 1u) && (t->memory.memoryTypes[type].propertyFlags & want) == want) break;
+    return type;
+}
+
+/* A storage buffer of size bytes in host-visible, coherent memory, mapped;
+   device-local as well where there is such memory (integrated GPUs,
+   resizable BAR, lavapipe), so that the kernels do not read it across the
+   bus. */
 static int vks_buffer_create(vks *t, VkDeviceSize size, vks_buffer *b)
 {
     const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
@@ -125,8 +139,8 @@ static int vks_buffer_create(vks *t, VkDeviceSize size, vks_buffer *b)
     bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     if ((r = t->vkCreateBuffer(t->device, &bi, NULL, &b->buffer)) != VK_SUCCESS) return vks_fail("vkCreateBuffer", r);
     t->vkGetBufferMemoryRequirements(t->device, b->buffer, &mr);
-    for (type = 0; type < t->memory.memoryTypeCount; ++type)
-        if (((mr.memoryTypeBits >> type) & 1u) && (t->memory.memoryTypes[type].propertyFlags & want) == want) break;
+    type = vks_memory_type(t, mr.memoryTypeBits, want | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    if (type == t->memory.memoryTypeCount) type = vks_memory_type(t, mr.memoryTypeBits, want);
     if (type == t->memory.memoryTypeCount) return vks_fail("finding host-visible memory", VK_ERROR_FEATURE_NOT_PRESENT);
     memset(&ai, 0, sizeof ai);
     ai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;

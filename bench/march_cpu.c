@@ -1,4 +1,4 @@
-/* tests/support/march_cpu.c - classic screen-space marching on the CPU: what an
+/* bench/march_cpu.c - classic screen-space marching on the CPU: what an
    engine programmer writes today instead of linear_rt. Approximate methods,
    scored against the reference (exact = 0), each its own bench_method:
 
@@ -10,18 +10,16 @@
                                         with an iteration cap (AMD FidelityFX
                                         SSSR)
 
-   Common rules (docs/MODEL.md): invalid rays (NaN/inf component, tmin < 0,
-   tmin > tmax) are flagged and not traced; every march first clips
-   [tmin, tmax] to the screen box [0,W] x [0,H] x [0,1]; a miss is told
-   apart by docs/MODEL.md's rule (the point at tmax on the closed screen
-   rectangle: LRT_MISS_TMAX, else LRT_MISS_OFF_SCREEN). The texel "under" a
-   point is (floor x, floor y), clamped to the map. Our rays are straight in
-   screen space, so depth is linear along them (no 1/w interpolation needed).
-   Arithmetic is double on the CPU (it costs nothing here; the errors of
-   these methods are their sampling, not their rounding).
+   Common rules (docs/MODEL.md): those of examples/march.h, the classic
+   march as a user writes it, whose march_linear is the fixed-step march
+   here ("march64 cpu" is the demo's side-by-side march, the same code):
+   invalid rays are flagged and not traced, every march first clips
+   [tmin, tmax] to the screen box, a miss is told apart by the point at tmax,
+   the texel "under" a point is (floor x, floor y) clamped to the map, and
+   the arithmetic is double.
 
    Threads: trace splits the batch into `threads` contiguous slices on
-   pthreads (tests/support/march_common.h). */
+   pthreads (bench/march_common.h). */
 #include "bench.h"
 #include "march_common.h"
 
@@ -42,9 +40,6 @@ typedef enum { MARCH_LINEAR, MARCH_DDA, MARCH_HIZ } march_kind;
    the thickness per scene (often in view space); this is one fixed,
    documented choice, the same for every scene. */
 #define DDA_THICKNESS 0.02
-/* the fixed-step march refines its first step behind the surface by this
-   many bisection steps */
-#define MARCH_BISECTIONS 8
 
 typedef struct march {
     march_kind kind;
@@ -62,88 +57,15 @@ typedef struct march {
 
 typedef struct march_job {
     const march *m;
-    const float *depth;
-    const float *back; /* thickness: the scene's back depths, or NULL (infinite) */
-    uint32_t w, h;
+    march_map map; /* the depth, and the scene's back depths or NULL (infinite thickness) */
     const lrt_ray *rays;
     lrt_hit *hits;
 } march_job;
 
-static void report_hit(const lrt_ray *r, double t, uint32_t i, uint32_t j, lrt_hit *hit)
-{
-    float tf = (float)t;
-    hit->t = tf < r->tmin ? r->tmin : tf > r->tmax ? r->tmax : tf;
-    hit->x = i;
-    hit->y = j;
-    hit->kind = LRT_HIT;
-    hit->face = LRT_FACE_NONE; /* a march does not know which face it met */
-}
-
-/* ---- fixed-step linear march with binary refinement ----------------------------------
-   The clipped segment [t0, t1] is cut into N equal steps; the samples at
-   t0 + k (t1 - t0) / N, k = 0..N, read the depth of the texel under the
-   point. The first sample at or behind that depth (z >= depth: the infinite-
-   thickness model of docs/MODEL.md, where everything behind the visible surface is
-   solid) ends the march: sample 0 is a hit at t0 (the ray starts inside);
-   otherwise 8 bisection steps between the previous sample (in front) and
-   this one (behind) keep the sample that is behind, and its texel and t are
-   reported. Whatever lies between two samples is unseen: thin things are
-   stepped over and grazing hits come late. */
-/* texel k's back depth under the scene's model: max(depth, back), or 1 (infinite) */
-static double back_at(const march_job *jb, size_t k)
-{
-    double d = (double)bmc_depth(jb->depth[k]), b;
-    if (!jb->back) return 1.0;
-    b = (double)bmc_depth(jb->back[k]);
-    return b > d ? b : d;
-}
-
-/* the sample at t inside its texel's solid [depth, back] */
-static int behind(const march_job *jb, const double o[3], const double v[3], double t, uint32_t *i, uint32_t *j)
-{
-    double x = o[0] + t * v[0], y = o[1] + t * v[1], z = o[2] + t * v[2];
-    size_t k;
-    *i = bmc_texel(x, jb->w);
-    *j = bmc_texel(y, jb->h);
-    k = (size_t)*j * jb->w + *i;
-    return z >= (double)bmc_depth(jb->depth[k]) && z <= back_at(jb, k);
-}
-
+/* ---- fixed-step linear march with binary refinement: examples/march.h ---------------- */
 static void linear_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
 {
-    const uint32_t w = jb->w, h = jb->h;
-    const int n = jb->m->param;
-    double o[3], v[3], t0, t1, prev;
-    uint32_t i, j;
-    int k, b;
-    if (!bmc_begin(r, w, h, hit, &t0, &t1)) return;
-    for (k = 0; k < 3; ++k) {
-        o[k] = r->origin[k];
-        v[k] = r->dir[k];
-    }
-    prev = t0;
-    for (k = 0; k <= n; ++k) {
-        double t = k == n ? t1 : t0 + (t1 - t0) * (double)k / (double)n;
-        if (behind(jb, o, v, t, &i, &j)) {
-            double lo = prev, hi = t;
-            if (k > 0)
-                for (b = 0; b < MARCH_BISECTIONS; ++b) {
-                    double mid = 0.5 * (lo + hi);
-                    uint32_t mi, mj;
-                    if (behind(jb, o, v, mid, &mi, &mj)) {
-                        hi = mid;
-                        i = mi;
-                        j = mj;
-                    } else {
-                        lo = mid;
-                    }
-                }
-            report_hit(r, hi, i, j, hit);
-            return;
-        }
-        prev = t;
-    }
-    bmc_set_miss(hit, bmc_miss_kind(r, w, h));
+    march_linear(&jb->map, jb->m->param, r, hit);
 }
 
 /* ---- per-pixel DDA with stride and thickness (McGuire & Mara 2014) -------------------
@@ -188,11 +110,11 @@ static int dda_test(const march_job *jb, const dda_line *L, double ss, double sa
 {
     double d, za, zb, lo, hi, thick;
     size_t k;
-    *i = bmc_texel(L->x0 + ss * L->dx, jb->w);
-    *j = bmc_texel(L->y0 + ss * L->dy, jb->h);
-    k = (size_t)*j * jb->w + *i;
-    d = (double)bmc_depth(jb->depth[k]);
-    thick = jb->back ? back_at(jb, k) - d : DDA_THICKNESS; /* a scene's own thickness where it has one */
+    *i = march_texel(L->x0 + ss * L->dx, jb->map.w);
+    *j = march_texel(L->y0 + ss * L->dy, jb->map.h);
+    k = (size_t)*j * jb->map.w + *i;
+    d = (double)march_depth(jb->map.depth[k]);
+    thick = jb->map.back ? march_back(&jb->map, k) - d : DDA_THICKNESS; /* a scene's own thickness where it has one */
     za = L->z0 + sa * L->dz;
     zb = L->z0 + sb * L->dz;
     lo = za < zb ? za : zb;
@@ -205,13 +127,13 @@ static int dda_test(const march_job *jb, const dda_line *L, double ss, double sa
 
 static void dda_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
 {
-    const uint32_t w = jb->w, h = jb->h;
+    const uint32_t w = jb->map.w, h = jb->map.h;
     const long stride = jb->m->param, cap = (long)(w > h ? w : h);
     double t0, t1, s_hit, a1, e0;
     dda_line L;
     uint32_t i, j;
     long c0, n, k, sg;
-    if (!bmc_begin(r, w, h, hit, &t0, &t1)) return;
+    if (!march_begin(r, w, h, hit, &t0, &t1)) return;
     L.x0 = (double)r->origin[0] + t0 * (double)r->dir[0];
     L.y0 = (double)r->origin[1] + t0 * (double)r->dir[1];
     L.z0 = (double)r->origin[2] + t0 * (double)r->dir[2];
@@ -267,11 +189,11 @@ static void dda_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
                     }
                 }
             }
-            report_hit(r, t0 + s_hit * (t1 - t0), i, j, hit);
+            march_set_hit(r, t0 + s_hit * (t1 - t0), i, j, hit);
             return;
         }
     }
-    bmc_set_miss(hit, bmc_miss_kind(r, w, h));
+    march_set_miss(hit, march_miss_kind(r, w, h));
 }
 
 /* ---- hierarchical min-depth (Hi-Z) traversal (FidelityFX SSSR) -----------------------
@@ -296,11 +218,11 @@ static void dda_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
 static void hiz_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
 {
     const march *m = jb->m;
-    const uint32_t w = jb->w, h = jb->h;
+    const uint32_t w = jb->map.w, h = jb->map.h;
     const int cap = m->param, top = m->levels - 1;
     double o[3], v[3], t0, t1, t, nx, ny;
     int k, lv = 0;
-    if (!bmc_begin(r, w, h, hit, &t0, &t1)) return;
+    if (!march_begin(r, w, h, hit, &t0, &t1)) return;
     for (k = 0; k < 3; ++k) {
         o[k] = r->origin[k];
         v[k] = r->dir[k];
@@ -311,17 +233,17 @@ static void hiz_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
     for (k = 0; k < cap; ++k) {
         const double s = (double)(1u << lv), inv_s = 1.0 / s; /* exact: powers of two */
         const uint32_t lw = m->lw[lv], lh = m->lh[lv];
-        const float *level = lv == 0 ? jb->depth : m->chain + m->loff[lv];
+        const float *level = lv == 0 ? jb->map.depth : m->chain + m->loff[lv];
         double x = o[0] + t * v[0], y = o[1] + t * v[1], z = o[2] + t * v[2], zmin, tx, ty, tb, tz;
-        uint32_t cx = bmc_texel((x + nx) * inv_s, lw), cy = bmc_texel((y + ny) * inv_s, lh);
-        zmin = (double)(lv == 0 ? bmc_depth(level[(size_t)cy * lw + cx]) : level[(size_t)cy * lw + cx]);
+        uint32_t cx = march_texel((x + nx) * inv_s, lw), cy = march_texel((y + ny) * inv_s, lh);
+        zmin = (double)(lv == 0 ? march_depth(level[(size_t)cy * lw + cx]) : level[(size_t)cy * lw + cx]);
         if (z >= zmin) {
             if (lv > 0) {
                 --lv;
                 continue;
             }
-            if (z <= back_at(jb, (size_t)cy * lw + cx)) {
-                report_hit(r, t, cx, cy, hit);
+            if (z <= march_back(&jb->map, (size_t)cy * lw + cx)) {
+                march_set_hit(r, t, cx, cy, hit);
                 return;
             }
             /* behind this texel's back (thickness): on to the next texel */
@@ -329,7 +251,7 @@ static void hiz_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
             ty = v[1] > 0.0 ? ((double)(cy + 1u) - o[1]) / v[1] : v[1] < 0.0 ? ((double)cy - o[1]) / v[1] : HUGE_VAL;
             tb = tx < ty ? tx : ty;
             if (tb >= t1) {
-                bmc_set_miss(hit, bmc_miss_kind(r, w, h));
+                march_set_miss(hit, march_miss_kind(r, w, h));
                 return;
             }
             if (tb > t) t = tb;
@@ -342,20 +264,20 @@ static void hiz_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
         if (tz <= tb && tz <= t1) { /* reaches the cell's min depth inside the cell */
             if (tz > t) t = tz;
             if (lv == 0) {
-                report_hit(r, t, cx, cy, hit);
+                march_set_hit(r, t, cx, cy, hit);
                 return;
             }
             --lv;
             continue;
         }
         if (tb >= t1) { /* ends in this cell, in front of all of it */
-            bmc_set_miss(hit, bmc_miss_kind(r, w, h));
+            march_set_miss(hit, march_miss_kind(r, w, h));
             return;
         }
         if (tb > t) t = tb;
         if (lv < top) ++lv;
     }
-    bmc_set_miss(hit, LRT_MISS_TMAX); /* gave up at the cap */
+    march_set_miss(hit, LRT_MISS_TMAX); /* gave up at the cap */
 }
 
 /* the mip chain: levels 1.. of the min-depth pyramid */
@@ -402,10 +324,10 @@ static void hiz_reduce_rows(void *ctx, size_t first, size_t end)
             const size_t x0 = 2 * x, x1 = 2 * x + 1 < q->sw ? 2 * x + 1 : 2 * x;
             float a = r0[x0], b = r0[x1], c = r1[x0], d = r1[x1];
             if (q->src_is_depth) {
-                a = bmc_depth(a);
-                b = bmc_depth(b);
-                c = bmc_depth(c);
-                d = bmc_depth(d);
+                a = march_depth(a);
+                b = march_depth(b);
+                c = march_depth(c);
+                d = march_depth(d);
             }
             a = b < a ? b : a;
             c = d < c ? d : c;
@@ -490,10 +412,10 @@ static int march_trace(bench_method *bm, const bench_scene *sc, const bench_rays
         return 1;
     }
     jb.m = m;
-    jb.depth = sc->depth;
-    jb.back = sc->back;
-    jb.w = sc->width;
-    jb.h = sc->height;
+    jb.map.depth = sc->depth;
+    jb.map.back = sc->back;
+    jb.map.w = sc->width;
+    jb.map.h = sc->height;
     jb.rays = rs->rays;
     jb.hits = hits;
     /* any-hit rays (BENCH_ANY_HIT) take the same walk: the first hit is one */
