@@ -91,7 +91,7 @@ double bench_now_ms(void);   /* CLOCK_MONOTONIC in ms */
    (its mean is the trace's time), so that the GPU works in stretches
    rather than in single short dispatches with host work between: under
    those an NVIDIA H200's SM clock stood at its idle 345 MHz of 1980
-   (docs/MEASUREMENTS.md, "The kernels on an NVIDIA H200"; whether batches
+   (docs/PERFORMANCE.md, the H200; whether batches
    raise it is still to be seen on such a device). A dispatch of one of
    lavapipe's whole sets mostly lasts a batch on its own. */
 #define BENCH_GPU_BATCH_MS 10.0
@@ -134,7 +134,7 @@ int bench_visits(const bench_scene *scene, const bench_rays *rays, uint32_t node
    answered alike (the same kind, and for a hit the same texel); their node
    tests per ray, [1] thick and [2] infinite; the other rays' [3] thick and
    [4] infinite; [5] the rays answered alike whose two counts differ (0 by
-   design: docs/MEASUREMENTS.md, "Thickness cannot be faster"). 0 on success. */
+   design: docs/PERFORMANCE.md, "What limits the walk"). 0 on success. */
 int bench_visits_thickness(const bench_scene *scene, const bench_rays *rays, double out[6]);
 
 #endif

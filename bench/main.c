@@ -543,7 +543,7 @@ static double pct(size_t a, size_t n) { return n ? 100.0 * (double)a / (double)n
    device (every CPU method, or every Vulkan one: the columns whose ratios
    the README and the issues read) take their runs of each set in turn, the
    order rotating from run to run, so that this machine's slow and fast
-   phases (up to 1.7x on the same code, docs/MEASUREMENTS.md) fall on all of
+   phases (docs/PERFORMANCE.md, "The machine and its noise") fall on all of
    them alike; each is scored on hits of its own. A method's results come
    out set by set, in the order of the sets, as if it ran alone */
 #define GROUP_MAX 16
@@ -1033,7 +1033,7 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
                     "rays both answer alike the two counts are equal, ray by ray (the benchmark fails otherwise); the "
                     "others pass behind an object and go on. So thick / infinite node tests, the last column, bound "
                     "how fast a thick walk can be against the infinite one on the same rays "
-                    "([docs/MEASUREMENTS.md](../docs/MEASUREMENTS.md#thickness-cannot-be-faster-on-the-same-rays-tenth-session)).\n\n");
+                    "([docs/PERFORMANCE.md](../docs/PERFORMANCE.md#what-limits-the-walk)).\n\n");
         fprintf(md, "| scene | rays | answered alike | their tests, thick / infinite | the others' | all: infinite / thick |\n"
                     "|---|---|---|---|---|---|\n");
         for (i = 0; i < g_nthick; ++i) {
