@@ -909,6 +909,62 @@ static void write_csv(const options *o)
     fclose(csv);
 }
 
+/* Build and whole-map update of linear_rt's CPU tree on one scene under each
+   thickness model (docs/MODEL.md), 16- and 8-bit nodes: medians of o->runs
+   after a warm-up, one thread (the library's build and update are). The
+   constant and relative models take the scene camera's planes (near 0.1,
+   far 100 for a map without one); the back map is the scene's own where it
+   has one. results.md's "Build and update by thickness model". */
+typedef struct thick_cost { const char *model; uint32_t bits; double build_ms, update_ms; } thick_cost;
+static thick_cost g_tcost[16];
+static int g_ntcost;
+static const char *g_tcost_scene;
+
+static void time_thickness_models(const scene *sc, const options *o)
+{
+    static const char *names[4] = {"infinite", "back map", "constant 0.3", "relative 5%"};
+    float n = 0.1f, f = 100.0f;
+    uint32_t model, bits;
+    if (sc->has_camera && !lrt_camera_planes(&sc->camera, &n, &f)) n = 0.1f, f = 100.0f;
+    g_tcost_scene = sc->s.name;
+    for (bits = 16; bits >= 8; bits -= 8) {
+        for (model = LRT_THICKNESS_INFINITE; model <= LRT_THICKNESS_RELATIVE; ++model) {
+            lrt_build_options opt;
+            lrt_depth d = sc->s.lrt, back = sc->s.lrt;
+            double b[32], u[32], t0;
+            int r, runs = o->runs < 32 ? o->runs : 32;
+            if (model == LRT_THICKNESS_BACK_MAP) {
+                if (!sc->back) continue;
+                back.data = sc->back;
+                d.back = &back;
+            }
+            memset(&opt, 0, sizeof opt);
+            opt.node_bits = bits;
+            opt.thickness = model;
+            opt.thickness_value = model == LRT_THICKNESS_CONSTANT ? 0.3f : 0.05f;
+            opt.near_z = n;
+            opt.far_z = f;
+            for (r = -1; r < runs; ++r) {
+                lrt_bvh bvh;
+                memset(&bvh, 0, sizeof bvh);
+                t0 = bench_now_ms();
+                if (lrt_bvh_build(&bvh, &d, &opt, NULL) != LRT_SUCCESS) break;
+                if (r >= 0) b[r] = bench_now_ms() - t0;
+                t0 = bench_now_ms();
+                lrt_bvh_update(&bvh, &d, NULL);
+                if (r >= 0) u[r] = bench_now_ms() - t0;
+                lrt_bvh_destroy(&bvh);
+            }
+            if (r < runs || g_ntcost >= 16) continue;
+            g_tcost[g_ntcost].model = names[model];
+            g_tcost[g_ntcost].bits = bits;
+            g_tcost[g_ntcost].build_ms = median(b, runs);
+            g_tcost[g_ntcost].update_ms = median(u, runs);
+            ++g_ntcost;
+        }
+    }
+}
+
 static void write_outputs(const options *o, bench_method *m, int nm, const char *const *why_skipped,
                           const char *machine, int nstab, const scene *first)
 {
@@ -1025,6 +1081,19 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
                     a->per_ray[3]);
             if (b) fprintf(md, " %.2f / %.2f / %.2f; %.2f |\n", b->per_ray[0], b->per_ray[1], b->per_ray[2], b->per_ray[3]);
             else fprintf(md, " - |\n");
+        }
+    }
+    if (g_ntcost) {
+        fprintf(md, "\n## Build and update by thickness model\n\nlinear_rt's CPU tree of scene \"%s\", one thread, medians; "
+                    "a thickness model keeps a second code per slot (twice the bytes) and refits both.\n\n"
+                    "| model | nodes | build ms | update ms (whole map) | build / infinite | update / infinite |\n"
+                    "|---|---|---|---|---|---|\n", g_tcost_scene);
+        for (i = 0; i < g_ntcost; ++i) {
+            const thick_cost *c = &g_tcost[i], *inf = c;
+            for (k = 0; k < g_ntcost; ++k)
+                if (g_tcost[k].bits == c->bits && !strcmp(g_tcost[k].model, "infinite")) inf = &g_tcost[k];
+            fprintf(md, "| %s | %u-bit | %.3f | %.3f | %.2f | %.2f |\n", c->model, c->bits, c->build_ms, c->update_ms,
+                    c->build_ms / inf->build_ms, c->update_ms / inf->update_ms);
         }
     }
     if (g_nthick) {
@@ -1364,6 +1433,16 @@ int main(int argc, char **argv)
         else if (m[k].open(&m[k], o.size, o.size, o.threads, whybuf[k], sizeof whybuf[k])) skipped[k] = whybuf[k];
         if (skipped[k]) printf("skipped: %-22s %s\n", m[k].name, skipped[k]);
         else if (strncmp(m[k].name, "linear_rt cpu", 13) == 0) count_walk = 1; /* and its node tests, counted */
+    }
+    if (count_walk) { /* the tree under each thickness model: the scene with a back map, else the first */
+        int t = 0;
+        for (k = 0; k < ns; ++k)
+            if (scenes[k].back) t = k;
+        printf("build and update by thickness model, scene %s ...\n", scenes[t].s.name);
+        time_thickness_models(&scenes[t], &o);
+        for (k = 0; k < g_ntcost; ++k)
+            printf("  %-14s %2u-bit  build %8.3f ms  update %8.3f ms\n", g_tcost[k].model, g_tcost[k].bits, g_tcost[k].build_ms,
+                   g_tcost[k].update_ms);
     }
     for (s = 0; s < ns; ++s) {
         double t0 = bench_now_ms();
