@@ -8,6 +8,8 @@
 #   make bench-plain-vs-native  linear_rt's CPU rows, plain build / -march=native
 #   make examples  build/minimal, ssr, ao, shadows, vulkan_inline, vulkan_trace
 #   make spv     compile shaders/*.comp and regenerate shaders_spv.h (needs glslang)
+#   make gpu-stats  the kernels' weight on AMD GPUs (RDNA3, RDNA2, GCN): Mesa's
+#                RADV compiler on null hardware, tables in build/gpu-stats.md
 #   make clean
 CC ?= cc
 CFLAGS ?= -O2 -g
@@ -67,7 +69,7 @@ include tests/threads.mk
 include tests/fuzz/fuzz.mk
 include examples/vulkan_inline/vulkan_inline.mk
 
-.PHONY: FORCE all demo examples pictures check test test-all test-programs deps clean spv spv-check bench bench-deps bench-publish bench-plain-vs-native $(TESTS) test-sanitize
+.PHONY: FORCE all demo examples pictures check test test-all test-programs deps clean spv spv-check bench bench-deps bench-publish bench-plain-vs-native gpu-stats $(TESTS) test-sanitize
 
 all: $(B)/demo $(B)/test_reference $(B)/test_core
 
@@ -449,6 +451,36 @@ bench-publish:
 # methods keep agreeing with the reference (it exits non-zero otherwise)
 test-bench: $(B)/bench
 	$(B)/bench --quick --out $(B)
+
+# ---- the kernels' weight on AMD GPUs ------------------------------------------
+# tools/gpu_stats.c: every pipeline of lrt_vk_context_create, and the
+# benchmark's Vulkan peers (their kernels as make bench compiles them), built
+# by Mesa's RADV on null hardware for RDNA3, RDNA2 and GCN (RADV_FORCE_FAMILY:
+# no AMD GPU needed, nothing dispatched); instructions, registers, spills,
+# branches and waves per SIMD from VK_KHR_pipeline_executable_properties.
+# RADV is Debian's mesa-vulkan-drivers, which make demo and make test install.
+# Its exit 77 is "no RADV here" (1 under CI=true).
+GPU_STATS_OUT ?= $(B)/gpu-stats.md
+ifeq ($(HAVE_VULKAN),1)
+GPU_STATS_FLAGS := -DLINEAR_RT_VULKAN -DVK_NO_PROTOTYPES $(ONE_WALK)
+GPU_STATS_DEPS := $(LIB) $(SPV_H)
+ifeq ($(HAVE_GLSLANG),1)
+GPU_STATS_FLAGS += -DGPU_STATS_HAVE_PEERS -I$(B)
+GPU_STATS_DEPS += $(B)/bench_vk_spv.h
+endif
+$(B)/gpu_stats: tools/gpu_stats.c $(GPU_STATS_DEPS) $(B)/config.stamp | deps $(B)
+	$(CC) $(STD) $(STRICT) $(CFLAGS) $(GPU_STATS_FLAGS) $< -o $@ -lm $(VK_LIBS)
+
+gpu-stats: $(B)/gpu_stats
+	@$(B)/gpu_stats --out $(GPU_STATS_OUT); rc=$$?; [ $$rc -eq 77 ] && exit 0; exit $$rc
+else
+.PHONY: $(B)/gpu_stats
+$(B)/gpu_stats:
+	@echo "gpu_stats: not built: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"
+gpu-stats:
+	@echo "$@: skipped: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"; \
+	[ "$$CI" != "true" ]
+endif
 
 # Every test, each run even when an earlier one failed; then one summary line.
 # As for the demo: install, then a new make. CI=true turns every "skipped:
