@@ -60,7 +60,7 @@ SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl) linear_rt.h # the kerne
 SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 
 # what `make test` runs, one count each in its summary line
-TESTS := test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-vulkan-trace test-demo test-examples test-bench
+TESTS := test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-vulkan-trace test-demo test-examples test-bench test-gpu-stats
 
 # hardening (sanitizers with clang, valgrind, static checks, limits) and the
 # fuzzers: their own makefiles, which add their tests to TESTS
@@ -473,11 +473,22 @@ $(B)/gpu_stats: tools/gpu_stats.c $(GPU_STATS_DEPS) $(B)/config.stamp | deps $(B
 
 gpu-stats: $(B)/gpu_stats
 	@$(B)/gpu_stats --out $(GPU_STATS_OUT); rc=$$?; [ $$rc -eq 77 ] && exit 0; exit $$rc
+
+# the library's trace pipeline alone compiled (--quick: all twelve are still
+# made and identified), on each of the three GPUs; then the table of each
+# must have its figures
+test-gpu-stats: $(B)/gpu_stats
+	@$(B)/gpu_stats --quick --out $(B)/gpu-stats-quick.md; rc=$$?; \
+	if [ $$rc -eq 77 ]; then echo "test-gpu-stats: skipped: no RADV"; exit 0; fi; [ $$rc -eq 0 ] || exit $$rc; \
+	tables=$$(grep -c '^### ' $(B)/gpu-stats-quick.md); \
+	good=$$(awk -F'|' '$$2 == " linear_rt trace buffer " && $$3 + 0 > 0 && $$4 + 0 > 0 && $$5 + 0 > 0 && $$9 + 0 > 0' $(B)/gpu-stats-quick.md | wc -l); \
+	if [ "$$tables" = 3 ] && [ "$$good" = 3 ]; then echo "test-gpu-stats: ok, 3 GPUs, the trace pipeline's figures on each"; \
+	else echo "test-gpu-stats: FAIL: $$tables tables, $$good with the trace pipeline's figures (of 3)"; exit 1; fi
 else
 .PHONY: $(B)/gpu_stats
 $(B)/gpu_stats:
 	@echo "gpu_stats: not built: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"
-gpu-stats:
+gpu-stats test-gpu-stats:
 	@echo "$@: skipped: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"; \
 	[ "$$CI" != "true" ]
 endif
@@ -501,7 +512,7 @@ TEST_PROGRAMS = $(addprefix $(FB)/,$(FUZZERS)) \
     test_limits_csan test_limits_m32 test_limits test_limits_isan test_core_san_sse2 test_core \
     test_core_scalar test_core_sse2 test_paths test_examples $(EXAMPLES) demo bench \
     test_threads test_threads_tsan test_reference test_reference_san test_reference_csan spv2h static_tu.c) \
-  $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,test_vulkan test_vulkan_threads test_vulkan_threads_tsan vulkan_trace)) \
+  $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,test_vulkan test_vulkan_threads test_vulkan_threads_tsan vulkan_trace gpu_stats)) \
   $(if $(filter 11,$(HAVE_VULKAN)$(VI_HAVE_GLSLANG)),$(B)/vulkan_inline)
 
 test-programs: $(TEST_PROGRAMS)
