@@ -8,6 +8,8 @@
 #   make bench-plain-vs-native  linear_rt's CPU rows, plain build / -march=native
 #   make examples  build/minimal, ssr, ao, shadows, vulkan_inline, vulkan_trace
 #   make spv     compile shaders/*.comp and regenerate shaders_spv.h (needs glslang)
+#   make gpu-stats  the kernels' weight on AMD GPUs (RDNA3, RDNA2, GCN): Mesa's
+#                RADV compiler on null hardware, tables in build/gpu-stats.md
 #   make clean
 CC ?= cc
 CFLAGS ?= -O2 -g
@@ -58,7 +60,7 @@ SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl) linear_rt.h # the kerne
 SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 
 # what `make test` runs, one count each in its summary line
-TESTS := test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-vulkan-trace test-demo test-examples test-bench
+TESTS := test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-vulkan-trace test-demo test-examples test-bench test-gpu-stats
 
 # hardening (sanitizers with clang, valgrind, static checks, limits) and the
 # fuzzers: their own makefiles, which add their tests to TESTS
@@ -67,7 +69,7 @@ include tests/threads.mk
 include tests/fuzz/fuzz.mk
 include examples/vulkan_inline/vulkan_inline.mk
 
-.PHONY: FORCE all demo examples pictures check test test-all test-programs deps clean spv spv-check bench bench-deps bench-publish bench-plain-vs-native $(TESTS) test-sanitize
+.PHONY: FORCE all demo examples pictures check test test-all test-programs deps clean spv spv-check bench bench-deps bench-publish bench-plain-vs-native gpu-stats $(TESTS) test-sanitize
 
 all: $(B)/demo $(B)/test_reference $(B)/test_core
 
@@ -457,6 +459,47 @@ bench-publish:
 test-bench: $(B)/bench
 	$(B)/bench --quick --out $(B)
 
+# ---- the kernels' weight on AMD GPUs ------------------------------------------
+# tools/gpu_stats.c: every pipeline of lrt_vk_context_create, and the
+# benchmark's Vulkan peers (their kernels as make bench compiles them), built
+# by Mesa's RADV on null hardware for RDNA3, RDNA2 and GCN (RADV_FORCE_FAMILY:
+# no AMD GPU needed, nothing dispatched); instructions, registers, spills,
+# branches and waves per SIMD from VK_KHR_pipeline_executable_properties.
+# RADV is Debian's mesa-vulkan-drivers, which make demo and make test install.
+# Its exit 77 is "no RADV here" (1 under CI=true).
+GPU_STATS_OUT ?= $(B)/gpu-stats.md
+ifeq ($(HAVE_VULKAN),1)
+GPU_STATS_FLAGS := -DLINEAR_RT_VULKAN -DVK_NO_PROTOTYPES $(ONE_WALK)
+GPU_STATS_DEPS := $(LIB) $(SPV_H)
+ifeq ($(HAVE_GLSLANG),1)
+GPU_STATS_FLAGS += -DGPU_STATS_HAVE_PEERS -I$(B)
+GPU_STATS_DEPS += $(B)/bench_vk_spv.h
+endif
+$(B)/gpu_stats: tools/gpu_stats.c $(GPU_STATS_DEPS) $(B)/config.stamp | deps $(B)
+	$(CC) $(STD) $(STRICT) $(CFLAGS) $(GPU_STATS_FLAGS) $< -o $@ -lm $(VK_LIBS)
+
+gpu-stats: $(B)/gpu_stats
+	@$(B)/gpu_stats --out $(GPU_STATS_OUT); rc=$$?; [ $$rc -eq 77 ] && exit 0; exit $$rc
+
+# the library's trace pipeline alone compiled (--quick: all twelve are still
+# made and identified), on each of the three GPUs; then the table of each
+# must have its figures
+test-gpu-stats: $(B)/gpu_stats
+	@$(B)/gpu_stats --quick --out $(B)/gpu-stats-quick.md; rc=$$?; \
+	if [ $$rc -eq 77 ]; then echo "test-gpu-stats: skipped: no RADV"; exit 0; fi; [ $$rc -eq 0 ] || exit $$rc; \
+	tables=$$(grep -c '^### ' $(B)/gpu-stats-quick.md); \
+	good=$$(awk -F'|' '$$2 == " linear_rt trace buffer " && $$3 + 0 > 0 && $$4 + 0 > 0 && $$5 + 0 > 0 && $$9 + 0 > 0' $(B)/gpu-stats-quick.md | wc -l); \
+	if [ "$$tables" = 3 ] && [ "$$good" = 3 ]; then echo "test-gpu-stats: ok, 3 GPUs, the trace pipeline's figures on each"; \
+	else echo "test-gpu-stats: FAIL: $$tables tables, $$good with the trace pipeline's figures (of 3)"; exit 1; fi
+else
+.PHONY: $(B)/gpu_stats
+$(B)/gpu_stats:
+	@echo "gpu_stats: not built: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"
+gpu-stats test-gpu-stats:
+	@echo "$@: skipped: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"; \
+	[ "$$CI" != "true" ]
+endif
+
 # Every test, each run even when an earlier one failed; then one summary line.
 # As for the demo: install, then a new make. CI=true turns every "skipped:
 # TOOL is missing" of the tests into a failure; ALLOW_SKIP=1 keeps skips.
@@ -476,7 +519,7 @@ TEST_PROGRAMS = $(addprefix $(FB)/,$(FUZZERS)) \
     test_limits_csan test_limits_m32 test_limits test_limits_isan test_core_san_sse2 test_core \
     test_core_scalar test_core_sse2 test_paths test_examples $(EXAMPLES) demo test_demo bench \
     test_threads test_threads_tsan test_reference test_reference_san test_reference_csan spv2h static_tu.c) \
-  $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,test_vulkan test_vulkan_threads test_vulkan_threads_tsan vulkan_trace)) \
+  $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,test_vulkan test_vulkan_threads test_vulkan_threads_tsan vulkan_trace gpu_stats)) \
   $(if $(filter 11,$(HAVE_VULKAN)$(VI_HAVE_GLSLANG)),$(B)/vulkan_inline)
 
 test-programs: $(TEST_PROGRAMS)
