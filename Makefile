@@ -425,6 +425,10 @@ bench-deps:
 bench: bench-deps
 	@$(MAKE) --no-print-directory $(B)/bench
 	$(B)/bench $(BENCH_ARGS)
+	@$(MAKE) --no-print-directory gpu-stats GPU_STATS_OUT=$(B)/bench-results/gpu-stats.md
+	@if [ -f $(B)/bench-results/gpu-stats.md ] && [ -f $(B)/bench-results/results.md ]; then \
+	  { echo; cat $(B)/bench-results/gpu-stats.md; } >> $(B)/bench-results/results.md; \
+	  echo "bench: the kernels' weight on AMD GPUs appended to $(B)/bench-results/results.md"; fi
 
 # The plain build's run-time walk against a -march=native build of the
 # library, in one run: build/bench-twin holds both (bench/m_linear_rt.c a
