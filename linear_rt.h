@@ -924,6 +924,22 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
 #define LRT__AVX_AT_RUN_TIME 0
 #endif
 #define LRT__AVX LRT__AVX_BUILT /* the pass being compiled: AVX2 or not (section walk-avx2 redefines it) */
+#if LRT__AVX_AT_RUN_TIME
+/* The one look at the CPU that picks the AVX2 paths (the walk, a row's model
+   back codes): libgcc / compiler-rt read CPUID and whether the OS saves the
+   AVX state (XGETBV) once at start-up. A function outside the walk's pass
+   that has an AVX2 version compiles it with LRT__TARGET_AVX2. */
+static int lrt__cpu_has_avx2(void)
+{
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
+           __builtin_cpu_supports("bmi2");
+}
+#define LRT__TARGET_AVX2 __attribute__((target("avx2")))
+#define LRT__USE_AVX2() lrt__cpu_has_avx2()
+#elif LRT__AVX_BUILT
+#define LRT__TARGET_AVX2
+#define LRT__USE_AVX2() 1
+#endif
 #ifndef LINEAR_RT_SELF
 #define LINEAR_RT_SELF "linear_rt.h" /* for the AVX2 pass: this file, found beside itself */
 #endif
@@ -1477,7 +1493,60 @@ static uint32_t lrt__model_back_codes4(const lrt_layout *L, const lrt_depth *dep
     return i;
 }
 #else
-#define lrt__model_back_codes4(L, depth, row, x0, n, qmax, codes) 0u /* the loop does them all */
+#define lrt__model_back_codes4(L, depth, row, x0, n, qmax, codes) ((void)(row), 0u) /* the loop does them all */
+#endif
+
+/* ---- ISA block: lrt__model_back_codes4, 8 at a time (AVX2: in an AVX2
+   build, or compiled for it by LRT__TARGET_AVX2 and called where the CPU
+   has it | none). The same operations in lanes (vminps and vmaxps keep the
+   same operand on a NaN as minps and maxps); the target leaves FMA out, so
+   the one product, b * 2^16, exact, stays a product. Everything it uses is
+   an intrinsic: GCC inlines no helper of another target into it ---- */
+#if LRT__AVX_BUILT || LRT__AVX_AT_RUN_TIME
+static LRT__TARGET_AVX2 uint32_t lrt__model_back_codes8(const lrt_layout *L, const lrt_depth *depth, const unsigned char *row,
+                                                        uint32_t x0, uint32_t n, uint32_t qmax, uint32_t *codes)
+{
+    const lrt_format format = depth->format;
+    const int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0, constant = L->thickness == LRT_THICKNESS_CONSTANT;
+    const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
+    const __m256 one = _mm256_set1_ps(1.0f), k0 = _mm256_set1_ps(L->back_k[0]), k1 = _mm256_set1_ps(L->back_k[1]);
+    const __m256 vmax_f = _mm256_set1_ps((float)vmax), scale = _mm256_set1_ps(65536.0f), least = _mm256_set1_ps(LRT__FLT_MIN);
+    const __m256i vmax_i = _mm256_set1_epi32((int)vmax);
+    uint32_t i = 0;
+    if (qmax != 65535u) return 0; /* as lrt__model_back_codes4 */
+    for (; n - i >= 8u; i += 8) {
+        __m256 d, b, B, f;
+        __m256i t;
+        if (format == LRT_FORMAT_FLOAT32) {
+            d = _mm256_loadu_ps((const float *)(const void *)(row + 4 * (size_t)(x0 + i)));
+            if (reversed) d = _mm256_sub_ps(one, d);
+            d = _mm256_min_ps(d, one); /* lrt__clamp_depth4 */
+            d = _mm256_and_ps(d, _mm256_cmp_ps(d, least, _CMP_GE_OQ));
+        } else {
+            __m256i v;
+            if (format == LRT_FORMAT_UNORM8)
+                v = _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)(row + x0 + i)));
+            else
+                v = _mm256_cvtepu16_epi32(_mm_loadu_si128((const __m128i *)(const void *)(row + 2 * (size_t)(x0 + i))));
+            if (reversed) v = _mm256_sub_epi32(vmax_i, v);
+            d = _mm256_div_ps(_mm256_cvtepi32_ps(v), vmax_f);
+        }
+        if (constant) {
+            const __m256 u = _mm256_sub_ps(k0, d), q = _mm256_div_ps(k0, u);
+            b = _mm256_add_ps(d, _mm256_div_ps(k1, _mm256_div_ps(_mm256_add_ps(q, k1), u)));
+        } else {
+            b = _mm256_div_ps(_mm256_add_ps(d, k0), k1);
+        }
+        b = _mm256_max_ps(_mm256_min_ps(b, one), d);
+        B = _mm256_mul_ps(b, scale);
+        t = _mm256_cvttps_epi32(B);
+        f = _mm256_sub_ps(B, _mm256_cvtepi32_ps(t));
+        t = _mm256_sub_epi32(t, _mm256_castps_si256(_mm256_cmp_ps(f, b, _CMP_GT_OQ)));
+        t = _mm256_add_epi32(t, _mm256_castps_si256(_mm256_cmp_ps(b, one, _CMP_EQ_OQ)));
+        _mm256_storeu_si256((__m256i *)(void *)(codes + i), t);
+    }
+    return i;
+}
 #endif
 
 /* Back codes of texels [x0, x0+n) of row y under a CONSTANT or RELATIVE
@@ -1486,8 +1555,12 @@ static void lrt__row_model_back_codes(const lrt_layout *L, const lrt_depth *dept
                                       uint32_t n, uint32_t qmax, uint32_t *codes)
 {
     const uint32_t vmax = depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
-    uint32_t i;
-    for (i = lrt__model_back_codes4(L, depth, (const unsigned char *)depth->data + stride * y, x0, n, qmax, codes); i < n; ++i) {
+    const unsigned char *row = (const unsigned char *)depth->data + stride * y;
+    uint32_t i = 0;
+#if LRT__AVX_BUILT || LRT__AVX_AT_RUN_TIME
+    if (LRT__USE_AVX2()) i = lrt__model_back_codes8(L, depth, row, x0, n, qmax, codes);
+#endif
+    for (i += lrt__model_back_codes4(L, depth, row, x0 + i, n - i, qmax, codes + i); i < n; ++i) {
         const uint32_t raw = lrt__depth_raw(depth, stride, x0 + i, y), bits = lrt__model_back_bits(L, depth->format, raw);
         float b;
         double x;
@@ -4205,17 +4278,11 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #endif
 
 #ifndef LRT__AVX2_PASS
-/* The AVX2 walk, compiled at the end of this file (section walk-avx2), and
-   the one look at the CPU that picks it: libgcc / compiler-rt read CPUID
-   and whether the OS saves the AVX state (XGETBV) once at start-up. */
+/* The AVX2 walk, compiled at the end of this file (section walk-avx2),
+   picked by lrt__cpu_has_avx2 (section impl). */
 #if LRT__AVX_AT_RUN_TIME
 static void lrt__trace_walk_avx2(const lrt_bvh *bvh, const lrt_depth *depth, size_t stride, const lrt_ray *rays,
                                  lrt_hit *hits, size_t first, size_t end);
-static int lrt__cpu_has_avx2(void)
-{
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
-           __builtin_cpu_supports("bmi2");
-}
 #endif /* LRT__AVX_AT_RUN_TIME */
 
 LINEAR_RT_DEF const char *lrt_cpu_path(void)
