@@ -924,6 +924,22 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
 #define LRT__AVX_AT_RUN_TIME 0
 #endif
 #define LRT__AVX LRT__AVX_BUILT /* the pass being compiled: AVX2 or not (section walk-avx2 redefines it) */
+#if LRT__AVX_AT_RUN_TIME
+/* The one look at the CPU that picks the AVX2 paths (the walk, a row's model
+   back codes): libgcc / compiler-rt read CPUID and whether the OS saves the
+   AVX state (XGETBV) once at start-up. A function outside the walk's pass
+   that has an AVX2 version compiles it with LRT__TARGET_AVX2. */
+static int lrt__cpu_has_avx2(void)
+{
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
+           __builtin_cpu_supports("bmi2");
+}
+#define LRT__TARGET_AVX2 __attribute__((target("avx2")))
+#define LRT__USE_AVX2() lrt__cpu_has_avx2()
+#elif LRT__AVX_BUILT
+#define LRT__TARGET_AVX2
+#define LRT__USE_AVX2() 1
+#endif
 #ifndef LINEAR_RT_SELF
 #define LINEAR_RT_SELF "linear_rt.h" /* for the AVX2 pass: this file, found beside itself */
 #endif
@@ -1218,7 +1234,7 @@ static uint32_t lrt__float_heights4(const unsigned char *row, uint32_t x0, uint3
    Integer inputs stay in integers, so 8- and 16-bit depth are exact. One
    loop per format keeps the per-texel work to a load and a convert (this
    is the per-frame cost). */
-static void lrt__row_heights(const lrt_depth *depth, const unsigned char *row, uint32_t x0, uint32_t n,
+LRT__FORCE_INLINE void lrt__row_heights(const lrt_depth *depth, const unsigned char *row, uint32_t x0, uint32_t n,
                              uint32_t qmax, uint32_t *codes)
 {
     const int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0;
@@ -1477,17 +1493,88 @@ static uint32_t lrt__model_back_codes4(const lrt_layout *L, const lrt_depth *dep
     return i;
 }
 #else
-#define lrt__model_back_codes4(L, depth, row, x0, n, qmax, codes) 0u /* the loop does them all */
+#define lrt__model_back_codes4(L, depth, row, x0, n, qmax, codes) ((void)(row), 0u) /* the loop does them all */
+#endif
+
+/* ---- ISA block: lrt__model_back_codes4, 8 at a time (AVX2: in an AVX2
+   build, or compiled for it by LRT__TARGET_AVX2 and called where the CPU
+   has it | none). The same operations in lanes (vminps and vmaxps keep the
+   same operand on a NaN as minps and maxps); the target leaves FMA out, so
+   the one product, b * 2^16, exact, stays a product. Everything it uses is
+   an intrinsic: GCC inlines no helper of another target into it ---- */
+#if LRT__AVX_BUILT || LRT__AVX_AT_RUN_TIME
+static LRT__TARGET_AVX2 uint32_t lrt__model_back_codes8(const lrt_layout *L, const lrt_depth *depth, const unsigned char *row,
+                                                        uint32_t x0, uint32_t n, uint32_t qmax, uint32_t *codes,
+                                                        uint32_t *heights)
+{
+    const lrt_format format = depth->format;
+    const int reversed = (depth->flags & LRT_DEPTH_REVERSED_Z) != 0, constant = L->thickness == LRT_THICKNESS_CONSTANT;
+    const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
+    const __m256 one = _mm256_set1_ps(1.0f), k0 = _mm256_set1_ps(L->back_k[0]), k1 = _mm256_set1_ps(L->back_k[1]);
+    const __m256 vmax_f = _mm256_set1_ps((float)vmax), scale = _mm256_set1_ps(65536.0f), least = _mm256_set1_ps(LRT__FLT_MIN);
+    const __m256i vmax_i = _mm256_set1_epi32((int)vmax), qi = _mm256_set1_epi32(65535);
+    const __m256i unit = _mm256_set1_epi32(format == LRT_FORMAT_UNORM8 ? 257 : 1); /* 65535 / vmax */
+    const __m256d q = _mm256_set1_pd(65535.0);
+    uint32_t i = 0;
+    if (qmax != 65535u) return 0; /* as lrt__model_back_codes4 */
+    for (; n - i >= 8u; i += 8) {
+        __m256 d, b, B, f;
+        __m256i t;
+        if (format == LRT_FORMAT_FLOAT32) {
+            d = _mm256_loadu_ps((const float *)(const void *)(row + 4 * (size_t)(x0 + i)));
+            if (reversed) d = _mm256_sub_ps(one, d);
+            d = _mm256_min_ps(d, one); /* lrt__clamp_depth4 */
+            d = _mm256_and_ps(d, _mm256_cmp_ps(d, least, _CMP_GE_OQ));
+            if (heights) { /* lrt__row_heights: qmax - floor(d * qmax), the product in double */
+                const __m128i lo = _mm256_cvttpd_epi32(_mm256_mul_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(d)), q));
+                const __m128i hi = _mm256_cvttpd_epi32(_mm256_mul_pd(_mm256_cvtps_pd(_mm256_extractf128_ps(d, 1)), q));
+                _mm256_storeu_si256((__m256i *)(void *)(heights + i),
+                                    _mm256_sub_epi32(qi, _mm256_inserti128_si256(_mm256_castsi128_si256(lo), hi, 1)));
+            }
+        } else {
+            __m256i v;
+            if (format == LRT_FORMAT_UNORM8)
+                v = _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)(row + x0 + i)));
+            else
+                v = _mm256_cvtepu16_epi32(_mm_loadu_si128((const __m128i *)(const void *)(row + 2 * (size_t)(x0 + i))));
+            if (reversed) v = _mm256_sub_epi32(vmax_i, v);
+            if (heights) /* lrt__row_heights: qmax - v * qmax / vmax, exact as v * (65535 / vmax) */
+                _mm256_storeu_si256((__m256i *)(void *)(heights + i), _mm256_sub_epi32(qi, _mm256_mullo_epi32(v, unit)));
+            d = _mm256_div_ps(_mm256_cvtepi32_ps(v), vmax_f);
+        }
+        if (constant) {
+            const __m256 u = _mm256_sub_ps(k0, d), q = _mm256_div_ps(k0, u);
+            b = _mm256_add_ps(d, _mm256_div_ps(k1, _mm256_div_ps(_mm256_add_ps(q, k1), u)));
+        } else {
+            b = _mm256_div_ps(_mm256_add_ps(d, k0), k1);
+        }
+        b = _mm256_max_ps(_mm256_min_ps(b, one), d);
+        B = _mm256_mul_ps(b, scale);
+        t = _mm256_cvttps_epi32(B);
+        f = _mm256_sub_ps(B, _mm256_cvtepi32_ps(t));
+        t = _mm256_sub_epi32(t, _mm256_castps_si256(_mm256_cmp_ps(f, b, _CMP_GT_OQ)));
+        t = _mm256_add_epi32(t, _mm256_castps_si256(_mm256_cmp_ps(b, one, _CMP_EQ_OQ)));
+        _mm256_storeu_si256((__m256i *)(void *)(codes + i), t);
+    }
+    return i;
+}
 #endif
 
 /* Back codes of texels [x0, x0+n) of row y under a CONSTANT or RELATIVE
-   model: ceil(b * qmax) of lrt__model_back's float b, as above. */
+   model: ceil(b * qmax) of lrt__model_back's float b, as above; and their
+   height codes (lrt__row_heights) where `heights` is not NULL, from the
+   same loads. */
 static void lrt__row_model_back_codes(const lrt_layout *L, const lrt_depth *depth, size_t stride, uint32_t y, uint32_t x0,
-                                      uint32_t n, uint32_t qmax, uint32_t *codes)
+                                      uint32_t n, uint32_t qmax, uint32_t *codes, uint32_t *heights)
 {
     const uint32_t vmax = depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
-    uint32_t i;
-    for (i = lrt__model_back_codes4(L, depth, (const unsigned char *)depth->data + stride * y, x0, n, qmax, codes); i < n; ++i) {
+    const unsigned char *row = (const unsigned char *)depth->data + stride * y;
+    uint32_t i = 0;
+#if LRT__AVX_BUILT || LRT__AVX_AT_RUN_TIME
+    if (LRT__USE_AVX2()) i = lrt__model_back_codes8(L, depth, row, x0, n, qmax, codes, heights);
+#endif
+    if (heights) lrt__row_heights(depth, row, x0 + i, n - i, qmax, heights + i);
+    for (i += lrt__model_back_codes4(L, depth, row, x0 + i, n - i, qmax, codes + i); i < n; ++i) {
         const uint32_t raw = lrt__depth_raw(depth, stride, x0 + i, y), bits = lrt__model_back_bits(L, depth->format, raw);
         float b;
         double x;
@@ -1516,7 +1603,7 @@ static void lrt__unorm8_model_table(const lrt_layout *L, const lrt_depth *depth,
     row.width = 256;
     row.height = 1;
     row.row_stride = 256;
-    lrt__row_model_back_codes(L, &row, 256, 0, 0, 256, qmax, table);
+    lrt__row_model_back_codes(L, &row, 256, 0, 0, 256, qmax, table, NULL);
 }
 
 /* ---- ISA block: a level-1 node's 4 + 4 16-bit codes (two texel rows)
@@ -1682,21 +1769,24 @@ LRT__FORCE_INLINE size_t lrt__back_code_index(const lrt_layout *L)
 }
 
 /* Refit level-1 nodes [nx0,nx1] x [ny0,ny1] from the texels, two texel rows
-   at a time: their heights, or (back) their back codes, which a back-map
-   tree keeps after the heights (lrt__back_code_index). Texels outside the
-   map get code 0 (padding: height 0; a back of 0, a box [1, 0] no ray
-   meets). A compact level 1 stores each node's word and its own height,
-   the code in its level-2 parent (whose refit then has nothing to add). */
-static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_t stride, uint32_t nx0, uint32_t nx1,
-                                     uint32_t ny0, uint32_t ny1, int back)
+   at a time: sets 1, their heights; 2, their back codes, which a tree with
+   a thickness keeps after the heights (lrt__back_code_index); 3, both, from
+   one pass over the map (a CONSTANT or RELATIVE tree: each row's depth is
+   read once, and the back codes' divisions overlap the heights' work).
+   Texels outside the map get code 0 (padding: height 0; a back of 0, a box
+   [1, 0] no ray meets). A compact level 1 stores each node's word and its
+   own height, the code in its level-2 parent (whose refit then has nothing
+   to add). */
+LRT__FORCE_INLINE void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_t stride, uint32_t nx0, uint32_t nx1,
+                                     uint32_t ny0, uint32_t ny1, int sets)
 {
     const lrt_layout *L = &bvh->layout;
     const uint32_t qmax = 65535u;
-    const size_t codes_at = back ? lrt__back_code_index(L) : 0u;
-    const int compact = L->level1_node_bytes == 6u;
-    uint32_t codes[2][64 + 4], table[256];
+    const int compact = L->level1_node_bytes == 6u, back = (sets & 2) != 0;
+    uint32_t codes[2][64 + 4], backs[2][64 + 4], table[256]; /* by texel row */
     size_t back_stride = 0;
     uint32_t nx, ny, r, s, chunk;
+    int set;
     /* 8-bit depth under a model: 256 back codes, looked up, where the
        texels outnumber them (a small update computes its own) */
     const int look_up = back && L->thickness != LRT_THICKNESS_BACK_MAP && depth->format == LRT_FORMAT_UNORM8 &&
@@ -1713,45 +1803,55 @@ static void lrt__refit_texel_parents(lrt_bvh *bvh, const lrt_depth *depth, size_
             uint32_t n = (last - chunk + 1) * 4u, real;
             for (r = 0; r < 2; ++r) {
                 uint32_t ty = ny * 2u + r;
+                uint32_t *h = codes[r], *c = backs[r];
                 real = tx0 >= L->width ? 0u : (L->width - tx0 < n ? L->width - tx0 : n);
                 if (ty >= L->height) real = 0;
+                if (real && (sets & 1) && !(back && !look_up && L->thickness != LRT_THICKNESS_BACK_MAP))
+                    lrt__row_heights(depth, (const unsigned char *)depth->data + stride * ty, tx0, real, qmax, h);
                 if (real && look_up)
-                    for (s = 0; s < real; ++s) codes[r][s] = table[((const unsigned char *)depth->data + stride * ty)[tx0 + s]];
+                    for (s = 0; s < real; ++s) c[s] = table[((const unsigned char *)depth->data + stride * ty)[tx0 + s]];
                 else if (real && back && L->thickness != LRT_THICKNESS_BACK_MAP)
-                    lrt__row_model_back_codes(L, depth, stride, ty, tx0, real, qmax, codes[r]);
+                    lrt__row_model_back_codes(L, depth, stride, ty, tx0, real, qmax, c, sets & 1 ? h : NULL);
                 else if (real && back)
                     lrt__row_back_codes(depth, (const unsigned char *)depth->data + stride * ty,
-                                        (const unsigned char *)depth->back->data + back_stride * ty, tx0, real, qmax, codes[r]);
-                else if (real)
-                    lrt__row_heights(depth, (const unsigned char *)depth->data + stride * ty, tx0, real, qmax, codes[r]);
-                for (s = real; s < n; ++s) codes[r][s] = 0;
+                                        (const unsigned char *)depth->back->data + back_stride * ty, tx0, real, qmax, c);
+                if (sets & 1)
+                    for (s = real; s < n; ++s) h[s] = 0;
+                if (sets & 2)
+                    for (s = real; s < n; ++s) c[s] = 0;
             }
-            if (compact) {
-                /* scales past the chunk's last node stay 16: their reciprocals (four at a time) are never used */
-                uint32_t heights[16], scales[16] = {16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16};
-                float inv[16];
-                for (nx = chunk; nx <= last; ++nx) { /* heights and scales first (lrt__compact_bounds) */
-                    const uint32_t px = (nx >> 1) * parent_step, k = nx - chunk;
-                    const size_t node = L->levels[1].offset + row + (size_t)(nx >> 1) * 8u + (nx & 1u);
-                    const size_t parent = parents + (size_t)(px >> 2) * 8u + (px & 3u);
-                    scales[k] = lrt__compact_bounds(codes[0] + (size_t)k * 4u, codes[1] + (size_t)k * 4u, &heights[k]);
-                    ((uint16_t *)bvh->nodes)[codes_at + lrt__compact_scale_index(L, node)] = (uint16_t)scales[k];
-                    ((uint16_t *)bvh->nodes)[codes_at + lrt__code_index(L, parent) + (child_row | (nx & 1u))] = (uint16_t)heights[k];
-                }
-                lrt__compact_inverses(scales, inv, last - chunk + 1u);
-                for (nx = chunk; nx <= last; ++nx) {
-                    const uint32_t k = nx - chunk;
-                    const size_t node = L->levels[1].offset + row + (size_t)(nx >> 1) * 8u + (nx & 1u);
-                    const uint32_t word = lrt__compact_steps(codes[0] + (size_t)k * 4u, codes[1] + (size_t)k * 4u, heights[k],
-                                                             scales[k], inv[k]);
-                    memcpy((uint32_t *)bvh->nodes + codes_at / 2u + node, &word, 4);
-                }
-            } else {
-                for (nx = chunk; nx <= last; ++nx) {
-                    /* level 1 groups 2x4 (lrt_layout_node_index): node nx is 8 slots after nx - 2 */
-                    const size_t node = L->levels[1].offset + row + (size_t)(nx >> 1) * 8u + (nx & 1u);
-                    lrt__store_node4x2(bvh->nodes, codes_at + node * 8u, codes[0] + (size_t)(nx - chunk) * 4u,
-                                       codes[1] + (size_t)(nx - chunk) * 4u);
+            for (set = 0; set < 2; ++set) {
+                const size_t codes_at = set ? lrt__back_code_index(L) : 0u;
+                const uint32_t *c0 = set ? backs[0] : codes[0], *c1 = set ? backs[1] : codes[1];
+                if (!(sets & (1 << set))) continue;
+                if (compact) {
+                    /* scales past the chunk's last node stay 16: their reciprocals (four at a time) are never used */
+                    uint32_t heights[16], scales[16] = {16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16, 16};
+                    float inv[16];
+                    for (nx = chunk; nx <= last; ++nx) { /* heights and scales first (lrt__compact_bounds) */
+                        const uint32_t px = (nx >> 1) * parent_step, k = nx - chunk;
+                        const size_t node = L->levels[1].offset + row + (size_t)(nx >> 1) * 8u + (nx & 1u);
+                        const size_t parent = parents + (size_t)(px >> 2) * 8u + (px & 3u);
+                        scales[k] = lrt__compact_bounds(c0 + (size_t)k * 4u, c1 + (size_t)k * 4u, &heights[k]);
+                        ((uint16_t *)bvh->nodes)[codes_at + lrt__compact_scale_index(L, node)] = (uint16_t)scales[k];
+                        ((uint16_t *)bvh->nodes)[codes_at + lrt__code_index(L, parent) + (child_row | (nx & 1u))] =
+                            (uint16_t)heights[k];
+                    }
+                    lrt__compact_inverses(scales, inv, last - chunk + 1u);
+                    for (nx = chunk; nx <= last; ++nx) {
+                        const uint32_t k = nx - chunk;
+                        const size_t node = L->levels[1].offset + row + (size_t)(nx >> 1) * 8u + (nx & 1u);
+                        const uint32_t word =
+                            lrt__compact_steps(c0 + (size_t)k * 4u, c1 + (size_t)k * 4u, heights[k], scales[k], inv[k]);
+                        memcpy((uint32_t *)bvh->nodes + codes_at / 2u + node, &word, 4);
+                    }
+                } else {
+                    for (nx = chunk; nx <= last; ++nx) {
+                        /* level 1 groups 2x4 (lrt_layout_node_index): node nx is 8 slots after nx - 2 */
+                        const size_t node = L->levels[1].offset + row + (size_t)(nx >> 1) * 8u + (nx & 1u);
+                        lrt__store_node4x2(bvh->nodes, codes_at + node * 8u, c0 + (size_t)(nx - chunk) * 4u,
+                                           c1 + (size_t)(nx - chunk) * 4u);
+                    }
                 }
             }
         }
@@ -1812,8 +1912,12 @@ static void lrt__refit(lrt_bvh *bvh, const lrt_depth *depth, size_t stride, uint
             }
         }
         if (lv == 1) {
-            lrt__refit_texel_parents(bvh, depth, stride, nx0, nx1, ny0, ny1, 0);
-            if (L->back_codes) lrt__refit_texel_parents(bvh, depth, stride, nx0, nx1, ny0, ny1, 1);
+            if (L->back_codes && L->thickness != LRT_THICKNESS_BACK_MAP) {
+                lrt__refit_texel_parents(bvh, depth, stride, nx0, nx1, ny0, ny1, 3);
+            } else {
+                lrt__refit_texel_parents(bvh, depth, stride, nx0, nx1, ny0, ny1, 1);
+                if (L->back_codes) lrt__refit_texel_parents(bvh, depth, stride, nx0, nx1, ny0, ny1, 2);
+            }
         } else {
             lrt__refit_level(bvh, 0, lv, nx0, nx1, ny0, ny1);
             if (L->back_codes) lrt__refit_level(bvh, lrt__back_code_index(L), lv, nx0, nx1, ny0, ny1);
@@ -4205,17 +4309,11 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #endif
 
 #ifndef LRT__AVX2_PASS
-/* The AVX2 walk, compiled at the end of this file (section walk-avx2), and
-   the one look at the CPU that picks it: libgcc / compiler-rt read CPUID
-   and whether the OS saves the AVX state (XGETBV) once at start-up. */
+/* The AVX2 walk, compiled at the end of this file (section walk-avx2),
+   picked by lrt__cpu_has_avx2 (section impl). */
 #if LRT__AVX_AT_RUN_TIME
 static void lrt__trace_walk_avx2(const lrt_bvh *bvh, const lrt_depth *depth, size_t stride, const lrt_ray *rays,
                                  lrt_hit *hits, size_t first, size_t end);
-static int lrt__cpu_has_avx2(void)
-{
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
-           __builtin_cpu_supports("bmi2");
-}
 #endif /* LRT__AVX_AT_RUN_TIME */
 
 LINEAR_RT_DEF const char *lrt_cpu_path(void)

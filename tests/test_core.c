@@ -820,8 +820,8 @@ static void test_model_back_codes(void)
                 dm.format = format;
                 dm.flags = reversed ? LRT_DEPTH_REVERSED_Z : 0u;
                 CHECK(lrt__options_layout(16, 16, format, &opt, &L) == LRT_SUCCESS, "model back codes: layout of model %u", m);
-                lrt__row_model_back_codes(&L, &dm, (size_t)count * bpp, 0, 0, count, 65535u, lanes);
-                for (i = 0; i < count; ++i) lrt__row_model_back_codes(&L, &dm, (size_t)count * bpp, 0, i, 1, 65535u, one + i);
+                lrt__row_model_back_codes(&L, &dm, (size_t)count * bpp, 0, 0, count, 65535u, lanes, NULL);
+                for (i = 0; i < count; ++i) lrt__row_model_back_codes(&L, &dm, (size_t)count * bpp, 0, i, 1, 65535u, one + i, NULL);
                 if (format == LRT_FORMAT_UNORM8) lrt__unorm8_model_table(&L, &dm, 65535u, table);
                 for (i = 0; i < count; ++i)
                     if (lanes[i] != one[i] || (format == LRT_FORMAT_UNORM8 && table[i] != one[i])) {
