@@ -1543,8 +1543,8 @@ static LRT__TARGET_AVX2 uint32_t lrt__model_back_codes8(const lrt_layout *L, con
             d = _mm256_div_ps(_mm256_cvtepi32_ps(v), vmax_f);
         }
         if (constant) {
-            const __m256 u = _mm256_sub_ps(k0, d), q = _mm256_div_ps(k0, u);
-            b = _mm256_add_ps(d, _mm256_div_ps(k1, _mm256_div_ps(_mm256_add_ps(q, k1), u)));
+            const __m256 u = _mm256_sub_ps(k0, d), qk = _mm256_div_ps(k0, u);
+            b = _mm256_add_ps(d, _mm256_div_ps(k1, _mm256_div_ps(_mm256_add_ps(qk, k1), u)));
         } else {
             b = _mm256_div_ps(_mm256_add_ps(d, k0), k1);
         }
@@ -1654,9 +1654,7 @@ LRT__FORCE_INLINE uint32_t lrt__compact_scale(uint32_t spread)
    a lowest texel under a pole or a slab as far as half the spread above
    it). The refit finds every node's height and scale first, then the
    steps, so that the reciprocals (four at a time) stay out of the steps'
-   chain: a 1024x1024 8-bit update on one thread took 1.64 ms with both in
-   one function, 1.39-1.50 ms split (the 3-bit steps before them: 1.29-1.33
-   ms; best of 400, alternated runs).
+   chain.
    ---- ISA block: lrt__compact_bounds and lrt__compact_steps (SSE2: the 8
    codes in one register, the max, min and steps in lanes; the steps'
    quotients by a reciprocal | scalar) ---- */
