@@ -45,6 +45,8 @@ int main(void)
      LINEAR_RT_VULKAN               the lrt_vk_* API, in every file using it [off]
      LINEAR_RT_VULKAN_DEVICE_HELPER lrt_vk_device_create (loads the loader) [off]
      LINEAR_RT_COUNT_NODE_TEST(level), LINEAR_RT_COUNT_TEXEL_TEST()  profiling [nothing]
+     LINEAR_RT_WALK_AS_KERNELS      profiling: an expression; where nonzero, every
+                                    walk starts as the kernels' do (lrt__walk_origin) [undefined]
 
    SECTIONS: each opens with a banner that ends in ">>" and its name (search for it)
      usage         USE (CPU), USE (VULKAN), BARRIERS, INPUT, THE TREE: below
@@ -3826,6 +3828,35 @@ LRT__FORCE_INLINE int lrt__from_origin(const lrt__walk *w, const lrt__ray_setup 
     return s->o[2] >= lrt__raw_to_float(w->depth->format, lrt__depth_raw(w->depth, w->stride, px, py)) - LRT__ORIGIN_SURFACE;
 }
 
+#ifdef LINEAR_RT_WALK_AS_KERNELS
+/* Profiling (LINEAR_RT_WALK_AS_KERNELS): the kernels' lrt_first_texel, the
+   texel along one axis where their walk starts: the one holding o + t_lo v,
+   or one behind it whose edge lies within the widening of t_lo. The CPU's
+   walk starts from its texel range's corner instead, which can be the
+   texel behind where the start lies within that range's margin of an edge:
+   a counting copy that mirrors the kernels must start where they do. */
+static int lrt__kernel_first_texel(float o, float v, float iv, uint32_t neg, float t_lo, int size)
+{
+    float p = o + t_lo * v;
+    int c;
+    p = p > -2.0f ? p : -2.0f;
+    p = p < (float)size + 2.0f ? p : (float)size + 2.0f;
+    c = (int)floorf(p);
+    if (v == 0.0f) c -= (neg == 0u && (float)c == o) ? 1 : 0; /* on an edge: the first in order */
+    c = c < 0 ? 0 : c > size - 1 ? size - 1 : c;
+    if (v == 0.0f) return c;
+    for (;;) { /* while the texel behind it is touched at t_lo */
+        const int b = neg ? c + 1 : c - 1;
+        float e;
+        if (b < 0 || b >= size) break;
+        e = ((float)(neg ? c + 1 : c) - o) * iv;
+        if (!(t_lo <= lrt__widen(e))) break;
+        c = b;
+    }
+    return c;
+}
+#endif
+
 /* Child `slot` of node (nx, ny) of level lv: its node at level lv - 1 (the
    kernels' lrt_child). Levels lv odd group their children 4x2, even 2x4. */
 LRT__FORCE_INLINE void lrt__child(uint32_t lv, uint32_t *nx, uint32_t *ny, uint32_t slot)
@@ -3861,6 +3892,17 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
     uint32_t lv = top, eligible = 0xffu, reached, busy = 0u;
     uint8_t masks[LINEAR_RT_MAX_LEVELS + 2];
     size_t slot0;
+#ifdef LINEAR_RT_WALK_AS_KERNELS
+    /* profiling: the kernels' walk (lrt_walk_origin) always starts at the
+       level-1 node of the texel where the segment starts */
+    if (LINEAR_RT_WALK_AS_KERNELS) {
+        px = (uint32_t)lrt__kernel_first_texel(s->o[0], s->v[0], s->iv[0], s->neg_x, s->t_lo, (int)w->L->width);
+        py = (uint32_t)lrt__kernel_first_texel(s->o[1], s->v[1], s->iv[1], s->neg_y, s->t_lo, (int)w->L->height);
+        lv = 1u;
+        nx = px >> 2;
+        ny = py >> 1;
+    } else
+#endif
     if (lrt__from_origin(w, s, top, px, py)) {
         lv = 1u;
         nx = px >> 2;
@@ -6041,6 +6083,7 @@ LINEAR_RT_DEF void lrt_vk_device_destroy(lrt_vk_device *device)
 #define lrt__walk_up lrt__walk_up_avx2
 #define lrt__walk_down lrt__walk_down_avx2
 #define lrt__from_origin lrt__from_origin_avx2
+#define lrt__kernel_first_texel lrt__kernel_first_texel_avx2
 #define lrt__walk_setup lrt__walk_setup_avx2
 #define lrt__widen8 lrt__widen8_avx2
 #define lrt__z_plane8 lrt__z_plane8_avx2

@@ -137,4 +137,18 @@ int bench_visits(const bench_scene *scene, const bench_rays *rays, uint32_t node
    design: docs/PERFORMANCE.md, "What limits the walk"). 0 on success. */
 int bench_visits_thickness(const bench_scene *scene, const bench_rays *rays, double out[6]);
 
+/* What a wave pays (bench/visits.c, bench/wave.c): the steps of each ray
+   of a set as the GPU kernels take them, counted on one thread into
+   steps[] (rs->count of them). bench_wave_linear_rt: the node tests (any
+   level) of a copy of the library that walks as the kernels do (always
+   from the origin's level-1 node), and in *texels the exact texel tests of
+   the set. bench_wave_march: which 0 the 64-step march (its samples and
+   bisection steps), 1 the DDA of stride 1 (its columns), 2 the Hi-Z walk
+   capped at 64 (its iterations), as the Vulkan peers run them. 0 on
+   success. bench_wave_stats: the mean of steps and the mean over groups of
+   `wave` consecutive rays of the group's most. */
+int bench_wave_linear_rt(const bench_scene *scene, const bench_rays *rays, uint32_t node_bits, uint32_t *steps, double *texels);
+int bench_wave_march(const bench_scene *scene, const bench_rays *rays, int which, uint32_t *steps);
+void bench_wave_stats(const uint32_t *steps, size_t n, uint32_t wave, double *mean, double *wave_mean);
+
 #endif

@@ -59,6 +59,7 @@ typedef struct options {
     const char *out_dir;
     const char *only;    /* run only methods whose name contains this */
     int chart_only;      /* redraw the chart from out_dir's points.dat, run nothing */
+    int only_counts;     /* the scenes' sets and what a wave pays (counting), no method timed */
 } options;
 
 /* ---- deterministic random numbers -------------------------------------------- */
@@ -520,6 +521,153 @@ static void count_visits(const scene *sc, const ray_set *sets, int nsets)
             v->node_bits = bits[b];
             if (bench_visits(&sc->s, &sets[s].r, bits[b], v->per_ray) == 0) ++g_nvisits;
         }
+}
+
+/* ---- what a wave pays --------------------------------------------------------------
+   A GPU runs rays in groups (32 lanes: an NVIDIA warp, an RDNA wave32) that
+   step together: a group pays for its slowest ray. Each Vulkan method's
+   steps per ray on each set (bench/visits.c, bench/wave.c: counted, never
+   timed), their mean and the mean over groups of 32 consecutive rays (the
+   dispatch order) of the group's most. The ray-query peers are not counted:
+   their traversal is the hardware's. */
+#define WAVE_LANES 32u
+typedef struct wave_weight {
+    const char *method;
+    double node, texel; /* instructions per step; linear_rt: per node test, and per texel test */
+    int waves;          /* waves per SIMD the registers allow */
+} wave_weight;
+/* The kernels' weight per step, from make gpu-stats' compiler (RADV's ACO,
+   RDNA3 navi31, null hardware), read by hand from its IR after register
+   allocation (RADV_DEBUG=shaders build/gpu_stats --gpu navi31): the static
+   instructions of each kernel's main loop body. linear_rt's walk loop
+   (buffer depth) holds the level-1 texel loop: the walk's own part is a
+   node test's weight, the texel loop's a texel test's (infinite thickness
+   1225 = 768 + 457; back-map trees of 16-bit nodes 1654 = 705 + 949, of
+   8-bit nodes 1852 = 903 + 949). The 64-step march's loop body (413) holds
+   its sample and its 8 bisection steps unrolled: 413 / 9 a sample. DDA
+   128 a column, Hi-Z 287 an iteration. Static counts of a body: a wave
+   whose lanes take different branches issues them all, one that agrees
+   issues fewer, so this weighs divergent waves. Waves per SIMD: make
+   gpu-stats' table, RDNA3. */
+static const wave_weight wave_weights[] = {
+    {"linear_rt vulkan 16", 768.0, 457.0, 18},
+    {"linear_rt vulkan 8", 768.0, 457.0, 18},
+    {"linear_rt vulkan 16 back", 705.0, 949.0, 16},
+    {"linear_rt vulkan 8 back", 903.0, 949.0, 16},
+    {"march64 vulkan", 413.0 / 9.0, 0.0, 32},
+    {"dda vulkan", 128.0, 0.0, 32},
+    {"hiz64 vulkan", 287.0, 0.0, 32},
+};
+/* Waves per SIMD at or above this hide a step's latency alike: below it, a
+   step costs WAVE_FULL / waves times more (an assumption; RDNA3's kernels
+   here are all above it) */
+#define WAVE_FULL 16
+
+typedef struct wave_row {
+    const char *scene, *set, *method;
+    double mean, wave, texels, estimate; /* texels: linear_rt's texel tests per node test */
+} wave_row;
+#define MAX_WAVES 512
+static wave_row g_waves[MAX_WAVES];
+static int g_nwaves;
+
+static const wave_weight *weight_of(const char *method, int back)
+{
+    char name[64];
+    size_t k;
+    snprintf(name, sizeof name, "%s%s", method, back && !strncmp(method, "linear_rt", 9) ? " back" : "");
+    for (k = 0; k < sizeof wave_weights / sizeof wave_weights[0]; ++k)
+        if (!strcmp(wave_weights[k].method, name)) return &wave_weights[k];
+    return NULL;
+}
+
+/* The estimate, per ray: wave steps x instructions per step (linear_rt's a
+   node test's, and its texel tests' per node test), x WAVE_FULL / waves
+   below WAVE_FULL waves per SIMD. In instructions a wave issues per ray it
+   holds, over its lanes: comparable between methods, not a time. */
+static double wave_estimate(const wave_weight *w, double wave, double texels_per_node)
+{
+    const double per_step = w->node + w->texel * texels_per_node;
+    return wave * per_step * (w->waves < WAVE_FULL ? (double)WAVE_FULL / (double)w->waves : 1.0);
+}
+
+static void count_waves(const scene *sc, const ray_set *sets, int nsets)
+{
+    static const char *const names[5] = {"linear_rt vulkan 16", "linear_rt vulkan 8", "march64 vulkan", "dda vulkan",
+                                         "hiz64 vulkan"};
+    int s, k;
+    for (s = 0; s < nsets; ++s) {
+        const bench_rays *rs = &sets[s].r;
+        uint32_t *steps = rs->count ? (uint32_t *)malloc(sizeof(uint32_t) * rs->count) : NULL;
+        if (!steps) continue;
+        for (k = 0; k < 5 && g_nwaves < MAX_WAVES; ++k) {
+            wave_row *w = &g_waves[g_nwaves];
+            const wave_weight *ww = weight_of(names[k], sc->s.back != NULL);
+            double texels = 0.0;
+            int bad = k < 2 ? bench_wave_linear_rt(&sc->s, rs, k == 0 ? 16u : 8u, steps, &texels)
+                            : bench_wave_march(&sc->s, rs, k - 2, steps);
+            if (bad || !ww) continue;
+            w->scene = sc->s.name;
+            w->set = rs->name;
+            w->method = names[k];
+            bench_wave_stats(steps, rs->count, WAVE_LANES, &w->mean, &w->wave);
+            w->texels = w->mean > 0.0 ? texels / ((double)rs->count * w->mean) : 0.0;
+            w->estimate = wave_estimate(ww, w->wave, w->texels);
+            ++g_nwaves;
+        }
+        free(steps);
+    }
+}
+
+static const wave_row *find_wave(const char *scene_name, const char *set, const char *method)
+{
+    int i;
+    for (i = 0; i < g_nwaves; ++i)
+        if (!strcmp(g_waves[i].scene, scene_name) && !strcmp(g_waves[i].set, set) && !strcmp(g_waves[i].method, method))
+            return &g_waves[i];
+    return NULL;
+}
+
+/* The tables of what a wave pays, into f (results.md, or the --only-counts
+   output) */
+static void write_waves(FILE *f)
+{
+    static const char *const peers[3] = {"march64 vulkan", "dda vulkan", "hiz64 vulkan"};
+    int i, k;
+    if (!g_nwaves) return;
+    fprintf(f, "\n## What a wave pays\n\nA GPU steps %u rays together (a warp, a wave32) and a group pays for its "
+               "slowest ray. Steps per ray, counted on the CPU (bench/visits.c, bench/wave.c) as the Vulkan kernels "
+               "take them: linear_rt's node tests at any level, walking as its kernels do (always from the origin's "
+               "level-1 node); the 64-step march's samples and bisection steps; the DDA's columns; the Hi-Z walk's "
+               "iterations. Wave steps: the mean over groups of %u consecutive rays (dispatch order) of the group's "
+               "most. The ray-query peers are not counted (the hardware's traversal). Estimate: wave steps x the "
+               "kernel's instructions per step (RDNA3, RADV: the static instructions of its loop body; linear_rt's "
+               "texel tests added at their own weight per node test) x %d / waves per SIMD below %d: instructions "
+               "a wave issues per ray, not a time (bench/main.c, wave_weights, says where each figure comes from).\n\n",
+            WAVE_LANES, WAVE_LANES, WAVE_FULL, WAVE_FULL);
+    fprintf(f, "| scene | rays | method | steps per ray | wave steps (%u) | wave / mean | texel tests per step | "
+               "estimate |\n|---|---|---|--:|--:|--:|--:|--:|\n", WAVE_LANES);
+    for (i = 0; i < g_nwaves; ++i) {
+        const wave_row *w = &g_waves[i];
+        fprintf(f, "| %s | %s | %s | %.2f | %.2f | %.2f |", w->scene, w->set, w->method, w->mean, w->wave,
+                w->mean > 0.0 ? w->wave / w->mean : 0.0);
+        if (!strncmp(w->method, "linear_rt", 9)) fprintf(f, " %.2f |", w->texels);
+        else fprintf(f, " |");
+        fprintf(f, " %.0f |\n", w->estimate);
+    }
+    fprintf(f, "\nlinear_rt vulkan 16's estimate over each peer's (below 1: linear_rt estimated faster):\n\n"
+               "| scene | rays | / march64 | / dda | / hiz64 |\n|---|---|--:|--:|--:|\n");
+    for (i = 0; i < g_nwaves; ++i) {
+        const wave_row *a = &g_waves[i];
+        if (strcmp(a->method, "linear_rt vulkan 16")) continue;
+        fprintf(f, "| %s | %s |", a->scene, a->set);
+        for (k = 0; k < 3; ++k) {
+            const wave_row *b = find_wave(a->scene, a->set, peers[k]);
+            if (b && b->estimate > 0.0) fprintf(f, " %.2f |", a->estimate / b->estimate);
+            else fprintf(f, " - |");
+        }
+        fprintf(f, "\n");
+    }
 }
 
 static double median(double *v, int n)
@@ -1112,6 +1260,7 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
                     v[1], v[2], v[3], v[4], all_thick > 0.0 ? all_inf / all_thick : 1.0);
         }
     }
+    write_waves(md);
     (void)nstab;
     fclose(md);
     fclose(dat);
@@ -1270,10 +1419,12 @@ static int chart(const options *o, const char *machine)
 
 static void usage(void)
 {
-    printf("usage: bench [--size N] [--threads T] [--runs R] [--sample S] [--quick] [--only TEXT] [--out DIR]\n"
+    printf("usage: bench [--size N] [--threads T] [--runs R] [--sample S] [--quick] [--only TEXT] [--only-counts] [--out DIR]\n"
            "             [--depth FILE [--format png|pfm|raw] [--width W --height H] [--reversed]\n"
            "                          [--fov DEG --near N --far F]]\n"
            "       bench --chart-only [--out DIR]   (redraw DIR/speed_vs_accuracy.png from DIR/points.dat)\n"
+           "  --only-counts: no method timed; each set's steps per ray and per wave of 32 as the Vulkan kernels\n"
+           "                 take them (counted on the CPU), the tables on stdout and in DIR/waves.md\n"
            "  --depth FILE: the file's reflection, ao and shadow rays are built from view-space positions and\n"
            "  normals through a perspective camera, as the examples build them: vertical field of view DEG\n"
            "  (default 60), near and far planes N and F (default 0.1 and 60, the examples' defaults)\n");
@@ -1320,6 +1471,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[a], "--sample") && v) o.sample = (size_t)atol(argv[++a]);
         else if (!strcmp(argv[a], "--quick")) o.quick = 1;
         else if (!strcmp(argv[a], "--chart-only")) o.chart_only = 1;
+        else if (!strcmp(argv[a], "--only-counts")) o.only_counts = 1;
         else if (!strcmp(argv[a], "--only") && v) o.only = argv[++a];
         else if (!strcmp(argv[a], "--out") && v) o.out_dir = argv[++a];
         else if (!strcmp(argv[a], "--depth") && v) o.depth_file = argv[++a];
@@ -1425,6 +1577,10 @@ int main(int argc, char **argv)
 
     for (k = 0; k < nm; ++k) { /* open every method once, at the largest size */
         skipped[k] = NULL;
+        if (o.only_counts) {
+            skipped[k] = "not asked for (--only-counts)";
+            continue;
+        }
         if (o.only && !strstr(m[k].name, o.only)) {
             skipped[k] = "not asked for (--only)";
             continue;
@@ -1484,8 +1640,27 @@ int main(int argc, char **argv)
         }
         order_results(first, m, nm);
         if (count_walk) count_visits(&scenes[s], sets, nsets);
+        t0 = bench_now_ms();
+        count_waves(&scenes[s], sets, nsets);
+        printf("  what a wave pays: counted in %.1f s\n", (bench_now_ms() - t0) / 1e3);
         for (k = 0; k < nsets; ++k) set_free(&sets[k]);
-        write_csv(&o);
+        if (!o.only_counts) write_csv(&o);
+    }
+    if (o.only_counts) { /* the counts alone: the tables on stdout and in DIR/waves.md */
+        char path[600];
+        FILE *f;
+        write_waves(stdout);
+        make_dirs(o.out_dir);
+        snprintf(path, sizeof path, "%s/waves.md", o.out_dir);
+        if ((f = fopen(path, "w"))) {
+            fprintf(f, "# What a wave pays: %s\n", machine);
+            write_waves(f);
+            fclose(f);
+            printf("wrote %s\n", path);
+        }
+        for (s = 0; s < ns; ++s) scene_free(&scenes[s]);
+        free(hits);
+        return 0;
     }
     printf("stability suite:\n");
     for (a = 0; a < nstab; ++a) {

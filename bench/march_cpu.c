@@ -110,6 +110,7 @@ static int dda_test(const march_job *jb, const dda_line *L, double ss, double sa
 {
     double d, za, zb, lo, hi, thick;
     size_t k;
+    MARCH_COUNT_STEP();
     *i = march_texel(L->x0 + ss * L->dx, jb->map.w);
     *j = march_texel(L->y0 + ss * L->dy, jb->map.h);
     k = (size_t)*j * jb->map.w + *i;
@@ -236,6 +237,7 @@ static void hiz_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
         const float *level = lv == 0 ? jb->map.depth : m->chain + m->loff[lv];
         double x = o[0] + t * v[0], y = o[1] + t * v[1], z = o[2] + t * v[2], zmin, tx, ty, tb, tz;
         uint32_t cx = march_texel((x + nx) * inv_s, lw), cy = march_texel((y + ny) * inv_s, lh);
+        MARCH_COUNT_STEP(); /* one iteration (bench/wave.c) */
         zmin = (double)(lv == 0 ? march_depth(level[(size_t)cy * lw + cx]) : level[(size_t)cy * lw + cx]);
         if (z >= zmin) {
             if (lv > 0) {

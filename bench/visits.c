@@ -15,6 +15,11 @@
 static size_t visits_tests[4]; /* level 0, level 1, above; texels through the level-1 codes */
 #define LINEAR_RT_COUNT_NODE_TEST(level) (++visits_tests[(level) > 1u ? 2 : (level)])
 #define LINEAR_RT_COUNT_TEXEL_TEST() (++visits_tests[3])
+/* 1: walk as the kernels do (bench_wave_linear_rt): every walk from the
+   level-1 node of the texel where the segment starts, never the CPU's rule
+   (lrt__from_origin) of starting some at the start node */
+static int visits_as_kernels;
+#define LINEAR_RT_WALK_AS_KERNELS visits_as_kernels
 #define LINEAR_RT_NO_AVX
 #define LINEAR_RT_STATIC
 #define LINEAR_RT_IMPLEMENTATION
@@ -91,4 +96,33 @@ int bench_visits_thickness(const bench_scene *sc, const bench_rays *rs, double o
     lrt_bvh_destroy(&inf);
     lrt_bvh_destroy(&thick);
     return 0;
+}
+
+/* The kernels' walk, ray by ray (lrt_trace of one ray, walking as
+   shaders/linear_rt.glsl's lrt_trace_ray: from the origin's level-1 node
+   whenever the start node is above level 0): steps[i] the node tests of ray
+   i at any level, texels the exact texel tests of the whole set. */
+int bench_wave_linear_rt(const bench_scene *sc, const bench_rays *rs, uint32_t node_bits, uint32_t *steps, double *texels)
+{
+    const lrt_depth *depth = bench_lrt_depth(sc);
+    lrt_build_options o;
+    lrt_bvh bvh = {0};
+    size_t i, tex = 0;
+    int bad = 0;
+    *texels = 0.0;
+    memset(&o, 0, sizeof o);
+    o.node_bits = node_bits;
+    o.thickness = bench_lrt_thickness(sc);
+    if (lrt_bvh_build(&bvh, depth, &o, NULL) != LRT_SUCCESS) return 1;
+    visits_as_kernels = 1;
+    for (i = 0; i < rs->count; ++i) {
+        lrt_hit hit;
+        steps[i] = (uint32_t)visits_of_ray(&bvh, depth, rs->rays + i, &hit);
+        bad |= hit.kind == 0xffffu;
+        tex += visits_tests[3];
+    }
+    visits_as_kernels = 0;
+    *texels = (double)tex;
+    lrt_bvh_destroy(&bvh);
+    return bad;
 }

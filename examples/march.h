@@ -26,6 +26,14 @@
 #include <stdint.h>
 #include "../linear_rt.h"
 
+/* A profiling hook: called once per sample the march reads (the fixed-step
+   march's samples and bisection steps; bench/march_cpu.c's DDA steps and
+   Hi-Z iterations); a counting copy (bench/wave.c) defines it, the timed
+   code pays nothing. */
+#ifndef MARCH_COUNT_STEP
+#define MARCH_COUNT_STEP() ((void)0)
+#endif
+
 /* the fixed-step march refines its first step behind the surface by this
    many bisection steps */
 #define MARCH_BISECTIONS 8
@@ -161,6 +169,7 @@ static inline int march_behind(const march_map *m, const double o[3], const doub
 {
     double x = o[0] + t * v[0], y = o[1] + t * v[1], z = o[2] + t * v[2];
     size_t k;
+    MARCH_COUNT_STEP();
     *i = march_texel(x, m->w);
     *j = march_texel(y, m->h);
     k = (size_t)*j * m->w + *i;

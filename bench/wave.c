@@ -1,0 +1,70 @@
+/* bench/wave.c - what a wave pays: the steps of each ray of a set for the
+   benchmark's Vulkan marches, counted in a copy of bench/march_cpu.c of this
+   file's own (its MARCH_COUNT_STEP hook defined here), so the timed copy
+   counts nothing. The CPU marches mirror the Vulkan peers' loops
+   (bench/shaders/vkp_march64.comp, vkp_dda.comp, vkp_hiz.comp): the same
+   samples, columns and iterations, in double where the kernels use float
+   (and with the CPU's Hi-Z nudge of 1e-6 texel and no depth bias), so a
+   ray whose sample lands on an edge may count a step more or less. The
+   counters are this file's: one thread at a time. */
+#include <stddef.h>
+#include <stdint.h>
+
+static uint32_t wave_count;
+#define MARCH_COUNT_STEP() (++wave_count)
+/* the copy's own adder, unused: the benchmark's methods are march_cpu.c's */
+#define bench_add_march_cpu bench_wave_march_copy_unused
+#include "march_cpu.c"
+
+int bench_wave_march(const bench_scene *sc, const bench_rays *rs, int which, uint32_t *steps)
+{
+    march m;
+    march_job jb;
+    char why[128];
+    double ms;
+    size_t q;
+    memset(&m, 0, sizeof m);
+    m.kind = which == 0 ? MARCH_LINEAR : which == 1 ? MARCH_DDA : MARCH_HIZ;
+    m.param = which == 0 ? 64 : which == 1 ? 1 : 64; /* the Vulkan peers: march64, dda stride 1, hiz64 */
+    m.threads = 1;
+    if (m.kind == MARCH_HIZ && hiz_build_chain(&m, sc, &ms, why, sizeof why)) return 1;
+    jb.m = &m;
+    jb.map.depth = sc->depth;
+    jb.map.back = sc->back;
+    jb.map.w = sc->width;
+    jb.map.h = sc->height;
+    jb.rays = rs->rays;
+    jb.hits = NULL;
+    for (q = 0; q < rs->count; ++q) {
+        lrt_hit hit;
+        wave_count = 0;
+        switch (m.kind) {
+        case MARCH_LINEAR: linear_one(&jb, &rs->rays[q], &hit); break;
+        case MARCH_DDA: dda_one(&jb, &rs->rays[q], &hit); break;
+        default: hiz_one(&jb, &rs->rays[q], &hit); break;
+        }
+        steps[q] = wave_count;
+    }
+    free(m.chain);
+    return 0;
+}
+
+/* The mean of steps, and the mean over groups of `wave` consecutive rays
+   (dispatch order; the last group may be short) of the group's most. */
+void bench_wave_stats(const uint32_t *steps, size_t n, uint32_t wave, double *mean, double *wave_mean)
+{
+    size_t i, groups = 0;
+    double sum = 0.0, wsum = 0.0;
+    for (i = 0; i < n; i += wave) {
+        size_t j, end = i + wave < n ? i + wave : n;
+        uint32_t most = 0;
+        for (j = i; j < end; ++j) {
+            sum += steps[j];
+            most = steps[j] > most ? steps[j] : most;
+        }
+        wsum += most;
+        ++groups;
+    }
+    *mean = n ? sum / (double)n : 0.0;
+    *wave_mean = groups ? wsum / (double)groups : 0.0;
+}
