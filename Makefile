@@ -338,7 +338,7 @@ endif
 # header's API only), held to lrt_trace bit for bit with the validation
 # layer on. Its exit 77 is "no Vulkan loader or device" (1 under CI=true).
 ifeq ($(HAVE_VULKAN),1)
-$(B)/vulkan_trace: examples/vulkan_trace.c $(LIB) $(SPV_H) | deps $(B)
+$(B)/vulkan_trace: examples/vulkan_trace.c examples/vk_small.h $(LIB) $(SPV_H) | deps $(B)
 	$(CC) $(STD) $(STRICT) $(CFLAGS) $(VK_PROGRAM_FLAGS) $< -o $@ -lm $(VK_LIBS)
 
 test-vulkan-trace: $(B)/vulkan_trace

@@ -1,5 +1,5 @@
 /* examples/vk_small.h - the little Vulkan the demo needs around linear_rt's
-   recording functions, and vulkan_inline/main.c around its own pipeline:
+   recording functions (vulkan_trace.c too), and vulkan_inline/main.c around its own pipeline:
    host-visible buffers, one command buffer submitted and waited for, a
    memory barrier, timestamps. Every function pointer comes from the
    lrt_vk_device of linear_rt.h's device helper, so it builds with
@@ -42,7 +42,7 @@ typedef struct vks_buffer {
     VkDeviceSize size;
 } vks_buffer;
 
-static int vks_fail(const char *what, VkResult r)
+static inline int vks_fail(const char *what, VkResult r)
 {
     fprintf(stderr, "vk_small: %s failed: VkResult %d\n", what, (int)r);
     return 1;
@@ -51,7 +51,7 @@ static int vks_fail(const char *what, VkResult r)
 /* Loads the functions, makes the command pool and buffer, the fence and
    (where the queue has timestamps) the query pool. vks_free undoes it, also
    after a failure half-way. */
-static int vks_init(vks *t, const lrt_vk_device *dev)
+static inline int vks_init(vks *t, const lrt_vk_device *dev)
 {
     const lrt_vk_context_desc *d = &dev->desc;
     PFN_vkGetPhysicalDeviceMemoryProperties get_memory;
@@ -99,7 +99,7 @@ static int vks_init(vks *t, const lrt_vk_device *dev)
     return 0;
 }
 
-static void vks_free(vks *t)
+static inline void vks_free(vks *t)
 {
     if (!t->device) return;
     t->vkDeviceWaitIdle(t->device);
@@ -111,7 +111,7 @@ static void vks_free(vks *t)
 
 /* The first memory type among `allowed` with every flag of want, or
    memoryTypeCount where there is none. */
-static uint32_t vks_memory_type(const vks *t, uint32_t allowed, VkMemoryPropertyFlags want)
+static inline uint32_t vks_memory_type(const vks *t, uint32_t allowed, VkMemoryPropertyFlags want)
 {
     uint32_t type;
     for (type = 0; type < t->memory.memoryTypeCount; ++type)
@@ -123,7 +123,7 @@ static uint32_t vks_memory_type(const vks *t, uint32_t allowed, VkMemoryProperty
    device-local as well where there is such memory (integrated GPUs,
    resizable BAR, lavapipe), so that the kernels do not read it across the
    bus. */
-static int vks_buffer_create(vks *t, VkDeviceSize size, vks_buffer *b)
+static inline int vks_buffer_create(vks *t, VkDeviceSize size, vks_buffer *b)
 {
     const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     VkBufferCreateInfo bi;
@@ -155,7 +155,7 @@ static int vks_buffer_create(vks *t, VkDeviceSize size, vks_buffer *b)
     return 0;
 }
 
-static void vks_buffer_destroy(vks *t, vks_buffer *b)
+static inline void vks_buffer_destroy(vks *t, vks_buffer *b)
 {
     if (b->map) t->vkUnmapMemory(t->device, b->memory);
     if (b->memory) t->vkFreeMemory(t->device, b->memory, NULL);
@@ -164,7 +164,7 @@ static void vks_buffer_destroy(vks *t, vks_buffer *b)
 }
 
 /* Starts recording into t->cmd (again). */
-static int vks_begin(vks *t)
+static inline int vks_begin(vks *t)
 {
     VkCommandBufferBeginInfo bi;
     VkResult r;
@@ -177,7 +177,7 @@ static int vks_begin(vks *t)
 }
 
 /* Ends t->cmd, submits it to the device's queue and waits for it. */
-static int vks_submit(vks *t)
+static inline int vks_submit(vks *t)
 {
     VkSubmitInfo si;
     VkResult r;
@@ -195,7 +195,7 @@ static int vks_submit(vks *t)
 
 /* One global memory barrier, src (stage, access) -> dst (stage, access):
    the form of every row of linear_rt.h's BARRIERS. */
-static void vks_barrier(vks *t, VkPipelineStageFlags src_stage, VkAccessFlags src_access, VkPipelineStageFlags dst_stage,
+static inline void vks_barrier(vks *t, VkPipelineStageFlags src_stage, VkAccessFlags src_access, VkPipelineStageFlags dst_stage,
                         VkAccessFlags dst_access)
 {
     VkMemoryBarrier b;
@@ -208,7 +208,7 @@ static void vks_barrier(vks *t, VkPipelineStageFlags src_stage, VkAccessFlags sr
 
 /* Timestamp i once the commands before it have passed stage; index 0
    resets the pool first. Nothing without t->queries. */
-static void vks_timestamp(vks *t, VkPipelineStageFlagBits stage, uint32_t i)
+static inline void vks_timestamp(vks *t, VkPipelineStageFlagBits stage, uint32_t i)
 {
     if (!t->queries) return;
     if (i == 0) t->vkCmdResetQueryPool(t->cmd, t->queries, 0, VKS_TIMESTAMPS);
@@ -216,7 +216,7 @@ static void vks_timestamp(vks *t, VkPipelineStageFlagBits stage, uint32_t i)
 }
 
 /* After vks_submit: ms[i] = timestamp i+1 - timestamp i, in milliseconds. */
-static int vks_timestamps_ms(vks *t, double ms[VKS_TIMESTAMPS - 1])
+static inline int vks_timestamps_ms(vks *t, double ms[VKS_TIMESTAMPS - 1])
 {
     uint64_t ts[VKS_TIMESTAMPS];
     const double period = (double)t->dev->properties.limits.timestampPeriod * 1e-6; /* ns a tick -> ms */

@@ -16,7 +16,7 @@
 #ifndef LINEAR_RT_VULKAN_DEVICE_HELPER
 #define LINEAR_RT_VULKAN_DEVICE_HELPER
 #endif
-#ifndef VK_NO_PROTOTYPES /* our vk* names are function pointers (below), not the loader's symbols */
+#ifndef VK_NO_PROTOTYPES /* our vk* calls go through function pointers (vk_small.h), not the loader's symbols */
 #define VK_NO_PROTOTYPES
 #endif
 #include "../linear_rt.h" /* includes <vulkan/vulkan.h> and, beside itself, shaders_spv.h */
@@ -27,58 +27,9 @@
 #include <string.h>
 #include <time.h>
 
+#include "vk_small.h" /* host-visible buffers, one command buffer submitted and waited for, a barrier */
+
 enum { W = 256, H = 256, RAYS = 4096 };
-
-/* The Vulkan functions we call ourselves, from vkGetDeviceProcAddr
-   (VK_NO_PROTOTYPES: nothing links against Vulkan). */
-#define DEVICE_FUNCS(X)                                                                                           \
-    X(vkCreateBuffer) X(vkDestroyBuffer) X(vkGetBufferMemoryRequirements) X(vkAllocateMemory) X(vkFreeMemory)    \
-    X(vkBindBufferMemory) X(vkMapMemory) X(vkCreateCommandPool) X(vkDestroyCommandPool)                          \
-    X(vkAllocateCommandBuffers) X(vkBeginCommandBuffer) X(vkEndCommandBuffer) X(vkCmdPipelineBarrier)            \
-    X(vkQueueSubmit) X(vkCreateFence) X(vkDestroyFence) X(vkWaitForFences)
-#define DECLARE(name) static PFN_##name name;
-DEVICE_FUNCS(DECLARE)
-
-static VkDevice device;
-static VkPhysicalDeviceMemoryProperties memory_types;
-
-typedef struct buffer { VkBuffer buffer; VkDeviceMemory memory; void *map; } buffer;
-
-/* A storage buffer in host-visible, coherent memory, mapped while it lives. */
-static VkResult buffer_create(VkDeviceSize size, buffer *b)
-{
-    const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    VkBufferCreateInfo bi = {.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO, .size = size,
-                             .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .sharingMode = VK_SHARING_MODE_EXCLUSIVE};
-    VkMemoryAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    VkMemoryRequirements mr;
-    VkResult r;
-    if ((r = vkCreateBuffer(device, &bi, NULL, &b->buffer)) != VK_SUCCESS) return r;
-    vkGetBufferMemoryRequirements(device, b->buffer, &mr);
-    while (ai.memoryTypeIndex < memory_types.memoryTypeCount &&
-           !((mr.memoryTypeBits >> ai.memoryTypeIndex & 1u) &&
-             (memory_types.memoryTypes[ai.memoryTypeIndex].propertyFlags & want) == want))
-        ++ai.memoryTypeIndex;
-    if (ai.memoryTypeIndex == memory_types.memoryTypeCount) return VK_ERROR_FEATURE_NOT_PRESENT;
-    ai.allocationSize = mr.size;
-    if ((r = vkAllocateMemory(device, &ai, NULL, &b->memory)) != VK_SUCCESS) return r;
-    if ((r = vkBindBufferMemory(device, b->buffer, b->memory, 0)) != VK_SUCCESS) return r;
-    return vkMapMemory(device, b->memory, 0, VK_WHOLE_SIZE, 0, &b->map);
-}
-
-static void buffer_destroy(buffer *b)
-{
-    if (b->buffer) vkDestroyBuffer(device, b->buffer, NULL);
-    if (b->memory) vkFreeMemory(device, b->memory, NULL); /* unmaps it */
-}
-
-/* One row of BARRIERS: (src stage, src access) -> (dst stage, dst access). */
-static void barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkAccessFlags src,
-                    VkPipelineStageFlags dst_stage, VkAccessFlags dst)
-{
-    VkMemoryBarrier b = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER, .srcAccessMask = src, .dstAccessMask = dst};
-    vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 1, &b, 0, NULL, 0, NULL);
-}
 
 /* The scene (depth 0 near, 1 far): a floor that recedes up the screen, a box
    and a ball standing on it. */
@@ -104,8 +55,7 @@ static double now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-#define CHECK_VK(call) do { VkResult r_ = (call); if (r_ != VK_SUCCESS) { \
-    fprintf(stderr, "vulkan_trace: %s: VkResult %d\n", #call, (int)r_); goto done; } } while (0)
+#define CHECK_VK(call) do { if (call) goto done; } while (0) /* vk_small.h printed why */
 #define CHECK_LRT(call) do { lrt_result r_ = (call); if (r_ != LRT_SUCCESS) { \
     fprintf(stderr, "vulkan_trace: %s: %s\n", #call, lrt_result_string(r_)); goto done; } } while (0)
 
@@ -120,10 +70,8 @@ int main(void)
     lrt_depth cd = {.width = W, .height = H, .format = LRT_FORMAT_FLOAT32};
     lrt_vk_bvh bvh = {0};
     lrt_bvh cpu = {0};
-    buffer depth = {0}, rays = {0}, hits = {0};
-    VkCommandPool pool = VK_NULL_HANDLE;
-    VkCommandBuffer cmd = NULL;
-    VkFence fence = VK_NULL_HANDLE;
+    vks vk = {0};
+    vks_buffer depth = {0}, rays = {0}, hits = {0};
     float *map;
     lrt_hit cpu_hits[RAYS];
     const lrt_hit *gpu_hits;
@@ -139,20 +87,16 @@ int main(void)
     }
     CHECK_LRT(r);
     memcpy(name, dev.properties.deviceName, sizeof name); /* destroy zeroes dev but its message count */
-    device = dev.desc.device;
-#define LOAD(f) if (!(f = (PFN_##f)dev.desc.get_device_proc_addr(device, #f))) CHECK_VK(VK_ERROR_INITIALIZATION_FAILED);
-    DEVICE_FUNCS(LOAD)
-    ((PFN_vkGetPhysicalDeviceMemoryProperties)dev.desc.get_instance_proc_addr(
-        dev.desc.instance, "vkGetPhysicalDeviceMemoryProperties"))(dev.desc.physical_device, &memory_types);
+    CHECK_VK(vks_init(&vk, &dev));
 
     t0 = now_ms(); /* layouts, 12 compute pipelines, a sampler */
     CHECK_LRT(lrt_vk_context_create(&dev.desc, &ctx));
     context_ms = now_ms() - t0;
 
     /* the depth map, written straight into its buffer; the rays: random segments from in front of it */
-    CHECK_VK(buffer_create((VkDeviceSize)W * H * sizeof(float), &depth));
-    CHECK_VK(buffer_create(RAYS * sizeof(lrt_ray), &rays));
-    CHECK_VK(buffer_create(RAYS * sizeof(lrt_hit), &hits));
+    CHECK_VK(vks_buffer_create(&vk, (VkDeviceSize)W * H * sizeof(float), &depth));
+    CHECK_VK(vks_buffer_create(&vk, RAYS * sizeof(lrt_ray), &rays));
+    CHECK_VK(vks_buffer_create(&vk, RAYS * sizeof(lrt_hit), &hits));
     map = (float *)depth.map;
     for (y = 0; y < H; ++y)
         for (x = 0; x < W; ++x) map[y * W + x] = scene_depth(x, y);
@@ -167,35 +111,19 @@ int main(void)
     vd.buffer = depth.buffer;
 
     /* one command buffer: build, trace, with the barriers of BARRIERS */
-    {
-        VkCommandPoolCreateInfo pi = {.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
-                                      .queueFamilyIndex = dev.queue_family};
-        VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
-                                          .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY, .commandBufferCount = 1};
-        VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
-                                       .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
-        VkFenceCreateInfo fi = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-        VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1, .pCommandBuffers = &cmd};
-        CHECK_VK(vkCreateCommandPool(device, &pi, NULL, &pool));
-        ai.commandPool = pool;
-        CHECK_VK(vkAllocateCommandBuffers(device, &ai, &cmd));
-        CHECK_VK(vkCreateFence(device, &fi, NULL, &fence));
-        CHECK_VK(vkBeginCommandBuffer(cmd, &bi));
-        /* the depth and rays we wrote -> the kernels (the submit orders host writes already) */
-        barrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+    CHECK_VK(vks_begin(&vk));
+    /* the depth and rays we wrote -> the kernels (the submit orders host writes already) */
+    vks_barrier(&vk, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                 VK_ACCESS_SHADER_READ_BIT);
-        CHECK_LRT(lrt_vk_cmd_build(ctx, cmd, &bvh, &vd));
-        /* the built tree -> the trace */
-        barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+    CHECK_LRT(lrt_vk_cmd_build(ctx, vk.cmd, &bvh, &vd));
+    /* the built tree -> the trace */
+    vks_barrier(&vk, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-        CHECK_LRT(lrt_vk_cmd_trace(ctx, cmd, &bvh, &vd, rays.buffer, 0, hits.buffer, 0, RAYS, 0));
-        /* its hits -> our mapped read after the fence */
-        barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+    CHECK_LRT(lrt_vk_cmd_trace(ctx, vk.cmd, &bvh, &vd, rays.buffer, 0, hits.buffer, 0, RAYS, 0));
+    /* its hits -> our mapped read after the fence */
+    vks_barrier(&vk, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                 VK_ACCESS_HOST_READ_BIT);
-        CHECK_VK(vkEndCommandBuffer(cmd));
-        CHECK_VK(vkQueueSubmit(dev.queue, 1, &si, fence));
-        CHECK_VK(vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX));
-    }
+    CHECK_VK(vks_submit(&vk));
 
     /* the same rays on the CPU, on a tree of the same map; every field must match bit for bit */
     cd.data = depth.map;
@@ -215,11 +143,12 @@ int main(void)
     done_ok = 1;
 done:
     lrt_bvh_destroy(&cpu);
-    if (fence) vkDestroyFence(device, fence, NULL);
-    if (pool) vkDestroyCommandPool(device, pool, NULL);
-    buffer_destroy(&hits);
-    buffer_destroy(&rays);
-    buffer_destroy(&depth);
+    if (vk.device) {
+        vks_buffer_destroy(&vk, &hits);
+        vks_buffer_destroy(&vk, &rays);
+        vks_buffer_destroy(&vk, &depth);
+    }
+    vks_free(&vk);
     lrt_vk_bvh_destroy(ctx, &bvh);
     lrt_vk_context_destroy(ctx);
     lrt_vk_device_destroy(&dev); /* the layer's last messages (leaks) are counted too */
