@@ -1502,7 +1502,7 @@ static uint32_t lrt__model_back_codes4(const lrt_layout *L, const lrt_depth *dep
    build, or compiled for it by LRT__TARGET_AVX2 and called where the CPU
    has it | none). The same operations in lanes (vminps and vmaxps keep the
    same operand on a NaN as minps and maxps); the target leaves FMA out, so
-   the one product, b * 2^16, exact, stays a product. Everything it uses is
+   the products by 2^16, exact, stay products. Everything it uses is
    an intrinsic: GCC inlines no helper of another target into it ---- */
 #if LRT__AVX_BUILT || LRT__AVX_AT_RUN_TIME
 static LRT__TARGET_AVX2 uint32_t lrt__model_back_codes8(const lrt_layout *L, const lrt_depth *depth, const unsigned char *row,
@@ -1516,7 +1516,6 @@ static LRT__TARGET_AVX2 uint32_t lrt__model_back_codes8(const lrt_layout *L, con
     const __m256 vmax_f = _mm256_set1_ps((float)vmax), scale = _mm256_set1_ps(65536.0f), least = _mm256_set1_ps(LRT__FLT_MIN);
     const __m256i vmax_i = _mm256_set1_epi32((int)vmax), qi = _mm256_set1_epi32(65535);
     const __m256i unit = _mm256_set1_epi32(format == LRT_FORMAT_UNORM8 ? 257 : 1); /* 65535 / vmax */
-    const __m256d q = _mm256_set1_pd(65535.0);
     uint32_t i = 0;
     if (qmax != 65535u) return 0; /* as lrt__model_back_codes4 */
     for (; n - i >= 8u; i += 8) {
@@ -1527,11 +1526,16 @@ static LRT__TARGET_AVX2 uint32_t lrt__model_back_codes8(const lrt_layout *L, con
             if (reversed) d = _mm256_sub_ps(one, d);
             d = _mm256_min_ps(d, one); /* lrt__clamp_depth4 */
             d = _mm256_and_ps(d, _mm256_cmp_ps(d, least, _CMP_GE_OQ));
-            if (heights) { /* lrt__row_heights: qmax - floor(d * qmax), the product in double */
-                const __m128i lo = _mm256_cvttpd_epi32(_mm256_mul_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(d)), q));
-                const __m128i hi = _mm256_cvttpd_epi32(_mm256_mul_pd(_mm256_cvtps_pd(_mm256_extractf128_ps(d, 1)), q));
+            if (heights) {
+                /* lrt__row_heights: qmax - floor(d * qmax), in float: D = d * 2^16 is exact and
+                   so are T = trunc(D) and F = D - T; d * qmax = T + F - d with F - d in (-1, 1),
+                   so floor(d * qmax) = T - (F < d): qmax - T minus the compare's -1 */
+                const __m256 D = _mm256_mul_ps(d, scale);
+                const __m256i T = _mm256_cvttps_epi32(D);
+                const __m256 F = _mm256_sub_ps(D, _mm256_cvtepi32_ps(T));
                 _mm256_storeu_si256((__m256i *)(void *)(heights + i),
-                                    _mm256_sub_epi32(qi, _mm256_inserti128_si256(_mm256_castsi128_si256(lo), hi, 1)));
+                                    _mm256_sub_epi32(_mm256_sub_epi32(qi, T),
+                                                     _mm256_castps_si256(_mm256_cmp_ps(d, F, _CMP_GT_OQ))));
             }
         } else {
             __m256i v;
