@@ -100,7 +100,7 @@ int main(void)
        lrt_vk_context_desc cd = {0};       // instance, physical_device, device,
        ...                                 // vkGetInstanceProcAddr (+ optional
        lrt_vk_context *ctx;                // vkGetDeviceProcAddr, allocator, cache)
-       lrt_vk_context_create(&cd, &ctx);   // once: layouts, 12 pipelines, a sampler
+       lrt_vk_context_create(&cd, &ctx);   // once: layouts, a sampler (pipelines: on first use)
        lrt_vk_bvh_desc bd = {0};           // width, height, format (+ node bits,
        lrt_vk_bvh bvh = {0};               // your buffers or the library's)
        lrt_vk_bvh_create(ctx, &bd, &bvh);
@@ -134,8 +134,10 @@ int main(void)
    optionally with the validation layer, and fills an lrt_vk_context_desc.
 
 
-   BARRIERS. The library records one barrier, inside build (its fill of the
-   counters -> its dispatch); you record every other one, as with VMA. Below,
+   BARRIERS. The library records two barriers, inside build (its fill of the
+   counters -> its dispatch) and inside trace (its ordinary pass -> its rare
+   pass, which reads the hits the first marked); you record every other one,
+   as with VMA. Below,
    CS is VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, accesses lose VK_ACCESS_ and
    _BIT, and "src -> dst" is (stage, access) -> (stage, access). The tree is
    the node and counter ranges of an lrt_vk_bvh.
@@ -680,7 +682,8 @@ typedef struct lrt_vk_context_desc {
     const VkAllocationCallbacks *allocation_callbacks; /* optional: for the Vulkan objects and the
                                                    context's own memory (VK_SYSTEM_ALLOCATION_SCOPE_OBJECT);
                                                    copied, need not outlive the call */
-    VkPipelineCache pipeline_cache;             /* optional */
+    VkPipelineCache pipeline_cache;             /* optional: used while the context lives (pipelines
+                                                   are made on first use) */
     VkResult *vk_result;                        /* optional: where a failing Vulkan call's VkResult
                                                    is written when create returns LRT_ERROR_VULKAN */
 } lrt_vk_context_desc;
@@ -690,12 +693,18 @@ typedef struct lrt_vk_context lrt_vk_context; /* opaque; immutable after create 
 /* Loads the device functions, checks the device (Vulkan 1.2, the push
    descriptor extension, the features of lrt_vk_get_requirements) and creates
    one descriptor set layout (push descriptors), one pipeline layout (84 bytes
-   of push constants), 12 compute pipelines (refit and trace, of buffer and of
-   image depth; for infinite trees, and for trees with a thickness model of
-   16-bit and of 8-bit nodes) and one sampler. The trace pipelines read the
-   nodes through lrt_vk_bvh.node_texels where maxTexelBufferElements holds
-   every tree the device can trace, else through the storage buffer. On
-   error *out is untouched and nothing is left created. */
+   of push constants) and one sampler. Its 18 compute pipelines (refit,
+   trace and the trace's rare pass, of buffer and of image depth; for
+   infinite trees, and for trees with a thickness model of 16-bit and of
+   8-bit nodes) are made on first use by the lrt_vk_cmd_* that needs one,
+   before it records anything (a failure there: LRT_ERROR_VULKAN and
+   lrt_vk_context_vk_result), so a program compiles only the kernels its
+   trees and maps take: on lavapipe about half a second for each trace
+   pipeline. (Built by a compiler without GCC's atomic builtins, create makes
+   all 18.) The trace pipelines read the nodes through
+   lrt_vk_bvh.node_texels where maxTexelBufferElements holds every tree the
+   device can trace, else through the storage buffer. On error *out is
+   untouched and nothing is left created. */
 LINEAR_RT_API lrt_result lrt_vk_context_create(const lrt_vk_context_desc *desc, lrt_vk_context **out);
 /* Destroys what create made. The caller makes sure the GPU no longer uses
    it (no command buffer recorded with it is pending). NULL is fine. */
@@ -818,8 +827,12 @@ LINEAR_RT_API lrt_result lrt_vk_cmd_build(lrt_vk_context *ctx, VkCommandBuffer c
 LINEAR_RT_API lrt_result lrt_vk_cmd_update(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
                                            const lrt_vk_depth *depth, const lrt_rect *dirty);
 /* Traces count lrt_ray at rays_offset into count lrt_hit at hits_offset
-   (storage buffers), flags 0 (as lrt_trace), one invocation per ray.
-   Offsets: multiples of minStorageBufferOffsetAlignment; else the library
+   (storage buffers), flags 0 (as lrt_trace), one invocation per ray, in
+   two dispatches: the ordinary pass traces every ray but those at the edge
+   of float range (lrt__setup_rare's) and marks their hits; after a barrier
+   the rare pass traces the marked ones. The ordinary kernel so carries none
+   of the rare set-up's code (a fifth of the instructions on a GPU,
+   `make gpu-stats`). Offsets: multiples of minStorageBufferOffsetAlignment; else the library
    binds lower and starts at a later ray, which works when the two offsets
    are the same ray index away from aligned offsets (a slice [first, end) of
    rays and hits arrays that start aligned always is). count 0 records
@@ -4699,13 +4712,26 @@ typedef struct lrt__vk_module {
 } lrt__vk_module;
 
 /* The pipelines, in this order. */
-/* the four kernels, then the same for trees with a thickness model, of
-   16-bit nodes, then of 8-bit nodes (specialization constant 0,
-   lrt_back_trees, true: other trees' pipelines carry no back code; constant
-   1, lrt_back_node_bits, the node width: known to the compiler, it drops
-   the other width's code from the back-code reads) */
-enum { LRT__VK_REFIT_BUFFER, LRT__VK_REFIT_IMAGE, LRT__VK_TRACE_BUFFER, LRT__VK_TRACE_IMAGE, LRT__VK_MODULES,
-       LRT__VK_PIPELINES = 3 * LRT__VK_MODULES };
+/* the four kernels and the trace kernel's rare pass (specialization
+   constant 3, lrt_trace_pass, 1), then the same for trees with a thickness
+   model, of 16-bit nodes, then of 8-bit nodes (constant 0, lrt_back_trees,
+   true: other trees' pipelines carry no back code; constant 1,
+   lrt_back_node_bits, the node width: known to the compiler, it drops the
+   other width's code from the back-code reads) */
+enum { LRT__VK_REFIT_BUFFER, LRT__VK_REFIT_IMAGE, LRT__VK_TRACE_BUFFER, LRT__VK_TRACE_IMAGE, LRT__VK_RARE_BUFFER,
+       LRT__VK_RARE_IMAGE, LRT__VK_MODULES, LRT__VK_PIPELINES = 3 * LRT__VK_MODULES };
+
+/* Pipelines are made on first use, not by lrt_vk_context_create: a
+   program pays only for the kernels its trees and maps take (llvmpipe
+   compiles each trace pipeline for about half a second). Threads record
+   with one context at once, so a pipeline is published with an atomic
+   compare-and-swap, and a thread that loses the race destroys its own.
+   Without GCC's atomic builtins (GCC, Clang) create makes them all. */
+#if defined(__GNUC__) || defined(__clang__)
+#define LRT__VK_LAZY 1
+#else
+#define LRT__VK_LAZY 0
+#endif
 
 static lrt__vk_module lrt__vk_module_at(int which)
 {
@@ -4713,7 +4739,8 @@ static lrt__vk_module lrt__vk_module_at(int which)
     switch (which) {
     case LRT__VK_REFIT_BUFFER: m.code = lrt_spv_refit_buffer; m.bytes = lrt_spv_refit_buffer_SIZE; break;
     case LRT__VK_REFIT_IMAGE: m.code = lrt_spv_refit_image; m.bytes = lrt_spv_refit_image_SIZE; break;
-    case LRT__VK_TRACE_BUFFER: m.code = lrt_spv_trace_buffer; m.bytes = lrt_spv_trace_buffer_SIZE; break;
+    case LRT__VK_TRACE_BUFFER:
+    case LRT__VK_RARE_BUFFER: m.code = lrt_spv_trace_buffer; m.bytes = lrt_spv_trace_buffer_SIZE; break;
     default: m.code = lrt_spv_trace_image; m.bytes = lrt_spv_trace_image_SIZE; break;
     }
     return m;
@@ -4765,7 +4792,8 @@ struct lrt_vk_context {
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout pipeline_layout;
     VkSampler sampler;
-    VkPipeline pipelines[LRT__VK_PIPELINES];
+    VkPipeline pipelines[LRT__VK_PIPELINES]; /* made on first use where LRT__VK_LAZY (lrt__vk_pipeline) */
+    VkPipelineCache cache;                   /* the desc's, for them */
     uint32_t float_modes; /* LRT__VK_FLOAT_*: what lrt__vk_float_controls adds to the kernels */
     uint32_t node_texels; /* 1: the trace reads lrt_vk_bvh.node_texels (lrt__vk_node_texels) */
 #define LRT__VK_MEMBER(name) PFN_##name p_##name;
@@ -4967,9 +4995,72 @@ static uint32_t lrt__vk_node_texels(const VkPhysicalDeviceLimits *limits)
     return most / 16u <= limits->maxTexelBufferElements;
 }
 
+/* Pipeline p (the enum above, times the tree's variant) of the context. */
+static VkResult lrt__vk_make_pipeline(lrt_vk_context *c, int p, VkPipeline *out)
+{
+    lrt__vk_module m = lrt__vk_module_at(p % LRT__VK_MODULES);
+    /* VkBool32 lrt_back_trees, node bits, VkBool32 lrt_node_texels, lrt_trace_pass (the
+       refit has no constant 3: an entry for a constant a module lacks is ignored) */
+    const int kernel = p % LRT__VK_MODULES, rare = kernel == LRT__VK_RARE_BUFFER || kernel == LRT__VK_RARE_IMAGE;
+    const uint32_t consts[4] = {p >= LRT__VK_MODULES, p >= 2 * LRT__VK_MODULES ? 8u : 16u, c->node_texels,
+                                (uint32_t)rare};
+    VkSpecializationMapEntry entry[4];
+    VkSpecializationInfo spec;
+    VkShaderModuleCreateInfo mi;
+    VkComputePipelineCreateInfo ci;
+    VkShaderModule module;
+    VkResult vr;
+    entry[0].constantID = 0;
+    entry[0].offset = 0;
+    entry[0].size = sizeof consts[0];
+    entry[1].constantID = 1;
+    entry[1].offset = sizeof consts[0];
+    entry[1].size = sizeof consts[1];
+    entry[2].constantID = 2;
+    entry[2].offset = 2 * sizeof consts[0];
+    entry[2].size = sizeof consts[2];
+    entry[3].constantID = 3;
+    entry[3].offset = 3 * sizeof consts[0];
+    entry[3].size = sizeof consts[3];
+    spec.mapEntryCount = 4;
+    spec.pMapEntries = entry;
+    spec.dataSize = sizeof consts;
+    spec.pData = consts;
+    memset(&mi, 0, sizeof mi);
+    mi.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
+    mi.codeSize = m.bytes;
+    mi.pCode = m.code;
+    if (c->float_modes) {
+        size_t words = 0;
+        uint32_t *patched = lrt__vk_float_controls(c->callbacks, m.code, m.bytes / 4u, c->float_modes, &words);
+        if (!patched) return VK_ERROR_OUT_OF_HOST_MEMORY;
+        mi.codeSize = words * 4u;
+        mi.pCode = patched;
+        vr = c->p_vkCreateShaderModule(c->device, &mi, c->callbacks, &module);
+        lrt__vk_host_free(c->callbacks, patched);
+    } else {
+        vr = c->p_vkCreateShaderModule(c->device, &mi, c->callbacks, &module);
+    }
+    if (vr != VK_SUCCESS) return vr;
+    memset(&ci, 0, sizeof ci);
+    ci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+    ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    ci.stage.module = module;
+    ci.stage.pName = "main";
+    ci.stage.pSpecializationInfo = &spec;
+    ci.layout = c->pipeline_layout;
+    ci.basePipelineIndex = -1;
+    *out = VK_NULL_HANDLE;
+    vr = c->p_vkCreateComputePipelines(c->device, c->cache, 1, &ci, c->callbacks, out);
+    c->p_vkDestroyShaderModule(c->device, module, c->callbacks);
+    if (vr != VK_SUCCESS) *out = VK_NULL_HANDLE;
+    return vr;
+}
+
 /* Creates the Vulkan objects; on failure returns the VkResult (objects made
    so far are left for lrt__vk_destroy_objects). */
-static VkResult lrt__vk_create_objects(lrt_vk_context *c, VkPipelineCache cache)
+static VkResult lrt__vk_create_objects(lrt_vk_context *c)
 {
     VkSamplerCreateInfo si;
     VkDescriptorSetLayoutBinding b[LRT__VK_BINDINGS];
@@ -5019,60 +5110,12 @@ static VkResult lrt__vk_create_objects(lrt_vk_context *c, VkPipelineCache cache)
     pi.pPushConstantRanges = &pr;
     if ((vr = c->p_vkCreatePipelineLayout(c->device, &pi, c->callbacks, &c->pipeline_layout)) != VK_SUCCESS) return vr;
 
-    for (p = 0; p < LRT__VK_PIPELINES; ++p) {
-        lrt__vk_module m = lrt__vk_module_at(p % LRT__VK_MODULES);
-        /* VkBool32 lrt_back_trees, node bits, VkBool32 lrt_node_texels */
-        const uint32_t consts[3] = {p >= LRT__VK_MODULES, p >= 2 * LRT__VK_MODULES ? 8u : 16u, c->node_texels};
-        VkSpecializationMapEntry entry[3];
-        VkSpecializationInfo spec;
-        VkShaderModuleCreateInfo mi;
-        VkComputePipelineCreateInfo ci;
-        VkShaderModule module;
-        entry[0].constantID = 0;
-        entry[0].offset = 0;
-        entry[0].size = sizeof consts[0];
-        entry[1].constantID = 1;
-        entry[1].offset = sizeof consts[0];
-        entry[1].size = sizeof consts[1];
-        entry[2].constantID = 2;
-        entry[2].offset = 2 * sizeof consts[0];
-        entry[2].size = sizeof consts[2];
-        spec.mapEntryCount = 3;
-        spec.pMapEntries = entry;
-        spec.dataSize = sizeof consts;
-        spec.pData = consts;
-        memset(&mi, 0, sizeof mi);
-        mi.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
-        mi.codeSize = m.bytes;
-        mi.pCode = m.code;
-        if (c->float_modes) {
-            size_t words = 0;
-            uint32_t *patched = lrt__vk_float_controls(c->callbacks, m.code, m.bytes / 4u, c->float_modes, &words);
-            if (!patched) return VK_ERROR_OUT_OF_HOST_MEMORY;
-            mi.codeSize = words * 4u;
-            mi.pCode = patched;
-            vr = c->p_vkCreateShaderModule(c->device, &mi, c->callbacks, &module);
-            lrt__vk_host_free(c->callbacks, patched);
-        } else {
-            vr = c->p_vkCreateShaderModule(c->device, &mi, c->callbacks, &module);
-        }
-        if (vr != VK_SUCCESS) return vr;
-        memset(&ci, 0, sizeof ci);
-        ci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
-        ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-        ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-        ci.stage.module = module;
-        ci.stage.pName = "main";
-        ci.stage.pSpecializationInfo = &spec;
-        ci.layout = c->pipeline_layout;
-        ci.basePipelineIndex = -1;
-        vr = c->p_vkCreateComputePipelines(c->device, cache, 1, &ci, c->callbacks, &c->pipelines[p]);
-        c->p_vkDestroyShaderModule(c->device, module, c->callbacks);
-        if (vr != VK_SUCCESS) {
-            c->pipelines[p] = VK_NULL_HANDLE;
-            return vr;
-        }
-    }
+#if !LRT__VK_LAZY
+    for (p = 0; p < LRT__VK_PIPELINES; ++p)
+        if ((vr = lrt__vk_make_pipeline(c, p, &c->pipelines[p])) != VK_SUCCESS) return vr;
+#else
+    (void)p;
+#endif
     return VK_SUCCESS;
 }
 
@@ -5134,7 +5177,8 @@ LINEAR_RT_DEF lrt_result lrt_vk_context_create(const lrt_vk_context_desc *desc, 
         }
         return LRT_ERROR_MISSING_VULKAN_FEATURE;
     }
-    if ((vr = lrt__vk_create_objects(c, desc->pipeline_cache)) != VK_SUCCESS) {
+    c->cache = desc->pipeline_cache;
+    if ((vr = lrt__vk_create_objects(c)) != VK_SUCCESS) {
         lrt__vk_destroy_objects(c);
         lrt__vk_host_free(cb, c);
         if (desc->vk_result) *desc->vk_result = vr;
@@ -5474,7 +5518,33 @@ static void lrt__vk_push_common(const lrt_vk_bvh *bvh, const lrt_vk_depth *depth
 /* Binds, pushes descriptors (depth, nodes, the extra ones: the refit's
    counters or the trace's rays and hits, the back map, and for the trace the
    nodes' texel view) and constants, and dispatches gx x gy groups. */
-static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, int pipeline, const lrt_vk_bvh *bvh,
+/* Pipeline `kernel` (the enum's first LRT__VK_MODULES) for the tree's
+   variant, made now if no one has (LRT__VK_LAZY); before anything is
+   recorded, so a failure records nothing. */
+static lrt_result lrt__vk_pipeline(lrt_vk_context *c, int kernel, const lrt_vk_bvh *bvh, VkPipeline *out)
+{
+    const int p = kernel + (!bvh->layout.back_codes ? 0 : bvh->layout.node_bits == 16 ? LRT__VK_MODULES : 2 * LRT__VK_MODULES);
+#if LRT__VK_LAZY
+    VkPipeline have = __atomic_load_n(&c->pipelines[p], __ATOMIC_ACQUIRE), none = VK_NULL_HANDLE;
+    VkResult vr;
+    if (have == VK_NULL_HANDLE) {
+        if ((vr = lrt__vk_make_pipeline(c, p, &have)) != VK_SUCCESS) {
+            c->vk_result = vr;
+            return vr == VK_ERROR_OUT_OF_HOST_MEMORY ? LRT_ERROR_OUT_OF_MEMORY : LRT_ERROR_VULKAN;
+        }
+        if (!__atomic_compare_exchange_n(&c->pipelines[p], &none, have, 0, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE)) {
+            c->p_vkDestroyPipeline(c->device, have, c->callbacks);
+            have = none; /* the winner's */
+        }
+    }
+    *out = have;
+#else
+    *out = c->pipelines[p];
+#endif
+    return LRT_SUCCESS;
+}
+
+static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, VkPipeline pipeline, int trace, const lrt_vk_bvh *bvh,
                            const lrt__vk_source *src, const VkDescriptorBufferInfo *extra, const uint32_t *extra_binding,
                            uint32_t extra_count, const lrt__vk_push *pc, uint32_t gx, uint32_t gy)
 {
@@ -5512,14 +5582,12 @@ static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, int pipeline,
         w[2 + k].dstBinding = LRT__VK_BIND_BACK_BUFFER;
         w[2 + k].pBufferInfo = &src->back_buffer;
     }
-    if (pipeline == LRT__VK_TRACE_BUFFER || pipeline == LRT__VK_TRACE_IMAGE) {
+    if (trace) {
         w[n].dstBinding = LRT__VK_BIND_NODE_TEXELS;
         w[n].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
         w[n++].pTexelBufferView = &bvh->node_texels;
     }
-    c->p_vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE,
-                           c->pipelines[pipeline + (!bvh->layout.back_codes ? 0 : bvh->layout.node_bits == 16 ? LRT__VK_MODULES
-                                                                                                   : 2 * LRT__VK_MODULES)]);
+    c->p_vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     c->p_vkCmdPushDescriptorSetKHR(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipeline_layout, 0, n, w);
     c->p_vkCmdPushConstants(cmd, c->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, (uint32_t)sizeof *pc, pc);
     c->p_vkCmdDispatch(cmd, gx, gy, 1);
@@ -5536,8 +5604,11 @@ static lrt_result lrt__vk_refit(lrt_vk_context *c, VkCommandBuffer cmd, const lr
     VkDescriptorBufferInfo counters;
     lrt__vk_push pc;
     uint32_t gx, gy;
+    VkPipeline pipeline;
     lrt_result r;
     if ((r = lrt__vk_groups(c, (uint64_t)cols * rows, &gx, &gy)) != LRT_SUCCESS) return r;
+    if ((r = lrt__vk_pipeline(c, src->image ? LRT__VK_REFIT_IMAGE : LRT__VK_REFIT_BUFFER, bvh, &pipeline)) != LRT_SUCCESS)
+        return r;
     if (build) { /* the counters start at 0; the refit leaves them at 0 */
         VkBufferMemoryBarrier b;
         c->p_vkCmdFillBuffer(cmd, bvh->counters, bvh->counters_offset, bvh->counters_bytes, 0u);
@@ -5561,8 +5632,7 @@ static lrt_result lrt__vk_refit(lrt_vk_context *c, VkCommandBuffer cmd, const lr
     counters.buffer = bvh->counters;
     counters.offset = bvh->counters_offset;
     counters.range = bvh->counters_bytes;
-    lrt__vk_record(c, cmd, src->image ? LRT__VK_REFIT_IMAGE : LRT__VK_REFIT_BUFFER, bvh, src, &counters, &binding, 1,
-                   &pc, gx, gy);
+    lrt__vk_record(c, cmd, pipeline, 0, bvh, src, &counters, &binding, 1, &pc, gx, gy);
     return LRT_SUCCESS;
 }
 
@@ -5598,6 +5668,8 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer c
     const VkDeviceSize ray_bytes = sizeof(lrt_ray), hit_bytes = sizeof(lrt_hit);
     VkDescriptorBufferInfo io[2];
     VkDeviceSize align, first;
+    VkMemoryBarrier mb;
+    VkPipeline ordinary, rare;
     lrt__vk_source src;
     lrt__vk_push pc;
     uint32_t gx, gy;
@@ -5620,6 +5692,9 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer c
     if (first == align) return LRT_ERROR_MISALIGNED;
     if ((first + count) * ray_bytes > ctx->limits.maxStorageBufferRange) return LRT_ERROR_LIMIT_EXCEEDED;
     if ((r = lrt__vk_groups(ctx, count, &gx, &gy)) != LRT_SUCCESS) return r;
+    if ((r = lrt__vk_pipeline(ctx, src.image ? LRT__VK_TRACE_IMAGE : LRT__VK_TRACE_BUFFER, bvh, &ordinary)) != LRT_SUCCESS ||
+        (r = lrt__vk_pipeline(ctx, src.image ? LRT__VK_RARE_IMAGE : LRT__VK_RARE_BUFFER, bvh, &rare)) != LRT_SUCCESS)
+        return r;
     io[0].buffer = rays;
     io[0].offset = rays_offset - first * ray_bytes;
     io[0].range = (first + count) * ray_bytes;
@@ -5630,8 +5705,15 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer c
     pc.ray_first = (uint32_t)first;
     pc.ray_count = count;
     pc.trace_flags = flags;
-    lrt__vk_record(ctx, cmd, src.image ? LRT__VK_TRACE_IMAGE : LRT__VK_TRACE_BUFFER, bvh, &src, io, bindings, 2, &pc,
-                   gx, gy);
+    lrt__vk_record(ctx, cmd, ordinary, 1, bvh, &src, io, bindings, 2, &pc, gx, gy);
+    /* the rare pass reads the hits the ordinary pass marked (shaders/lrt_trace.comp) */
+    memset(&mb, 0, sizeof mb);
+    mb.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+    ctx->p_vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0,
+                                NULL, 0, NULL);
+    lrt__vk_record(ctx, cmd, rare, 1, bvh, &src, io, bindings, 2, &pc, gx, gy);
     return LRT_SUCCESS;
 }
 

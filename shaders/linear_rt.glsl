@@ -792,11 +792,12 @@ int lrt_huge_direction(LrtParams p, vec3 o, float tmin, vec3 v, float tmax)
     return ok ? e : 0;
 }
 
-// validates and clips a ray; false with kind set when nothing is left to
-// walk. The rays that linear_rt.h takes through lrt__setup_rare (the same
-// test on the bits) take lrt_setup_rare
-// (but for a direction that is only large: lrt_huge_direction).
-bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out int t_exp, out uint kind)
+// true for a ray the ordinary set-up cannot take exactly: the rays that
+// linear_rt.h takes through lrt__setup_rare (the same test on the bits):
+// a component of o or v, tmin or tmax at the edge of float range, an origin
+// far off the map, a steep ray from z = 0. Almost none in a frame; the
+// library's kernels trace them in a second pass (lrt_trace_ray_ordinary)
+bool lrt_ray_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax)
 {
     uvec3 ao = floatBitsToUint(o) & 0x7fffffffu, av = floatBitsToUint(v) & 0x7fffffffu;
     const uint TINY = 0x0d800000u, HUGE = 0x47800000u; // 2^-100, 2^16
@@ -807,16 +808,13 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
         rare = rare || (ao[k] != 0u && !(ao[k] - TINY < 0x7f800000u - TINY));
         rare = rare || (av[k] != 0u && !(av[k] - TINY < HUGE - TINY));
     }
-    rare = rare || lrt_far_origin(p, o);
-    t_exp = 0;
-    if (rare) {
-        int e = lrt_huge_direction(p, o, tmin, v, tmax);
-        if (e == 0) return lrt_setup_rare(p, o, tmin, v, tmax, s, t_exp, kind);
-        v *= lrt_pow2(-e); // lrt_setup_rare's scaling, then the common set-up
-        tmin = lrt_scale_t(tmin, e);
-        tmax = lrt_scale_t(tmax, e);
-        t_exp = -e;
-    }
+    return rare || lrt_far_origin(p, o);
+}
+
+// the set-up of a ray lrt_ray_rare lets through (or one it scaled): validate
+// and clip; false with kind set when nothing is left to walk
+bool lrt_setup_ordinary(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out uint kind)
+{
     s.o = o;
     s.t_base = 0.0;
     s.zk = 0;
@@ -830,6 +828,23 @@ bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtS
     s.iv = vec3(s.zero.x ? 0.0 : 1.0 / v.x, s.zero.y ? 0.0 : 1.0 / v.y, s.zero.z ? 0.0 : 1.0 / v.z);
     kind = lrt_clip(s, p, tmin, tmax);
     return s.t_lo <= s.t_hi;
+}
+
+// validates and clips any ray; false with kind set when nothing is left to
+// walk. A rare ray takes lrt_setup_rare (but for a direction that is only
+// large: lrt_huge_direction, then the ordinary set-up)
+bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out int t_exp, out uint kind)
+{
+    t_exp = 0;
+    if (lrt_ray_rare(p, o, tmin, v, tmax)) {
+        int e = lrt_huge_direction(p, o, tmin, v, tmax);
+        if (e == 0) return lrt_setup_rare(p, o, tmin, v, tmax, s, t_exp, kind);
+        v *= lrt_pow2(-e); // lrt_setup_rare's scaling, then the common set-up
+        tmin = lrt_scale_t(tmin, e);
+        tmax = lrt_scale_t(tmax, e);
+        t_exp = -e;
+    }
+    return lrt_setup_ordinary(p, o, tmin, v, tmax, s, kind);
 }
 
 // lowest level whose one node holds every texel the clipped segment can
@@ -944,6 +959,9 @@ uint lrt_face(LrtParams p, LrtSetup s, uint tx, uint ty, float t, vec2 planes)
 LrtHit lrt_report_hit(LrtParams p, LrtSetup s, int t_exp, float t, float tmin, float tmax, uint tx, uint ty, vec2 planes)
 {
     precise float tb = t + s.t_base;
+    // t + (+0) is +0 for t = -0: a compiler that folds x + 0 to x (the
+    // ordinary set-up's t_base is the constant 0) keeps -0, the CPU not
+    if (tb == 0.0 && floatBitsToUint(s.t_base) == 0u) tb = 0.0;
     float tt = lrt_ldexp(tb, t_exp); // the set-up's scale undone (2^t_exp may be subnormal: no product by it)
     LrtHit h;
     float lo = lrt_flush(tmin), hi = lrt_flush(tmax); // as the walk read them
@@ -1309,20 +1327,14 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
     return false;
 }
 
-LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
+// the walk of a set-up ray, and its report
+LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, uint kind, float tmin, float tmax)
 {
     LrtHit hit;
     hit.t = 0.0;
     hit.x = 0u;
     hit.y = 0u;
     hit.face = LRT_FACE_NONE;
-    LrtSetup s;
-    int t_exp; // the set-up scaled t by 2^-t_exp
-    uint kind;
-    if (!lrt_setup_ray(p, origin, tmin, dir, tmax, s, t_exp, kind)) {
-        hit.kind = kind;
-        return hit;
-    }
     uint nx, ny, hx, hy;
     float ht;
     vec2 hplanes; // the hit texel's planes (lrt_test_texel)
@@ -1342,6 +1354,42 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
     if (found) return lrt_report_hit(p, s, t_exp, ht, tmin, tmax, hx, hy, hplanes);
     hit.kind = kind;
     return hit;
+}
+
+// a miss of the kind a failed set-up gave
+LrtHit lrt_miss(uint kind)
+{
+    LrtHit hit;
+    hit.t = 0.0;
+    hit.x = 0u;
+    hit.y = 0u;
+    hit.kind = kind;
+    hit.face = LRT_FACE_NONE;
+    return hit;
+}
+
+// any ray: lrt_trace of linear_rt.h
+LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
+{
+    LrtSetup s;
+    int t_exp; // the set-up scaled t by 2^-t_exp
+    uint kind;
+    if (!lrt_setup_ray(p, origin, tmin, dir, tmax, s, t_exp, kind)) return lrt_miss(kind);
+    return lrt_trace_setup(p, s, t_exp, kind, tmin, tmax);
+}
+
+// an ordinary ray, without the rare set-up's code: a shader a fraction of
+// lrt_trace_ray's size. rare true (and the hit undefined) for a ray
+// lrt_ray_rare names, which lrt_trace_ray then traces, e.g. in a second
+// pass as the library's own kernel does. The same answer as lrt_trace_ray
+// for every other ray
+LrtHit lrt_trace_ray_ordinary(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, out bool rare)
+{
+    LrtSetup s;
+    uint kind = LRT_MISS_INVALID_RAY;
+    rare = lrt_ray_rare(p, origin, tmin, dir, tmax);
+    if (rare || !lrt_setup_ordinary(p, origin, tmin, dir, tmax, s, kind)) return lrt_miss(kind);
+    return lrt_trace_setup(p, s, 0, kind, tmin, tmax);
 }
 
 #endif

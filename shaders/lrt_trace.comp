@@ -2,7 +2,12 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require // the nodes' texel view
 // lrt_trace.comp - one ray per invocation through the BVH: its closest hit,
-// into hits[ray_first + i].
+// into hits[ray_first + i], in two passes (lrt_trace_pass). The ordinary
+// pass traces every ray but the rare ones (lrt_ray_rare), whose hits it
+// marks; the rare pass, after a barrier, traces the marked ones with the
+// exact rare set-up. The ordinary pass so holds none of that set-up's code:
+// on a GPU a kernel pays registers and instructions for code its rays never
+// run.
 #define LRT_NODES_ACCESS readonly // (lrt_common.glsl)
 #define LRT_NODES_QUADS
 #include "lrt_common.glsl"
@@ -14,14 +19,30 @@ struct LrtRayIn {
     float tmax;
 };
 layout(set = 0, binding = LRT_K_VK_BINDING_RAYS, std430) readonly buffer LrtRays { LrtRayIn r[]; } lrt_rays;
-layout(set = 0, binding = LRT_K_VK_BINDING_HITS, std430) writeonly buffer LrtHits { uvec4 h[]; } lrt_hits; // lrt_hit: t, x, y, kind | face << 16
+layout(set = 0, binding = LRT_K_VK_BINDING_HITS, std430) buffer LrtHits { uvec4 h[]; } lrt_hits; // lrt_hit: t, x, y, kind | face << 16
+
+// 0: the ordinary pass; 1: the rare pass
+layout(constant_id = 3) const uint lrt_trace_pass = 0u;
+// a rare ray's hit between the passes: no kind and face a hit has
+const uint LRT_RARE_MARK = 0xffffffffu;
 
 void main()
 {
     uint idx = lrt_invocation();
     if (idx >= pc.ray_count) return;
     uint i = pc.ray_first + idx;
+    if (lrt_trace_pass == 1u && lrt_hits.h[i].w != LRT_RARE_MARK) return;
     LrtRayIn r = lrt_rays.r[i];
-    LrtHit hit = lrt_trace_ray(lrt_params(), r.origin, r.tmin, r.dir, r.tmax);
+    LrtHit hit;
+    if (lrt_trace_pass == 1u) {
+        hit = lrt_trace_ray(lrt_params(), r.origin, r.tmin, r.dir, r.tmax);
+    } else {
+        bool rare;
+        hit = lrt_trace_ray_ordinary(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, rare);
+        if (rare) {
+            lrt_hits.h[i] = uvec4(0u, 0u, 0u, LRT_RARE_MARK);
+            return;
+        }
+    }
     lrt_hits.h[i] = uvec4(floatBitsToUint(hit.t), hit.x, hit.y, lrt_hit_word3(hit));
 }

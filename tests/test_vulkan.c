@@ -1359,6 +1359,9 @@ static void print_trace_summary(void)
         for (k = 0; k < RAY_KIND_COUNT; ++k) closest += g_trace_total.kind_rays[k];
         printf("  bit-identical to the CPU's lrt_hit: %zu of %zu closest-hit answers\n", g_trace_total.bit_identical,
                closest);
+        /* bit for bit, -0 against +0 too (a kernel's t + 0 folded to t once gave -0) */
+        CHECK(g_trace_total.bit_identical == closest, "%zu closest-hit GPU answers not bit-identical to the CPU's",
+              closest - g_trace_total.bit_identical);
     }
     /* The kernels compute the CPU's floats step by step: the same kind and
        texel on every ray, t within rounding (the issue's "identical"). */

@@ -22,7 +22,7 @@
    library: its SPIR-V, its patching, its specialization and its device
    checks are what compile. Each row is named from what was recorded, not
    from an assumed order; a module that is not one of the four kernels, or
-   a count other than 12, fails the run.
+   a count other than 18, fails the run.
 
    Exit status: 0 tables written; 77 no RADV here (no loader, no
    radeon_icd.json, no RADV device): one line says so (1 under CI=true);
@@ -441,8 +441,8 @@ typedef struct gs_pipeline_seen {
     VkPipeline pipeline;
     int kernel;
     uint32_t modes;
-    uint32_t consts[3]; /* lrt_back_trees, lrt_back_node_bits, lrt_node_texels (constant ids 0 1 2) */
-    int has_const[3];
+    uint32_t consts[4]; /* lrt_back_trees, lrt_back_node_bits, lrt_node_texels, lrt_trace_pass (ids 0-3) */
+    int has_const[4];
     int skipped; /* --quick: not compiled */
 } gs_pipeline_seen;
 enum { GS_MAX_SEEN = 64 };
@@ -507,13 +507,13 @@ static VKAPI_ATTR VkResult VKAPI_CALL gs_create_pipelines(VkDevice dev, VkPipeli
             }
         for (e = 0; s && e < s->mapEntryCount; ++e) {
             const VkSpecializationMapEntry *m = &s->pMapEntries[e];
-            if (m->constantID < 3 && m->size == 4 && m->offset + 4 <= s->dataSize) {
+            if (m->constantID < 4 && m->size == 4 && m->offset + 4 <= s->dataSize) {
                 memcpy(&seen.consts[m->constantID], (const char *)s->pData + m->offset, 4);
                 seen.has_const[m->constantID] = 1;
             }
         }
         if (gs_pipeline_count == GS_MAX_SEEN) return VK_ERROR_OUT_OF_HOST_MEMORY;
-        if (gs_quick && !(seen.kernel == 2 && seen.has_const[0] && !seen.consts[0])) {
+        if (gs_quick && !(seen.kernel == 2 && seen.has_const[0] && !seen.consts[0] && !seen.consts[3])) {
             seen.pipeline = (VkPipeline)(uintptr_t)&gs_fake[gs_pipeline_count];
             seen.skipped = 1;
         } else {
@@ -544,7 +544,7 @@ static VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL gs_gdpa(VkDevice dev, const char
     return f;
 }
 
-/* The library's 12 pipelines, a row each; returns nonzero where it failed.
+/* The library's 18 pipelines, a row each; returns nonzero where it failed.
    *modes, *texels: the float controls and the node texel choice it made. */
 static int gs_library(const gs_vk *g, uint32_t *modes, int *texels, char *why, size_t n)
 {
@@ -569,6 +569,14 @@ static int gs_library(const gs_vk *g, uint32_t *modes, int *texels, char *why, s
         gs_destroy_device(g, dev);
         return 1;
     }
+    /* the context makes its pipelines on first use (LRT__VK_LAZY): all of them, now */
+    for (i = 0; i < LRT__VK_PIPELINES; ++i)
+        if (ctx->pipelines[i] == VK_NULL_HANDLE && (vr = lrt__vk_make_pipeline(ctx, i, &ctx->pipelines[i])) != VK_SUCCESS) {
+            snprintf(why, n, "pipeline %d: %s", i, gs_vk_result(vr));
+            lrt_vk_context_destroy(ctx);
+            gs_destroy_device(g, dev);
+            return 1;
+        }
     if (gs_pipeline_count != LRT__VK_PIPELINES || gs_unknown_modules) {
         snprintf(why, n, "lrt_vk_context_create made %d pipelines (%d of modules not shaders_spv.h's), not %d",
                  gs_pipeline_count, gs_unknown_modules, (int)LRT__VK_PIPELINES);
@@ -583,10 +591,12 @@ static int gs_library(const gs_vk *g, uint32_t *modes, int *texels, char *why, s
         if (p->kernel < 0 || !p->has_const[0] || !p->has_const[1]) {
             snprintf(name, sizeof name, "linear_rt pipeline %d (unknown)", i);
             bad = 1;
-        } else if (!p->consts[0]) {
-            snprintf(name, sizeof name, "linear_rt %s", gs_kernel_names[p->kernel]);
         } else {
-            snprintf(name, sizeof name, "linear_rt %s, back %u-bit", gs_kernel_names[p->kernel], p->consts[1]);
+            const char *pass = p->kernel >= 2 && p->consts[3] ? ", rare pass" : "";
+            if (!p->consts[0])
+                snprintf(name, sizeof name, "linear_rt %s%s", gs_kernel_names[p->kernel], pass);
+            else
+                snprintf(name, sizeof name, "linear_rt %s%s, back %u-bit", gs_kernel_names[p->kernel], pass, p->consts[1]);
         }
         if (!(row = gs_new_row(name))) break;
         if (p->skipped) {
