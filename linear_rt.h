@@ -135,8 +135,8 @@ int main(void)
 
 
    BARRIERS. The library records two barriers, inside build (its fill of the
-   counters -> its dispatch) and inside trace (its ordinary pass -> its rare
-   pass, which reads the hits the first marked); you record every other one,
+   counters -> its dispatch) and inside a trace of two passes (the ordinary
+   pass -> the rare pass, which reads the hits the first marked); you record every other one,
    as with VMA. Below,
    CS is VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, accesses lose VK_ACCESS_ and
    _BIT, and "src -> dst" is (stage, access) -> (stage, access). The tree is
@@ -686,22 +686,35 @@ typedef struct lrt_vk_context_desc {
                                                    are made on first use) */
     VkResult *vk_result;                        /* optional: where a failing Vulkan call's VkResult
                                                    is written when create returns LRT_ERROR_VULKAN */
+    uint32_t flags;                             /* 0, or one of lrt_vk_context_flags */
 } lrt_vk_context_desc;
+
+/* How lrt_vk_cmd_trace runs. By default in two passes on a GPU (the
+   ordinary rays, then the few at the edge of float range: the GPU's kernel
+   then holds none of their code) and in one on a CPU device such as
+   lavapipe, which has no registers or occupancy to gain and pays for the
+   second pass. Either can be asked for (the tests run both). */
+typedef enum lrt_vk_context_flags {
+    LRT_VK_TRACE_TWO_PASSES = 1u << 0,
+    LRT_VK_TRACE_ONE_PASS = 1u << 1
+} lrt_vk_context_flags;
 
 typedef struct lrt_vk_context lrt_vk_context; /* opaque; immutable after create */
 
 /* Loads the device functions, checks the device (Vulkan 1.2, the push
    descriptor extension, the features of lrt_vk_get_requirements) and creates
    one descriptor set layout (push descriptors), one pipeline layout (84 bytes
-   of push constants) and one sampler. Its 18 compute pipelines (refit,
-   trace and the trace's rare pass, of buffer and of image depth; for
+   of push constants) and one sampler. Its 24 compute pipelines (refit,
+   the trace's ordinary pass, rare pass and one pass, of buffer and of
+   image depth; for
    infinite trees, and for trees with a thickness model of 16-bit and of
    8-bit nodes) are made on first use by the lrt_vk_cmd_* that needs one,
    before it records anything (a failure there: LRT_ERROR_VULKAN and
    lrt_vk_context_vk_result), so a program compiles only the kernels its
    trees and maps take: on lavapipe about half a second for each trace
    pipeline. (Built by a compiler without GCC's atomic builtins, create makes
-   all 18.) The trace pipelines read the nodes through
+   all 24.) desc->flags other than lrt_vk_context_flags, or both of them:
+   LRT_ERROR_INVALID_OPTION. The trace pipelines read the nodes through
    lrt_vk_bvh.node_texels where maxTexelBufferElements holds every tree the
    device can trace, else through the storage buffer. On error *out is
    untouched and nothing is left created. */
@@ -828,11 +841,11 @@ LINEAR_RT_API lrt_result lrt_vk_cmd_update(lrt_vk_context *ctx, VkCommandBuffer 
                                            const lrt_vk_depth *depth, const lrt_rect *dirty);
 /* Traces count lrt_ray at rays_offset into count lrt_hit at hits_offset
    (storage buffers), flags 0 (as lrt_trace), one invocation per ray, in
-   two dispatches: the ordinary pass traces every ray but those at the edge
-   of float range (lrt__setup_rare's) and marks their hits; after a barrier
-   the rare pass traces the marked ones. The ordinary kernel so carries none
-   of the rare set-up's code (a fifth of the instructions on a GPU,
-   `make gpu-stats`). Offsets: multiples of minStorageBufferOffsetAlignment; else the library
+   two dispatches on a GPU (lrt_vk_context_flags): the ordinary pass traces
+   every ray but those at the edge of float range (lrt__setup_rare's) and
+   marks their hits; after a barrier the rare pass traces the marked ones.
+   The ordinary kernel so carries none of the rare set-up's code (a fifth
+   of the instructions on a GPU, `make gpu-stats`). Offsets: multiples of minStorageBufferOffsetAlignment; else the library
    binds lower and starts at a later ray, which works when the two offsets
    are the same ray index away from aligned offsets (a slice [first, end) of
    rays and hits arrays that start aligned always is). count 0 records
@@ -4712,14 +4725,16 @@ typedef struct lrt__vk_module {
 } lrt__vk_module;
 
 /* The pipelines, in this order. */
-/* the four kernels and the trace kernel's rare pass (specialization
-   constant 3, lrt_trace_pass, 1), then the same for trees with a thickness
+/* the four kernels (a trace: its ordinary pass), the trace kernel's rare
+   pass (specialization constant 3, lrt_trace_pass, 1) and its one pass (2),
+   then the same for trees with a thickness
    model, of 16-bit nodes, then of 8-bit nodes (constant 0, lrt_back_trees,
    true: other trees' pipelines carry no back code; constant 1,
    lrt_back_node_bits, the node width: known to the compiler, it drops the
    other width's code from the back-code reads) */
 enum { LRT__VK_REFIT_BUFFER, LRT__VK_REFIT_IMAGE, LRT__VK_TRACE_BUFFER, LRT__VK_TRACE_IMAGE, LRT__VK_RARE_BUFFER,
-       LRT__VK_RARE_IMAGE, LRT__VK_MODULES, LRT__VK_PIPELINES = 3 * LRT__VK_MODULES };
+       LRT__VK_RARE_IMAGE, LRT__VK_WHOLE_BUFFER, LRT__VK_WHOLE_IMAGE, LRT__VK_MODULES,
+       LRT__VK_PIPELINES = 3 * LRT__VK_MODULES };
 
 /* Pipelines are made on first use, not by lrt_vk_context_create: a
    program pays only for the kernels its trees and maps take (llvmpipe
@@ -4740,7 +4755,8 @@ static lrt__vk_module lrt__vk_module_at(int which)
     case LRT__VK_REFIT_BUFFER: m.code = lrt_spv_refit_buffer; m.bytes = lrt_spv_refit_buffer_SIZE; break;
     case LRT__VK_REFIT_IMAGE: m.code = lrt_spv_refit_image; m.bytes = lrt_spv_refit_image_SIZE; break;
     case LRT__VK_TRACE_BUFFER:
-    case LRT__VK_RARE_BUFFER: m.code = lrt_spv_trace_buffer; m.bytes = lrt_spv_trace_buffer_SIZE; break;
+    case LRT__VK_RARE_BUFFER:
+    case LRT__VK_WHOLE_BUFFER: m.code = lrt_spv_trace_buffer; m.bytes = lrt_spv_trace_buffer_SIZE; break;
     default: m.code = lrt_spv_trace_image; m.bytes = lrt_spv_trace_image_SIZE; break;
     }
     return m;
@@ -4796,6 +4812,7 @@ struct lrt_vk_context {
     VkPipelineCache cache;                   /* the desc's, for them */
     uint32_t float_modes; /* LRT__VK_FLOAT_*: what lrt__vk_float_controls adds to the kernels */
     uint32_t node_texels; /* 1: the trace reads lrt_vk_bvh.node_texels (lrt__vk_node_texels) */
+    uint32_t two_passes;  /* 1: lrt_vk_cmd_trace's two passes (lrt_vk_context_flags) */
 #define LRT__VK_MEMBER(name) PFN_##name p_##name;
     LRT__VK_INSTANCE_FUNCS(LRT__VK_MEMBER)
     LRT__VK_DEVICE_FUNCS(LRT__VK_MEMBER)
@@ -5001,9 +5018,11 @@ static VkResult lrt__vk_make_pipeline(lrt_vk_context *c, int p, VkPipeline *out)
     lrt__vk_module m = lrt__vk_module_at(p % LRT__VK_MODULES);
     /* VkBool32 lrt_back_trees, node bits, VkBool32 lrt_node_texels, lrt_trace_pass (the
        refit has no constant 3: an entry for a constant a module lacks is ignored) */
-    const int kernel = p % LRT__VK_MODULES, rare = kernel == LRT__VK_RARE_BUFFER || kernel == LRT__VK_RARE_IMAGE;
-    const uint32_t consts[4] = {p >= LRT__VK_MODULES, p >= 2 * LRT__VK_MODULES ? 8u : 16u, c->node_texels,
-                                (uint32_t)rare};
+    const int kernel = p % LRT__VK_MODULES;
+    const uint32_t pass = kernel == LRT__VK_RARE_BUFFER || kernel == LRT__VK_RARE_IMAGE     ? 1u
+                          : kernel == LRT__VK_WHOLE_BUFFER || kernel == LRT__VK_WHOLE_IMAGE ? 2u
+                                                                                            : 0u;
+    const uint32_t consts[4] = {p >= LRT__VK_MODULES, p >= 2 * LRT__VK_MODULES ? 8u : 16u, c->node_texels, pass};
     VkSpecializationMapEntry entry[4];
     VkSpecializationInfo spec;
     VkShaderModuleCreateInfo mi;
@@ -5132,6 +5151,9 @@ LINEAR_RT_DEF lrt_result lrt_vk_context_create(const lrt_vk_context_desc *desc, 
     if (desc->instance == VK_NULL_HANDLE || desc->physical_device == VK_NULL_HANDLE ||
         desc->device == VK_NULL_HANDLE || !desc->get_instance_proc_addr)
         return LRT_ERROR_NULL_POINTER;
+    if (desc->flags & ~(uint32_t)(LRT_VK_TRACE_TWO_PASSES | LRT_VK_TRACE_ONE_PASS) ||
+        desc->flags == (LRT_VK_TRACE_TWO_PASSES | LRT_VK_TRACE_ONE_PASS))
+        return LRT_ERROR_INVALID_OPTION;
     cb = desc->allocation_callbacks;
     if (cb && (!cb->pfnAllocation || !cb->pfnFree || !cb->pfnReallocation)) return LRT_ERROR_NULL_POINTER;
     c = (lrt_vk_context *)lrt__vk_host_alloc(cb, sizeof *c);
@@ -5165,6 +5187,8 @@ LINEAR_RT_DEF lrt_result lrt_vk_context_create(const lrt_vk_context_desc *desc, 
     c->p_vkGetPhysicalDeviceProperties(c->physical_device, &props);
     c->limits = props.limits;
     c->node_texels = lrt__vk_node_texels(&c->limits);
+    c->two_passes = (desc->flags & LRT_VK_TRACE_TWO_PASSES) ||
+                    (!(desc->flags & LRT_VK_TRACE_ONE_PASS) && props.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU);
     c->p_vkGetPhysicalDeviceMemoryProperties(c->physical_device, &c->memory_properties);
     lrt_vk_get_requirements(&req);
     if (props.apiVersion < req.api_version || !lrt__vk_supports(c, &req) ||
@@ -5669,7 +5693,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer c
     VkDescriptorBufferInfo io[2];
     VkDeviceSize align, first;
     VkMemoryBarrier mb;
-    VkPipeline ordinary, rare;
+    VkPipeline ordinary, rare = VK_NULL_HANDLE;
     lrt__vk_source src;
     lrt__vk_push pc;
     uint32_t gx, gy;
@@ -5692,9 +5716,13 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer c
     if (first == align) return LRT_ERROR_MISALIGNED;
     if ((first + count) * ray_bytes > ctx->limits.maxStorageBufferRange) return LRT_ERROR_LIMIT_EXCEEDED;
     if ((r = lrt__vk_groups(ctx, count, &gx, &gy)) != LRT_SUCCESS) return r;
-    if ((r = lrt__vk_pipeline(ctx, src.image ? LRT__VK_TRACE_IMAGE : LRT__VK_TRACE_BUFFER, bvh, &ordinary)) != LRT_SUCCESS ||
-        (r = lrt__vk_pipeline(ctx, src.image ? LRT__VK_RARE_IMAGE : LRT__VK_RARE_BUFFER, bvh, &rare)) != LRT_SUCCESS)
+    if (!ctx->two_passes) { /* the whole kernel, every ray */
+        if ((r = lrt__vk_pipeline(ctx, src.image ? LRT__VK_WHOLE_IMAGE : LRT__VK_WHOLE_BUFFER, bvh, &ordinary)) != LRT_SUCCESS)
+            return r;
+    } else if ((r = lrt__vk_pipeline(ctx, src.image ? LRT__VK_TRACE_IMAGE : LRT__VK_TRACE_BUFFER, bvh, &ordinary)) != LRT_SUCCESS ||
+               (r = lrt__vk_pipeline(ctx, src.image ? LRT__VK_RARE_IMAGE : LRT__VK_RARE_BUFFER, bvh, &rare)) != LRT_SUCCESS) {
         return r;
+    }
     io[0].buffer = rays;
     io[0].offset = rays_offset - first * ray_bytes;
     io[0].range = (first + count) * ray_bytes;
@@ -5706,6 +5734,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer c
     pc.ray_count = count;
     pc.trace_flags = flags;
     lrt__vk_record(ctx, cmd, ordinary, 1, bvh, &src, io, bindings, 2, &pc, gx, gy);
+    if (!ctx->two_passes) return LRT_SUCCESS;
     /* the rare pass reads the hits the ordinary pass marked (shaders/lrt_trace.comp) */
     memset(&mb, 0, sizeof mb);
     mb.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;

@@ -121,7 +121,7 @@ int main(void)
     vks_barrier(&vk, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     CHECK_LRT(lrt_vk_cmd_trace(ctx, vk.cmd, &bvh, &vd, rays.buffer, 0, hits.buffer, 0, RAYS, 0));
-    record_ms = now_ms() - t0; /* their three pipelines made */
+    record_ms = now_ms() - t0; /* their pipelines made (refit; trace: one pass on a CPU device, else two) */
     /* its hits -> our mapped read after the fence */
     vks_barrier(&vk, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                 VK_ACCESS_HOST_READ_BIT);

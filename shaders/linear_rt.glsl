@@ -956,13 +956,17 @@ uint lrt_face(LrtParams p, LrtSetup s, uint tx, uint ty, float t, vec2 planes)
     return LRT_FACE_INSIDE;
 }
 
-LrtHit lrt_report_hit(LrtParams p, LrtSetup s, int t_exp, float t, float tmin, float tmax, uint tx, uint ty, vec2 planes)
+// (scale_normal: 2^t_exp is a normal float, as linear_rt.h's t_scale >=
+// FLT_MIN, and the scale is that product)
+LrtHit lrt_report_hit(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, float t, float tmin, float tmax, uint tx,
+                      uint ty, vec2 planes)
 {
     precise float tb = t + s.t_base;
     // t + (+0) is +0 for t = -0: a compiler that folds x + 0 to x (the
     // ordinary set-up's t_base is the constant 0) keeps -0, the CPU not
     if (tb == 0.0 && floatBitsToUint(s.t_base) == 0u) tb = 0.0;
-    float tt = lrt_ldexp(tb, t_exp); // the set-up's scale undone (2^t_exp may be subnormal: no product by it)
+    precise float product = tb * lrt_pow2(t_exp);
+    float tt = scale_normal ? product : lrt_ldexp(tb, t_exp); // the set-up's scale undone (2^t_exp may be subnormal)
     LrtHit h;
     float lo = lrt_flush(tmin), hi = lrt_flush(tmax); // as the walk read them
     h.t = tt < lo ? lo : tt > hi ? hi : tt;
@@ -1328,7 +1332,7 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
 }
 
 // the walk of a set-up ray, and its report
-LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, uint kind, float tmin, float tmax)
+LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, uint kind, float tmin, float tmax)
 {
     LrtHit hit;
     hit.t = 0.0;
@@ -1351,7 +1355,7 @@ LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, uint kind, float tmin
         found = lrt_walk_origin(p, s, top, hx, hy, ht, hplanes);
     }
     // one exit: the hit's report (its face) stays out of the walk's loop
-    if (found) return lrt_report_hit(p, s, t_exp, ht, tmin, tmax, hx, hy, hplanes);
+    if (found) return lrt_report_hit(p, s, t_exp, scale_normal, ht, tmin, tmax, hx, hy, hplanes);
     hit.kind = kind;
     return hit;
 }
@@ -1375,21 +1379,33 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
     int t_exp; // the set-up scaled t by 2^-t_exp
     uint kind;
     if (!lrt_setup_ray(p, origin, tmin, dir, tmax, s, t_exp, kind)) return lrt_miss(kind);
-    return lrt_trace_setup(p, s, t_exp, kind, tmin, tmax);
+    return lrt_trace_setup(p, s, t_exp, false, kind, tmin, tmax);
 }
 
 // an ordinary ray, without the rare set-up's code: a shader a fraction of
-// lrt_trace_ray's size. rare true (and the hit undefined) for a ray
-// lrt_ray_rare names, which lrt_trace_ray then traces, e.g. in a second
+// lrt_trace_ray's size. rare true (and the hit undefined) for a ray only
+// lrt_setup_rare can set up (lrt_ray_rare, but for a direction that is only
+// large, scaled here), which lrt_trace_ray then traces, e.g. in a second
 // pass as the library's own kernel does. The same answer as lrt_trace_ray
 // for every other ray
 LrtHit lrt_trace_ray_ordinary(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, out bool rare)
 {
     LrtSetup s;
     uint kind = LRT_MISS_INVALID_RAY;
+    int t_exp = 0;
+    float lo = tmin, hi = tmax;
     rare = lrt_ray_rare(p, origin, tmin, dir, tmax);
-    if (rare || !lrt_setup_ordinary(p, origin, tmin, dir, tmax, s, kind)) return lrt_miss(kind);
-    return lrt_trace_setup(p, s, 0, kind, tmin, tmax);
+    if (rare) {
+        int e = lrt_huge_direction(p, origin, tmin, dir, tmax);
+        if (e == 0) return lrt_miss(kind);
+        rare = false;
+        dir *= lrt_pow2(-e); // as lrt_setup_ray
+        lo = lrt_scale_t(tmin, e);
+        hi = lrt_scale_t(tmax, e);
+        t_exp = -e;
+    }
+    if (!lrt_setup_ordinary(p, origin, lo, dir, hi, s, kind)) return lrt_miss(kind);
+    return lrt_trace_setup(p, s, t_exp, true, kind, tmin, tmax); // e <= 126: 2^-e is normal
 }
 
 #endif

@@ -21,20 +21,19 @@ struct LrtRayIn {
 layout(set = 0, binding = LRT_K_VK_BINDING_RAYS, std430) readonly buffer LrtRays { LrtRayIn r[]; } lrt_rays;
 layout(set = 0, binding = LRT_K_VK_BINDING_HITS, std430) buffer LrtHits { uvec4 h[]; } lrt_hits; // lrt_hit: t, x, y, kind | face << 16
 
-// 0: the ordinary pass; 1: the rare pass
+// 0: the ordinary pass; 1: the rare pass; 2: one pass, every ray by the
+// whole code (a CPU device: lrt_vk_context_flags)
 layout(constant_id = 3) const uint lrt_trace_pass = 0u;
 // a rare ray's hit between the passes: no kind and face a hit has
 const uint LRT_RARE_MARK = 0xffffffffu;
 
-void main()
+// the ray of hit i (a slice's index), traced by the pass's function
+void lrt_trace_one(uint idx)
 {
-    uint idx = lrt_invocation();
-    if (idx >= pc.ray_count) return;
     uint i = pc.ray_first + idx;
-    if (lrt_trace_pass == 1u && lrt_hits.h[i].w != LRT_RARE_MARK) return;
     LrtRayIn r = lrt_rays.r[i];
     LrtHit hit;
-    if (lrt_trace_pass == 1u) {
+    if (lrt_trace_pass != 0u) {
         hit = lrt_trace_ray(lrt_params(), r.origin, r.tmin, r.dir, r.tmax);
     } else {
         bool rare;
@@ -45,4 +44,13 @@ void main()
         }
     }
     lrt_hits.h[i] = uvec4(floatBitsToUint(hit.t), hit.x, hit.y, lrt_hit_word3(hit));
+}
+
+void main()
+{
+    uint idx = lrt_invocation();
+    if (idx >= pc.ray_count) return;
+    // the rare pass: the marked hits only (a wave without one only reads)
+    if (lrt_trace_pass == 1u && lrt_hits.h[pc.ray_first + idx].w != LRT_RARE_MARK) return;
+    lrt_trace_one(idx);
 }

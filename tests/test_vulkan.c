@@ -662,6 +662,11 @@ static void test_bad_arguments_no_device(void)
     cd.device = (VkDevice)(void *)&fake;
     CHECK(lrt_vk_context_create(&cd, &ctx) == LRT_ERROR_NULL_POINTER, "context: no vkGetInstanceProcAddr");
     cd.get_instance_proc_addr = null_gipa;
+    cd.flags = 4u;
+    CHECK(lrt_vk_context_create(&cd, &ctx) == LRT_ERROR_INVALID_OPTION, "context: unknown flag");
+    cd.flags = LRT_VK_TRACE_TWO_PASSES | LRT_VK_TRACE_ONE_PASS;
+    CHECK(lrt_vk_context_create(&cd, &ctx) == LRT_ERROR_INVALID_OPTION, "context: one pass and two");
+    cd.flags = 0;
     CHECK(lrt_vk_context_create(&cd, &ctx) == LRT_ERROR_MISSING_VULKAN_FEATURE, "context: functions not found");
     CHECK(ctx == (lrt_vk_context *)&cd, "context: *out written on error");
     lrt_vk_context_destroy(NULL);
@@ -1404,11 +1409,14 @@ int main(int argc, char **argv)
            VK_API_VERSION_MAJOR(g_dev.properties.apiVersion), VK_API_VERSION_MINOR(g_dev.properties.apiVersion),
            VK_API_VERSION_PATCH(g_dev.properties.apiVersion));
     g_limits = g_dev.properties.limits;
+    /* the trace's two passes, as on a GPU; --flushing-device: the device's choice (one pass on lavapipe) */
+    if (!g_flushing) g_dev.desc.flags = LRT_VK_TRACE_TWO_PASSES;
     r = lrt_vk_context_create(&g_dev.desc, &g_ctx);
 #ifdef HAVE_MXCSR
     _mm_setcsr(mxcsr); /* the CPU path and the reference as usual */
 #endif
     if (g_flushing) printf("the device's threads flush subnormal floats (x86 FTZ and DAZ), as some GPUs do\n");
+    printf("lrt_vk_cmd_trace in %s\n", g_flushing ? "the device's passes (lavapipe: one)" : "two passes (LRT_VK_TRACE_TWO_PASSES)");
     CHECK(r == LRT_SUCCESS, "lrt_vk_context_create: %s", lrt_result_string(r));
     if (r == LRT_SUCCESS && vkt_init(&g_t, &g_dev) == 0) {
         RUN_TEST(test_smoke);
