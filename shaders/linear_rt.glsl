@@ -1150,15 +1150,15 @@ LrtCull lrt_cull_setup(LrtParams p, LrtSetup s)
     return c;
 }
 
-// entering and leaving t of 4 columns (rows) [lo + i step, lo + (i + 1) step]
-// of a node, by the cull's planes, clamped to the segment
-void lrt_cull_slabs4(LrtCull c, int axis, float lo, float step, uint neg, out vec4 en, out vec4 ex)
+// entering and leaving t of the column (row) [a, a + step] of a node, by
+// the cull's planes, clamped to the segment
+void lrt_cull_slab(LrtCull c, int axis, float a, float step, uint neg, out float en, out float ex)
 {
-    vec4 a = lo + step * vec4(0.0, 1.0, 2.0, 3.0), b = a + step; // exact: small integers times powers of two
-    precise vec4 ta = a * c.iv[axis], tb = b * c.iv[axis];
-    precise vec4 e = (neg != 0u ? tb : ta) + c.en[axis], x = (neg != 0u ? ta : tb) + c.ex[axis];
-    en = max(e, vec4(c.lo));
-    ex = min(x, vec4(c.hi));
+    float b = a + step; // exact: small integers times powers of two
+    precise float ta = a * c.iv[axis], tb = b * c.iv[axis];
+    precise float e = (neg != 0u ? tb : ta) + c.en[axis], x = (neg != 0u ? ta : tb) + c.ex[axis];
+    en = max(e, c.lo);
+    ex = min(x, c.hi);
 }
 
 // the children of node (nx, ny) of level lv >= 1 that the ray may meet, bit
@@ -1186,9 +1186,6 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
         w = lrt_node_words(slot0);
         b = back ? lrt_node_words(back_base + slot0) : uvec4(0u);
     }
-    vec4 cen, cex, ren, rex;
-    lrt_cull_slabs4(c, 0, x0, sw, s.neg.x, cen, cex);
-    lrt_cull_slabs4(c, 1, y0, sh, s.neg.y, ren, rex);
     // the depth plane bounds a child's entry where the ray goes away from
     // the camera, its exit where it comes nearer; the back plane the other
     // way round. Selects, no branch in the slot loop: llvmpipe branches on
@@ -1196,10 +1193,12 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
     bool nz = s.neg.z != 0u;
     uint met = 0u; // bit slot: the child of that slot met
     for (uint slot = 0u; slot < 8u; ++slot) { // 4x2: slot = row << 2 | column; 2x4: row << 1 | column
-        // a child's column and row planes, picked before the max and min
-        // (two fixed indices a slot once the loop is unrolled)
-        float ce = tall ? cen[slot & 1u] : cen[slot & 3u], cx = tall ? cex[slot & 1u] : cex[slot & 3u];
-        float re = tall ? ren[slot >> 1] : ren[slot >> 2], rx = tall ? rex[slot >> 1] : rex[slot >> 2];
+        // a child's column and row planes, each slot's own (lrt_cull_slab):
+        // the 4 columns' and rows' planes computed once would hold 16
+        // registers through the loop
+        float ce, cx, re, rx;
+        lrt_cull_slab(c, 0, x0 + sw * float(tall ? slot & 1u : slot & 3u), sw, s.neg.x, ce, cx);
+        lrt_cull_slab(c, 1, y0 + sh * float(tall ? slot >> 1 : slot >> 2), sh, s.neg.y, re, rx);
         precise float tz = float(lrt_code_in(w, slot)) * c.za + c.zb;
         precise float tb = float(lrt_code_in(b, slot)) * c.ba + c.bb;
         float en = max(max(ce, re), max(nz ? -LRT_INF : tz, back && nz ? tb : -LRT_INF));
