@@ -3200,6 +3200,15 @@ LRT__FORCE_INLINE __m128i lrt__load_codes(const uint16_t *codes)
 }
 #endif
 
+/* An AVX2 build (-march=native) compiles the walk tuned as the run-time
+   AVX2 pass is: GCC 12 tuning it for a Zen 4 host made it markedly slower
+   (docs/PERFORMANCE.md). Tuning picks among the same instructions, so the
+   same floats come out. LINEAR_RT_KEEP_TUNING keeps the command line's. */
+#if LRT__AVX_BUILT && defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 8 && !defined(LINEAR_RT_KEEP_TUNING)
+#pragma GCC push_options
+#pragma GCC target("tune=icelake-server")
+#define LRT__WALK_TUNED
+#endif
 /* ================================================================== >>walk
    6. The walk (RayQuery.Proceed of the design), specialised for this tree:
       no triangles, no instances, no stored boxes. A node's children form a
@@ -4425,6 +4434,10 @@ LINEAR_RT_DEF lrt_result lrt_trace(const lrt_bvh *bvh, const lrt_depth *depth, c
     return lrt_trace_range(bvh, depth, rays, hits, 0, count, flags);
 }
 
+#ifdef LRT__WALK_TUNED
+#pragma GCC pop_options
+#undef LRT__WALK_TUNED
+#endif
 /* ================================================================ >>camera
    6. Rays from a camera: view space -> clip space -> screen space. Optional
       helpers for the ray set-up (the tracer never calls them). Double
