@@ -830,20 +830,28 @@ bool lrt_setup_ordinary(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out
     return s.t_lo <= s.t_hi;
 }
 
+// a rare ray whose direction is only large (lrt_huge_direction), scaled by
+// 2^-e as lrt_setup_rare would, for the ordinary set-up: true, and t_exp
+// -e; false, and nothing changed, for any other rare ray
+bool lrt_scale_large(LrtParams p, vec3 o, inout float tmin, inout vec3 v, inout float tmax, inout int t_exp)
+{
+    int e = lrt_huge_direction(p, o, tmin, v, tmax);
+    if (e == 0) return false;
+    v *= lrt_pow2(-e);
+    tmin = lrt_scale_t(tmin, e);
+    tmax = lrt_scale_t(tmax, e);
+    t_exp = -e;
+    return true;
+}
+
 // validates and clips any ray; false with kind set when nothing is left to
-// walk. A rare ray takes lrt_setup_rare (but for a direction that is only
-// large: lrt_huge_direction, then the ordinary set-up)
+// walk. A rare ray takes lrt_setup_rare, but for a direction that is only
+// large (lrt_scale_large)
 bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out int t_exp, out uint kind)
 {
     t_exp = 0;
-    if (lrt_ray_rare(p, o, tmin, v, tmax)) {
-        int e = lrt_huge_direction(p, o, tmin, v, tmax);
-        if (e == 0) return lrt_setup_rare(p, o, tmin, v, tmax, s, t_exp, kind);
-        v *= lrt_pow2(-e); // lrt_setup_rare's scaling, then the common set-up
-        tmin = lrt_scale_t(tmin, e);
-        tmax = lrt_scale_t(tmax, e);
-        t_exp = -e;
-    }
+    if (lrt_ray_rare(p, o, tmin, v, tmax) && !lrt_scale_large(p, o, tmin, v, tmax, t_exp))
+        return lrt_setup_rare(p, o, tmin, v, tmax, s, t_exp, kind);
     return lrt_setup_ordinary(p, o, tmin, v, tmax, s, kind);
 }
 
@@ -1393,17 +1401,8 @@ LrtHit lrt_trace_ray_ordinary(LrtParams p, vec3 origin, float tmin, vec3 dir, fl
     uint kind = LRT_MISS_INVALID_RAY;
     int t_exp = 0;
     float lo = tmin, hi = tmax;
-    rare = lrt_ray_rare(p, origin, tmin, dir, tmax);
-    if (rare) {
-        int e = lrt_huge_direction(p, origin, tmin, dir, tmax);
-        if (e == 0) return lrt_miss(kind);
-        rare = false;
-        dir *= lrt_pow2(-e); // as lrt_setup_ray
-        lo = lrt_scale_t(tmin, e);
-        hi = lrt_scale_t(tmax, e);
-        t_exp = -e;
-    }
-    if (!lrt_setup_ordinary(p, origin, lo, dir, hi, s, kind)) return lrt_miss(kind);
+    rare = lrt_ray_rare(p, origin, tmin, dir, tmax) && !lrt_scale_large(p, origin, lo, dir, hi, t_exp);
+    if (rare || !lrt_setup_ordinary(p, origin, lo, dir, hi, s, kind)) return lrt_miss(kind);
     return lrt_trace_setup(p, s, t_exp, true, kind, tmin, tmax); // e <= 126: 2^-e is normal
 }
 
