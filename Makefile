@@ -485,7 +485,7 @@ $(B)/gpu_stats: tools/gpu_stats.c $(GPU_STATS_DEPS) $(B)/config.stamp | deps $(B
 gpu-stats: $(B)/gpu_stats
 	@$(B)/gpu_stats --out $(GPU_STATS_OUT); rc=$$?; [ $$rc -eq 77 ] && exit 0; exit $$rc
 
-# the library's trace pipeline alone compiled (--quick: all twelve are still
+# the library's trace pipeline alone compiled (--quick: all thirty are still
 # made and identified), on each of the three GPUs; then the table of each
 # must have its figures
 test-gpu-stats: $(B)/gpu_stats

@@ -249,6 +249,8 @@ int main(void)
 #define LRT_K_MISS_TMAX 2u
 #define LRT_K_MISS_OFF_SCREEN 3u
 #define LRT_K_MISS_INVALID_RAY 4u
+#define LRT_K_MISS_BUDGET 5u
+#define LRT_K_TRACE_BUDGET_MASK 0xffffu /* trace flags: bits 0-15, the step budget (0: none) */
 #define LRT_K_FACE_NONE 0u              /* lrt_hit_face */
 #define LRT_K_FACE_TOP 1u
 #define LRT_K_FACE_SIDE 2u
@@ -273,7 +275,7 @@ int main(void)
    (texels, format, flags, node bits, levels; a buffer depth's byte offset
    and row stride), the refit's texel rectangle (inclusive) and build flag
    (1: padding written too), the trace's first ray and count, trace flags
-   (0), a back-map tree's back map (byte offset, row stride), and the tree's
+   (the step budget), a back-map tree's back map (byte offset, row stride), and the tree's
    thickness model with lrt_layout.back_k. */
 #define LRT_K_VK_PUSH_CONSTANTS(U32, F32)                                             \
     U32 width, height, format, flags, node_bits, level_count, depth_offset, row_stride; \
@@ -508,6 +510,7 @@ typedef enum lrt_hit_kind {
     LRT_MISS_TMAX = LRT_K_MISS_TMAX,               /* reached tmax on screen without touching the solid */
     LRT_MISS_OFF_SCREEN = LRT_K_MISS_OFF_SCREEN,   /* left (or never met) the screen rectangle: fall back */
     LRT_MISS_INVALID_RAY = LRT_K_MISS_INVALID_RAY, /* NaN/inf component, tmin < 0 or tmin > tmax: not traced */
+    LRT_MISS_BUDGET = LRT_K_MISS_BUDGET,           /* the step budget ran out: no hit before t (LRT_TRACE_BUDGET) */
     LRT_HIT_KIND_MAX_ENUM = 0x7fffffff
 } lrt_hit_kind;
 
@@ -533,7 +536,19 @@ typedef struct lrt_hit {
     uint16_t face;           /* lrt_hit_face */
 } lrt_hit;
 
-/* Trace flags: none yet, pass 0 (anything else is LRT_ERROR_INVALID_OPTION).
+/* Trace flags: 0 for the exact walk, or LRT_TRACE_BUDGET(steps) (any other
+   bit is LRT_ERROR_INVALID_OPTION).
+   LRT_TRACE_BUDGET(steps), 1 <= steps <= LRT_TRACE_BUDGET_MAX: each ray's
+   walk tests at most `steps` nodes (a level-1 node's 8 texels are one
+   test; a camera ray inside one texel column takes none). A ray that would
+   need more stops with LRT_MISS_BUDGET and t set to where its segment is
+   proven free: no texel is hit at any t' < t (lrt_trace without a budget
+   would return no hit before t), so an engine can fall back, or march on
+   from there. x, y are 0 and face LRT_FACE_NONE. Every other answer is
+   the exact one lrt_trace gives without a budget: a hit is the closest.
+   A budgeted walk starts where the GPU kernels' walk starts (at the
+   origin), so that lrt_vk_cmd_trace counts the same steps and gives the
+   same answers bit for bit; LRT_TRACE_BUDGET(0) is 0, no budget.
    There is no any-hit mode: the walk visits children front to back and
    stops at its first texel hit, which is the closest, so occlusion rays
    (AO, shadows) take the same call; an any-hit flag that changed nothing
@@ -545,6 +560,8 @@ typedef struct lrt_hit {
    map are checked against the tree's; its contents cannot be). At most LINEAR_RT_MAX_RAYS_PER_CALL
    (2^30) rays a call: a larger count is LRT_ERROR_TOO_MANY_RAYS, returned
    before any ray is read or hit written. */
+#define LRT_TRACE_BUDGET_MAX 65535u
+#define LRT_TRACE_BUDGET(steps) ((uint32_t)(steps))
 LINEAR_RT_API lrt_result lrt_trace(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
                                    lrt_hit *hits, size_t count, uint32_t flags);
 /* Trace rays[first .. end-1] into hits[first .. end-1]: split a batch across
@@ -840,7 +857,8 @@ LINEAR_RT_API lrt_result lrt_vk_cmd_build(lrt_vk_context *ctx, VkCommandBuffer c
 LINEAR_RT_API lrt_result lrt_vk_cmd_update(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
                                            const lrt_vk_depth *depth, const lrt_rect *dirty);
 /* Traces count lrt_ray at rays_offset into count lrt_hit at hits_offset
-   (storage buffers), flags 0 (as lrt_trace), one invocation per ray, in
+   (storage buffers), flags as lrt_trace's (0, or LRT_TRACE_BUDGET(steps): the
+   same steps, the same answers bit for bit), one invocation per ray, in
    two dispatches on a GPU (lrt_vk_context_flags): the ordinary pass traces
    every ray but those at the edge of float range (lrt__setup_rare's) and
    marks their hits; after a barrier the rare pass traces the marked ones.
@@ -2953,6 +2971,7 @@ typedef struct lrt__walk {
                              (a back map, or float depth); a model's float back of unorm depth may not be */
     uint32_t texels8_w, texels8_h; /* plain float: level-1 nodes (x, y) below these lie inside the map (lrt__texels8) */
     float extent[2];    /* the root's span in texels: no node's plane lies beyond it */
+    uint32_t budget;    /* node tests a ray may take (LRT_TRACE_BUDGET), 0: no limit */
     lrt__walk_level lv[LINEAR_RT_MAX_LEVELS + 1];
     uint8_t start_level[2][33]; /* lowest level whose nodes span 2^b texels along x / y */
     lrt__signs signs[4];        /* by neg_x | neg_y << 1 */
@@ -3609,14 +3628,20 @@ LRT__FORCE_INLINE uint32_t lrt__face(const lrt__walk *w, const lrt__ray_setup *s
 
 /* A hit at t of the walked ray, told in the caller's ray: undo the restart
    and the rescale, and stay inside [tmin, tmax] despite rounding. */
+/* A walk's t as the ray's: the set-up's scale undone, clamped to [tmin, tmax] */
+LRT__FORCE_INLINE float lrt__ray_t(const lrt_ray *ray, const lrt__ray_setup *s, float t_scale, float t)
+{
+    const float lo = lrt__flush_float(ray->tmin), hi = lrt__flush_float(ray->tmax); /* as the walk read them */
+    /* t_scale is 2^-127 (subnormal: 0 under DAZ) only after lrt__setup_rare's e = 127 */
+    t = t_scale >= 1.17549435e-38f ? (t + s->t_base) * t_scale : ldexpf(t + s->t_base, -127);
+    return t < lo ? lo : t > hi ? hi : t;
+}
+
 LRT__FORCE_INLINE void lrt__report_hit(const lrt__walk *w, const lrt_ray *ray, const lrt__ray_setup *s, float t_scale, float t,
                                  uint32_t tx, uint32_t ty, const float planes[2], lrt_hit *hit)
 {
     hit->face = (uint16_t)lrt__face(w, s, tx, ty, t, planes);
-    const float lo = lrt__flush_float(ray->tmin), hi = lrt__flush_float(ray->tmax); /* as the walk read them */
-    /* t_scale is 2^-127 (subnormal: 0 under DAZ) only after lrt__setup_rare's e = 127 */
-    t = t_scale >= 1.17549435e-38f ? (t + s->t_base) * t_scale : ldexpf(t + s->t_base, -127);
-    hit->t = t < lo ? lo : t > hi ? hi : t;
+    hit->t = lrt__ray_t(ray, s, t_scale, t);
     hit->x = tx;
     hit->y = ty;
     hit->kind = LRT_HIT;
@@ -3823,6 +3848,17 @@ LRT__FORCE_INLINE int lrt__level1_codes_hit(const lrt__walk *w, const lrt__ray_s
     return 0;
 }
 
+/* A ray in a plane of the texel grid: x constant on a texel edge (v.x = 0,
+   o.x whole), or y. The texels on both sides of that plane are met over
+   the same t, so the walk's visiting order is not their order along the
+   ray (its first hit is the exact one of the ray moved off the plane by an
+   ulp, docs/MODEL.md), and a budgeted walk proves nothing about the t of
+   what it has not tested (lrt__report_budget). */
+LRT__FORCE_INLINE int lrt__in_grid_plane(const lrt__ray_setup *s)
+{
+    return (s->v[0] == 0.0f && floorf(s->o[0]) == s->o[0]) || (s->v[1] == 0.0f && floorf(s->o[1]) == s->o[1]);
+}
+
 /* ---- ISA block: a level-1 node's first texel hit (AVX2 | SSE2 and scalar):
    AVX2 reads a node of plain float depth inside the map straight from the
    depth (lrt__texels8), 8 texels at once, with no codes ---- */
@@ -3867,13 +3903,17 @@ LRT__FORCE_INLINE int lrt__from_origin(const lrt__walk *w, const lrt__ray_setup 
     return s->o[2] >= lrt__raw_to_float(w->depth->format, lrt__depth_raw(w->depth, w->stride, px, py)) - LRT__ORIGIN_SURFACE;
 }
 
+/* The kernels' lrt_first_texel, the texel along one axis where their walk
+   starts: the one holding o + t_lo v, or one behind it whose edge lies
+   within the widening of t_lo. The CPU's walk starts from its texel range's
+   corner instead, which can be the texel behind where the start lies within
+   that range's margin of an edge: a budgeted walk, and a counting copy
+   (LINEAR_RT_WALK_AS_KERNELS), must start where the kernels do. */
 #ifdef LINEAR_RT_WALK_AS_KERNELS
-/* Profiling (LINEAR_RT_WALK_AS_KERNELS): the kernels' lrt_first_texel, the
-   texel along one axis where their walk starts: the one holding o + t_lo v,
-   or one behind it whose edge lies within the widening of t_lo. The CPU's
-   walk starts from its texel range's corner instead, which can be the
-   texel behind where the start lies within that range's margin of an edge:
-   a counting copy that mirrors the kernels must start where they do. */
+#define LRT__AS_KERNELS (LINEAR_RT_WALK_AS_KERNELS)
+#else
+#define LRT__AS_KERNELS 0
+#endif
 static int lrt__kernel_first_texel(float o, float v, float iv, uint32_t neg, float t_lo, int size)
 {
     float p = o + t_lo * v;
@@ -3894,7 +3934,6 @@ static int lrt__kernel_first_texel(float o, float v, float iv, uint32_t neg, flo
     }
     return c;
 }
-#endif
 
 /* Child `slot` of node (nx, ny) of level lv: its node at level lv - 1 (the
    kernels' lrt_child). Levels lv odd group their children 4x2, even 2x4. */
@@ -3903,6 +3942,153 @@ LRT__FORCE_INLINE void lrt__child(uint32_t lv, uint32_t *nx, uint32_t *ny, uint3
     const uint32_t bw_log2 = (lv & 1u) ? 2u : 1u;
     *nx = (*nx << bw_log2) + (slot & ((1u << bw_log2) - 1u));
     *ny = (*ny << (3u - bw_log2)) + (slot >> bw_log2);
+}
+
+/* ---- the budgeted walk's node test: the kernels' floats -------------------
+   A step budget counts node tests, so a budgeted walk must take the
+   kernels' steps, not only give their answers: its node test above level 1
+   culls with shaders/linear_rt.glsl's lrt_cull_children float for float
+   (its planes p * iv + c as a product, then a sum: the kernels' `precise`),
+   on every ISA. LRT__ROUNDED keeps a product rounded where a compiler that
+   fuses a multiply into the next add (GCC's -ffp-contract=fast, the default
+   outside ISO C; clang's within an expression) would fuse it. */
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || (defined(__i386__) && defined(__SSE_MATH__)))
+#define LRT__ROUNDED(x) __asm__("" : "+x"(x))
+#elif (defined(__GNUC__) || defined(__clang__)) && defined(__aarch64__)
+#define LRT__ROUNDED(x) __asm__("" : "+w"(x))
+#else
+#define LRT__ROUNDED(x)                                                                                           \
+    do {                                                                                                          \
+        volatile float lrt__rounded = (x);                                                                        \
+        (x) = lrt__rounded;                                                                                       \
+    } while (0)
+#endif
+
+#define LRT__KERNEL_IV_MAX 1.26765060e30f     /* 2^100: the kernels' IV_MAX */
+#define LRT__KERNEL_MARGIN (1.0f / 524288.0f) /* 2^-19: their MARGIN */
+typedef struct lrt__kernel_cull { /* the kernels' LrtCull */
+    float iv[2], en[2], ex[2]; /* x and y: plane p is entered at p * iv + en, left at p * iv + ex */
+    float za, zb, ba, bb;      /* a child's depth plane: code * za + zb; its back plane: back code * ba + bb */
+    float lo, hi;              /* t_lo, and t_hi widened */
+} lrt__kernel_cull;
+
+/* the kernels' lrt_cull_axis */
+LRT__FORCE_INLINE void lrt__kernel_cull_axis(float o, float iv, float extent, float t_hi, float *civ, float *c_en, float *c_ex)
+{
+    const int huge = !(fabsf(iv) < LRT__KERNEL_IV_MAX); /* a 0 direction's inverse is infinite */
+    const float m = huge ? LRT__KERNEL_IV_MAX : fabsf(iv);
+    float c, d, far;
+    *civ = lrt__sign_bit(iv) ? -m : m;
+    c = -o * *civ;
+    LRT__ROUNDED(c);
+    d = (fabsf(o) + extent) * m;
+    LRT__ROUNDED(d);
+    far = fabsf(t_hi) * (huge ? 2.0f : LRT__KERNEL_MARGIN); /* both by a power of two: exact */
+    d = d * LRT__KERNEL_MARGIN + far;
+    *c_en = c - d;
+    *c_ex = c + d;
+}
+
+/* the kernels' lrt_cull_setup */
+static void lrt__kernel_cull_setup(const lrt__walk *w, const lrt__ray_setup *s, lrt__kernel_cull *c)
+{
+    float za, en, ex;
+    int axis;
+    for (axis = 0; axis < 2; ++axis)
+        lrt__kernel_cull_axis(s->o[axis], s->iv[axis], w->extent[axis], s->t_hi, &c->iv[axis], &c->en[axis], &c->ex[axis]);
+    /* a child's depth plane is (65535 - code) * decode_scale */
+    lrt__kernel_cull_axis(s->o[2] - w->code_depth0, s->iv[2], 1.0f, s->t_hi, &za, &en, &ex);
+    c->za = w->code_step * za;
+    c->zb = s->neg_z ? ex : en;
+    /* the back plane is back code * back_scale: entered going up, left going down */
+    lrt__kernel_cull_axis(s->o[2], s->iv[2], 1.0f, s->t_hi, &za, &en, &ex);
+    c->ba = w->back_scale * za;
+    c->bb = s->neg_z ? en : ex;
+    c->lo = s->t_lo;
+    c->hi = lrt__widen(s->t_hi);
+}
+
+/* the entering and leaving t of column (row) [a, a + step], clamped (the kernels' lrt_cull_slab) */
+LRT__FORCE_INLINE void lrt__kernel_cull_slab(const lrt__kernel_cull *c, int axis, float a, float step, uint32_t neg, float *en,
+                                             float *ex)
+{
+    float ta = a * c->iv[axis], tb = (a + step) * c->iv[axis], e, x;
+    LRT__ROUNDED(ta);
+    LRT__ROUNDED(tb);
+    e = (neg ? tb : ta) + c->en[axis];
+    x = (neg ? ta : tb) + c->ex[axis];
+    *en = e > c->lo ? e : c->lo;
+    *ex = x < c->hi ? x : c->hi;
+}
+
+/* The children of node (nx, ny) of level lv >= 2 that the kernels' node test
+   keeps (lrt_cull_children), bit k for the child met k-th in visiting order. */
+static uint32_t lrt__kernel_cull_children(const lrt__walk *w, const lrt__ray_setup *s, const lrt__kernel_cull *c, uint32_t lv,
+                                          uint32_t nx, uint32_t ny, size_t slot0, uint32_t neg_z)
+{
+    const lrt__walk_level *v = &w->lv[lv];
+    const uint32_t tall = (lv & 1u) ^ 1u, flip = s->sg->flip[tall];
+    const float sw = v->child_span_w, sh = v->child_span_h;
+    const float x0 = (float)(nx << v->span_w_log2), y0 = (float)(ny << v->span_h_log2);
+    const uint16_t *codes = lrt__codes(w, slot0), *backs = lrt__codes(w, w->back_codes + slot0);
+    const int back = w->back_codes && !s->zk; /* no back plane for a z scaled by 2^zk: the codes would cut it */
+    uint32_t slot, met = 0u, m = 0u, k;
+    for (slot = 0; slot < 8u; ++slot) {
+        const uint32_t col = tall ? slot & 1u : slot & 3u, row = tall ? slot >> 1 : slot >> 2;
+        float ce, cx, re, rx, tz, tb, en, ex;
+        lrt__kernel_cull_slab(c, 0, x0 + sw * (float)col, sw, s->neg_x, &ce, &cx);
+        lrt__kernel_cull_slab(c, 1, y0 + sh * (float)row, sh, s->neg_y, &re, &rx);
+        tz = (float)codes[slot] * c->za;
+        LRT__ROUNDED(tz);
+        tz += c->zb;
+        tb = back ? (float)backs[slot] * c->ba : 0.0f;
+        LRT__ROUNDED(tb);
+        tb += c->bb;
+        en = ce > re ? ce : re;
+        ex = cx < rx ? cx : rx;
+        if (neg_z) {
+            en = back && tb > en ? tb : en;
+            ex = tz < ex ? tz : ex;
+        } else {
+            en = tz > en ? tz : en;
+            ex = back && tb < ex ? tb : ex;
+        }
+        met |= (uint32_t)(en <= ex) << slot;
+    }
+    for (k = 0; k < 8u; ++k) m |= ((met >> (k ^ flip)) & 1u) << k; /* into visiting order */
+    return m;
+}
+
+/* A budgeted walk's stop before it tests node (lv, nx, ny) (lrt_walk_origin's
+   lrt_report_budget): its segment is proven free before the t where it
+   enters that node, or, where the walk has just climbed to it (eligible:
+   the children after the one it came from), before the t where it leaves
+   that child (of the min of the two where the ray misses the node's box).
+   Each plane's t, (p - o) * iv, is monotone in p: a node later in visiting
+   order is entered no earlier than one before it is left, one inside a
+   node no earlier than that node is entered, and a texel's hit lies in its
+   box. So lrt_trace without a budget reports no hit before this t. A ray
+   in a grid plane (lrt__in_grid_plane) meets texels out of visiting
+   order: t_lo. */
+LRT__FORCE_INLINE void lrt__report_budget(const lrt__walk *w, const lrt_ray *ray, const lrt__ray_setup *s, float t_scale,
+                                          uint32_t lv, uint32_t nx, uint32_t ny, uint32_t eligible, lrt_hit *hit)
+{
+    float en = s->t_lo, ex = s->t_hi, x0, y0, t;
+    if (eligible != 0xffu) { /* the child it came from, k-th in visiting order */
+        const uint32_t k = eligible ? lrt__lowest_bit(eligible) - 1u : 7u;
+        lrt__child(lv, &nx, &ny, k ^ s->sg->flip[(lv & 1u) ^ 1u]);
+        lv -= 1u;
+    }
+    x0 = (float)(nx << w->lv[lv].span_w_log2);
+    y0 = (float)(ny << w->lv[lv].span_h_log2);
+    lrt__slab(x0, x0 + (float)(1u << w->lv[lv].span_w_log2), s->o[0], s->iv[0], s->neg_x, &en, &ex);
+    lrt__slab(y0, y0 + (float)(1u << w->lv[lv].span_h_log2), s->o[1], s->iv[1], s->neg_y, &en, &ex);
+    t = eligible != 0xffu || ex < en ? ex : en;
+    t = t > s->t_lo && !lrt__in_grid_plane(s) ? t : s->t_lo; /* a grid plane's ray has proven nothing */
+    hit->t = lrt__ray_t(ray, s, t_scale, t);
+    hit->x = hit->y = 0;
+    hit->face = LRT_FACE_NONE;
+    hit->kind = LRT_MISS_BUDGET;
 }
 
 /* The walk (shaders/linear_rt.glsl's lrt_walk_origin, the same steps under
@@ -3924,25 +4110,25 @@ LRT__FORCE_INLINE void lrt__child(uint32_t lv, uint32_t *nx, uint32_t *ny, uint3
    (tall nodes, wide ones above the texels, level 1). */
 LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
                                        float t_scale, uint32_t top, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py,
-                                       uint32_t neg_z)
+                                       uint32_t budgeted, uint32_t neg_z)
 {
     /* the levels above lv up to reached were tested: masks[] holds their
        pending children, and bit L of busy says masks[L] is not empty */
-    uint32_t lv = top, eligible = 0xffu, reached, busy = 0u;
+    uint32_t lv = top, eligible = 0xffu, reached, busy = 0u, steps = 0u;
     uint8_t masks[LINEAR_RT_MAX_LEVELS + 2];
     size_t slot0;
-#ifdef LINEAR_RT_WALK_AS_KERNELS
-    /* profiling: the kernels' walk (lrt_walk_origin) always starts at the
-       level-1 node of the texel where the segment starts */
-    if (LINEAR_RT_WALK_AS_KERNELS) {
+    lrt__kernel_cull kc; /* a budgeted walk's node test (lrt__kernel_cull_children) */
+    if (budgeted) lrt__kernel_cull_setup(w, s, &kc);
+    /* a budgeted walk (and profiling) starts as the kernels' walk
+       (lrt_walk_origin) does: at the level-1 node of the texel where the
+       segment starts */
+    if (budgeted || LRT__AS_KERNELS) {
         px = (uint32_t)lrt__kernel_first_texel(s->o[0], s->v[0], s->iv[0], s->neg_x, s->t_lo, (int)w->L->width);
         py = (uint32_t)lrt__kernel_first_texel(s->o[1], s->v[1], s->iv[1], s->neg_y, s->t_lo, (int)w->L->height);
         lv = 1u;
         nx = px >> 2;
         ny = py >> 1;
-    } else
-#endif
-    if (lrt__from_origin(w, s, top, px, py)) {
+    } else if (lrt__from_origin(w, s, top, px, py)) {
         lv = 1u;
         nx = px >> 2;
         ny = py >> 1;
@@ -3950,6 +4136,10 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
     reached = lv;
     slot0 = lrt__node_slot(w, lv, nx, ny);
     for (;;) {
+        if (budgeted && steps++ == w->budget) { /* the budget is spent: the next node is not tested */
+            lrt__report_budget(w, ray, s, t_scale, lv, nx, ny, eligible, hit);
+            return 1;
+        }
         if (lv == 1u) { /* texels: the exact test, in visiting order */
             uint32_t tx, ty;
             float t, planes[2];
@@ -3964,7 +4154,8 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
             uint32_t m;
             lrt__prefetch_children(w, children);
             LINEAR_RT_COUNT_NODE_TEST(lv);
-            m = tall ? lrt__cull_children(w, s, lv, nx, ny, slot0, 1u, neg_z) : lrt__cull_children(w, s, lv, nx, ny, slot0, 0u, neg_z);
+            if (budgeted) m = lrt__kernel_cull_children(w, s, &kc, lv, nx, ny, slot0, neg_z);
+            else m = tall ? lrt__cull_children(w, s, lv, nx, ny, slot0, 1u, neg_z) : lrt__cull_children(w, s, lv, nx, ny, slot0, 0u, neg_z);
             /* a padding node (past its level's grid) has no children in
                memory: a ray whose culling is loose there (an axis it does
                not move along, on the map's far edge) must not go down into
@@ -4007,7 +4198,7 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
                    inside that ancestor, the children after it */
                 const uint32_t up = reached + 1u, tall = (up & 1u) ^ 1u, bw_log2 = tall ? 1u : 2u; /* the parent's block */
                 uint32_t sw, sh, ax, ay, k;
-                float fx, fy;
+                float fx, fy, ex_x, ex_y;
                 if (reached >= top) return 0; /* the start node, which holds the segment, is done */
                 sw = w->lv[reached].span_w_log2;
                 sh = w->lv[reached].span_h_log2;
@@ -4015,7 +4206,15 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
                 ay = y0 >> sh;
                 fx = (float)((s->neg_x ? ax : ax + 1u) << sw);
                 fy = (float)((s->neg_y ? ay : ay + 1u) << sh);
-                if (LRT__MIN_KEEP((fx - s->o[0]) * s->iv[0], (fy - s->o[1]) * s->iv[1]) > lrt__widen(s->t_hi)) return 0;
+                /* an axis the ray does not move along: never left (an
+                   infinite t), unless the ray lies on the far edge (0 times
+                   an infinite inverse: NaN), where the next node is touched
+                   too, as the kernels take it */
+                ex_x = (fx - s->o[0]) * s->iv[0];
+                ex_y = (fy - s->o[1]) * s->iv[1];
+                if (ex_x != ex_x) ex_x = -INFINITY;
+                if (ex_y != ex_y) ex_y = -INFINITY;
+                if (LRT__MIN_KEEP(ex_x, ex_y) > lrt__widen(s->t_hi)) return 0;
                 k = lrt__child_slot(&w->L->levels[reached], ax, ay) ^ s->sg->flip[tall];
                 eligible = ~((2u << k) - 1u) & 0xffu;
                 lv = reached = up;
@@ -4034,12 +4233,24 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
 static LRT__NOINLINE int lrt__walk_up(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
                                       float t_scale, uint32_t top, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py)
 {
-    return lrt__walk_origin(w, ray, hit, s, t_scale, top, nx, ny, px, py, 0u);
+    return lrt__walk_origin(w, ray, hit, s, t_scale, top, nx, ny, px, py, 0u, 0u);
 }
 static LRT__NOINLINE int lrt__walk_down(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
                                         float t_scale, uint32_t top, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py)
 {
-    return lrt__walk_origin(w, ray, hit, s, t_scale, top, nx, ny, px, py, 1u);
+    return lrt__walk_origin(w, ray, hit, s, t_scale, top, nx, ny, px, py, 0u, 1u);
+}
+/* the budgeted walk (LRT_TRACE_BUDGET): copies of their own, so that the
+   exact walk carries no step count */
+static LRT__NOINLINE int lrt__walk_up_budget(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
+                                             float t_scale, uint32_t top, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py)
+{
+    return lrt__walk_origin(w, ray, hit, s, t_scale, top, nx, ny, px, py, 1u, 0u);
+}
+static LRT__NOINLINE int lrt__walk_down_budget(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
+                                               float t_scale, uint32_t top, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py)
+{
+    return lrt__walk_origin(w, ray, hit, s, t_scale, top, nx, ny, px, py, 1u, 1u);
 }
 
 /* The trace of a set-up ray from node (nx, ny) of level lv (lrt__start_node);
@@ -4066,8 +4277,10 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
     }
     lrt__walk_setup(w, s, cull, stride);
     /* the walk, with the sign of v.z a constant of its node tests */
-    if (!(s->neg_z ? lrt__walk_down(w, ray, hit, s, t_scale, lv, nx, ny, px, py)
-                   : lrt__walk_up(w, ray, hit, s, t_scale, lv, nx, ny, px, py)))
+    if (w->budget ? !(s->neg_z ? lrt__walk_down_budget(w, ray, hit, s, t_scale, lv, nx, ny, px, py)
+                               : lrt__walk_up_budget(w, ray, hit, s, t_scale, lv, nx, ny, px, py))
+                  : !(s->neg_z ? lrt__walk_down(w, ray, hit, s, t_scale, lv, nx, ny, px, py)
+                               : lrt__walk_up(w, ray, hit, s, t_scale, lv, nx, ny, px, py)))
         hit->kind = (uint16_t)kind;
 }
 
@@ -4369,11 +4582,12 @@ LRT__FORCE_INLINE size_t lrt__trace_batches(const lrt__walk *w, const lrt_ray *r
 
 /* The walk of lrt_trace_range once its arguments are checked. */
 static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t stride, const lrt_ray *rays,
-                            lrt_hit *hits, size_t first, size_t end)
+                            lrt_hit *hits, size_t first, size_t end, uint32_t budget)
 {
     lrt__walk w;
     size_t i;
     lrt__walk_init(&w, bvh, depth, stride);
+    w.budget = budget;
     for (i = lrt__trace_batches(&w, rays, hits, first, end); i < end; ++i) lrt__trace_one(&w, &rays[i], &hits[i]);
 }
 
@@ -4392,7 +4606,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
    picked by lrt__cpu_has_avx2 (section impl). */
 #if LRT__AVX_AT_RUN_TIME
 static void lrt__trace_walk_avx2(const lrt_bvh *bvh, const lrt_depth *depth, size_t stride, const lrt_ray *rays,
-                                 lrt_hit *hits, size_t first, size_t end);
+                                 lrt_hit *hits, size_t first, size_t end, uint32_t budget);
 #endif /* LRT__AVX_AT_RUN_TIME */
 
 LINEAR_RT_DEF const char *lrt_cpu_path(void)
@@ -4414,17 +4628,17 @@ LINEAR_RT_DEF lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *de
     size_t stride;
     lrt_result r;
     if ((r = lrt__check_pair(bvh, depth, &stride)) != LRT_SUCCESS) return r;
-    if (flags) return LRT_ERROR_INVALID_OPTION; /* no flags yet */
+    if (flags & ~LRT_K_TRACE_BUDGET_MASK) return LRT_ERROR_INVALID_OPTION; /* the budget's bits only */
     if (first > end || end - first > LINEAR_RT_MAX_RAYS_PER_CALL) return LRT_ERROR_TOO_MANY_RAYS;
     if (first == end) return LRT_SUCCESS;
     if (!rays || !hits) return LRT_ERROR_NULL_POINTER;
 #if LRT__AVX_AT_RUN_TIME
     if (lrt__cpu_has_avx2()) {
-        lrt__trace_walk_avx2(bvh, depth, stride, rays, hits, first, end);
+        lrt__trace_walk_avx2(bvh, depth, stride, rays, hits, first, end, flags);
         return LRT_SUCCESS;
     }
 #endif
-    lrt__trace_walk(bvh, depth, stride, rays, hits, first, end);
+    lrt__trace_walk(bvh, depth, stride, rays, hits, first, end, flags);
     return LRT_SUCCESS;
 }
 
@@ -4739,14 +4953,16 @@ typedef struct lrt__vk_module {
 
 /* The pipelines, in this order. */
 /* the four kernels (a trace: its ordinary pass), the trace kernel's rare
-   pass (specialization constant 3, lrt_trace_pass, 1) and its one pass (2),
-   then the same for trees with a thickness
+   pass (specialization constant 3, lrt_trace_pass, 1), its one pass (2)
+   and its ordinary pass with a step budget (3: the exact ordinary pass
+   carries no step count), then the same for trees with a thickness
    model, of 16-bit nodes, then of 8-bit nodes (constant 0, lrt_back_trees,
    true: other trees' pipelines carry no back code; constant 1,
    lrt_back_node_bits, the node width: known to the compiler, it drops the
    other width's code from the back-code reads) */
 enum { LRT__VK_REFIT_BUFFER, LRT__VK_REFIT_IMAGE, LRT__VK_TRACE_BUFFER, LRT__VK_TRACE_IMAGE, LRT__VK_RARE_BUFFER,
-       LRT__VK_RARE_IMAGE, LRT__VK_WHOLE_BUFFER, LRT__VK_WHOLE_IMAGE, LRT__VK_MODULES,
+       LRT__VK_RARE_IMAGE, LRT__VK_WHOLE_BUFFER, LRT__VK_WHOLE_IMAGE, LRT__VK_BUDGET_BUFFER, LRT__VK_BUDGET_IMAGE,
+       LRT__VK_MODULES,
        LRT__VK_PIPELINES = 3 * LRT__VK_MODULES };
 
 /* Pipelines are made on first use, not by lrt_vk_context_create: a
@@ -4769,6 +4985,7 @@ static lrt__vk_module lrt__vk_module_at(int which)
     case LRT__VK_REFIT_IMAGE: m.code = lrt_spv_refit_image; m.bytes = lrt_spv_refit_image_SIZE; break;
     case LRT__VK_TRACE_BUFFER:
     case LRT__VK_RARE_BUFFER:
+    case LRT__VK_BUDGET_BUFFER:
     case LRT__VK_WHOLE_BUFFER: m.code = lrt_spv_trace_buffer; m.bytes = lrt_spv_trace_buffer_SIZE; break;
     default: m.code = lrt_spv_trace_image; m.bytes = lrt_spv_trace_image_SIZE; break;
     }
@@ -5032,9 +5249,10 @@ static VkResult lrt__vk_make_pipeline(lrt_vk_context *c, int p, VkPipeline *out)
     /* VkBool32 lrt_back_trees, node bits, VkBool32 lrt_node_texels, lrt_trace_pass (the
        refit has no constant 3: an entry for a constant a module lacks is ignored) */
     const int kernel = p % LRT__VK_MODULES;
-    const uint32_t pass = kernel == LRT__VK_RARE_BUFFER || kernel == LRT__VK_RARE_IMAGE     ? 1u
-                          : kernel == LRT__VK_WHOLE_BUFFER || kernel == LRT__VK_WHOLE_IMAGE ? 2u
-                                                                                            : 0u;
+    const uint32_t pass = kernel == LRT__VK_RARE_BUFFER || kernel == LRT__VK_RARE_IMAGE       ? 1u
+                          : kernel == LRT__VK_WHOLE_BUFFER || kernel == LRT__VK_WHOLE_IMAGE   ? 2u
+                          : kernel == LRT__VK_BUDGET_BUFFER || kernel == LRT__VK_BUDGET_IMAGE ? 3u
+                                                                                              : 0u;
     const uint32_t consts[4] = {p >= LRT__VK_MODULES, p >= 2 * LRT__VK_MODULES ? 8u : 16u, c->node_texels, pass};
     VkSpecializationMapEntry entry[4];
     VkSpecializationInfo spec;
@@ -5712,7 +5930,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer c
     uint32_t gx, gy;
     lrt_result r;
     if ((r = lrt__vk_check(ctx, cmd, bvh, depth, &src)) != LRT_SUCCESS) return r;
-    if (flags) return LRT_ERROR_INVALID_OPTION; /* no flags yet */
+    if (flags & ~LRT_K_TRACE_BUDGET_MASK) return LRT_ERROR_INVALID_OPTION; /* the budget's bits only */
     if (count > LINEAR_RT_MAX_RAYS_PER_CALL) return LRT_ERROR_TOO_MANY_RAYS;
     if (count == 0) return LRT_SUCCESS;
     if (rays == VK_NULL_HANDLE || hits == VK_NULL_HANDLE) return LRT_ERROR_NULL_POINTER;
@@ -5732,7 +5950,9 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer c
     if (!ctx->two_passes) { /* the whole kernel, every ray */
         if ((r = lrt__vk_pipeline(ctx, src.image ? LRT__VK_WHOLE_IMAGE : LRT__VK_WHOLE_BUFFER, bvh, &ordinary)) != LRT_SUCCESS)
             return r;
-    } else if ((r = lrt__vk_pipeline(ctx, src.image ? LRT__VK_TRACE_IMAGE : LRT__VK_TRACE_BUFFER, bvh, &ordinary)) != LRT_SUCCESS ||
+    } else if ((r = lrt__vk_pipeline(ctx, flags ? (src.image ? LRT__VK_BUDGET_IMAGE : LRT__VK_BUDGET_BUFFER)
+                                                : (src.image ? LRT__VK_TRACE_IMAGE : LRT__VK_TRACE_BUFFER),
+                                     bvh, &ordinary)) != LRT_SUCCESS ||
                (r = lrt__vk_pipeline(ctx, src.image ? LRT__VK_RARE_IMAGE : LRT__VK_RARE_BUFFER, bvh, &rare)) != LRT_SUCCESS) {
         return r;
     }
@@ -6173,6 +6393,7 @@ LINEAR_RT_DEF void lrt_vk_device_destroy(lrt_vk_device *device)
 #define lrt__compact_codes lrt__compact_codes_avx2
 #define lrt__level1_codes lrt__level1_codes_avx2
 #define lrt__level1_codes_hit lrt__level1_codes_hit_avx2
+#define lrt__in_grid_plane lrt__in_grid_plane_avx2
 #define lrt__level1_hit lrt__level1_hit_avx2
 #define lrt__load_codes lrt__load_codes_avx2
 #define lrt__node_slot lrt__node_slot_avx2
@@ -6183,6 +6404,13 @@ LINEAR_RT_DEF void lrt_vk_device_destroy(lrt_vk_device *device)
 #define lrt__ray_lanes lrt__ray_lanes_avx2
 #define lrt__ray_setup lrt__ray_setup_avx2
 #define lrt__report_hit lrt__report_hit_avx2
+#define lrt__report_budget lrt__report_budget_avx2
+#define lrt__kernel_cull lrt__kernel_cull_avx2
+#define lrt__kernel_cull_axis lrt__kernel_cull_axis_avx2
+#define lrt__kernel_cull_setup lrt__kernel_cull_setup_avx2
+#define lrt__kernel_cull_slab lrt__kernel_cull_slab_avx2
+#define lrt__kernel_cull_children lrt__kernel_cull_children_avx2
+#define lrt__ray_t lrt__ray_t_avx2
 #define lrt__set_direction lrt__set_direction_avx2
 #define lrt__setup8 lrt__setup8_avx2
 #define lrt__setup_rare lrt__setup_rare_avx2
@@ -6210,6 +6438,8 @@ LINEAR_RT_DEF void lrt_vk_device_destroy(lrt_vk_device *device)
 #define lrt__child lrt__child_avx2
 #define lrt__walk_up lrt__walk_up_avx2
 #define lrt__walk_down lrt__walk_down_avx2
+#define lrt__walk_up_budget lrt__walk_up_budget_avx2
+#define lrt__walk_down_budget lrt__walk_down_budget_avx2
 #define lrt__from_origin lrt__from_origin_avx2
 #define lrt__kernel_first_texel lrt__kernel_first_texel_avx2
 #define lrt__walk_setup lrt__walk_setup_avx2

@@ -30,6 +30,8 @@
 // without NaN or inf arithmetic). The walk (lrt_trace_ray, below) starts at
 // the ray's origin and needs no stack; it visits children in the CPU walk's
 // front-to-back order, so the first texel hit is the closest and the CPU's.
+// lrt_trace_ray_budget caps the node tests of a ray as linear_rt.h's
+// LRT_TRACE_BUDGET does, step for step (LRT_MISS_BUDGET, t proven free).
 // `precise` keeps compilers from fusing or reordering what must round the
 // way it is written.
 
@@ -45,6 +47,7 @@
 #define LRT_MISS_TMAX LRT_K_MISS_TMAX
 #define LRT_MISS_OFF_SCREEN LRT_K_MISS_OFF_SCREEN
 #define LRT_MISS_INVALID_RAY LRT_K_MISS_INVALID_RAY
+#define LRT_MISS_BUDGET LRT_K_MISS_BUDGET
 #define LRT_FACE_NONE LRT_K_FACE_NONE
 #define LRT_FACE_TOP LRT_K_FACE_TOP
 #define LRT_FACE_SIDE LRT_K_FACE_SIDE
@@ -966,8 +969,9 @@ uint lrt_face(LrtParams p, LrtSetup s, uint tx, uint ty, float t, vec2 planes)
 
 // (scale_normal: 2^t_exp is a normal float, as linear_rt.h's t_scale >=
 // FLT_MIN, and the scale is that product)
-LrtHit lrt_report_hit(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, float t, float tmin, float tmax, uint tx,
-                      uint ty, vec2 planes)
+// a walk's t as the ray's (linear_rt.h's lrt__ray_t): the set-up's scale
+// undone, clamped to [tmin, tmax]
+float lrt_ray_t(LrtSetup s, int t_exp, bool scale_normal, float t, float tmin, float tmax)
 {
     precise float tb = t + s.t_base;
     // t + (+0) is +0 for t = -0: a compiler that folds x + 0 to x (the
@@ -975,9 +979,15 @@ LrtHit lrt_report_hit(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, flo
     if (tb == 0.0 && floatBitsToUint(s.t_base) == 0u) tb = 0.0;
     precise float product = tb * lrt_pow2(t_exp);
     float tt = scale_normal ? product : lrt_ldexp(tb, t_exp); // the set-up's scale undone (2^t_exp may be subnormal)
-    LrtHit h;
     float lo = lrt_flush(tmin), hi = lrt_flush(tmax); // as the walk read them
-    h.t = tt < lo ? lo : tt > hi ? hi : tt;
+    return tt < lo ? lo : tt > hi ? hi : tt;
+}
+
+LrtHit lrt_report_hit(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, float t, float tmin, float tmax, uint tx,
+                      uint ty, vec2 planes)
+{
+    LrtHit h;
+    h.t = lrt_ray_t(s, t_exp, scale_normal, t, tmin, tmax);
     h.x = tx;
     h.y = ty;
     h.kind = LRT_HIT;
@@ -1224,6 +1234,39 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
 // 2x4 blocks or of 4x2 blocks (lrt_walk_origin's flip_tall, flip_wide)
 uint lrt_flip_of(uint lv, uint flip_tall, uint flip_wide) { return lrt_bw_log2(lv - 1u) == 1u ? flip_tall : flip_wide; }
 
+// a ray in a plane of the texel grid (linear_rt.h's lrt__in_grid_plane): x
+// constant on a texel edge (v.x = 0, o.x whole), or y. The texels on both
+// sides are met over the same t, out of visiting order
+bool lrt_in_grid_plane(vec3 o, bvec3 zero) { return (zero.x && floor(o.x) == o.x) || (zero.y && floor(o.y) == o.y); }
+
+// Where a budgeted walk that stops before it tests node (lv, nx, ny) has
+// proven its segment free (linear_rt.h's lrt__report_budget, which says
+// why): before the t where it enters that node, or, where it has just
+// climbed to it (eligible: the children after the one it came from),
+// before the t where it leaves that child
+float lrt_budget_t(LrtSetup s, uint lv, uint nx, uint ny, uint eligible, uint flip_tall, uint flip_wide)
+{
+    if (lrt_in_grid_plane(s.o, s.zero)) return s.t_lo; // texels met out of visiting order: nothing proven
+    if (eligible != 0xffu) { // the child it came from, k-th in visiting order
+        uint k = eligible != 0u ? uint(findLSB(eligible)) - 1u : 7u;
+        uvec2 c = lrt_child(lv, nx, ny, k ^ lrt_flip_of(lv, flip_tall, flip_wide));
+        nx = c.x;
+        ny = c.y;
+        lv -= 1u;
+    }
+    float en = s.t_lo, ex = s.t_hi;
+    float x0 = float(nx << lrt_span_w_log2(lv)), y0 = float(ny << lrt_span_h_log2(lv));
+    lrt_slab(x0, x0 + float(1u << lrt_span_w_log2(lv)), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
+    lrt_slab(y0, y0 + float(1u << lrt_span_h_log2(lv)), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
+    float t = eligible != 0xffu || ex < en ? ex : en;
+    return t > s.t_lo ? t : s.t_lo;
+}
+
+// what lrt_walk_origin found
+const uint LRT_WALK_MISS = 0u;
+const uint LRT_WALK_HIT = 1u;
+const uint LRT_WALK_BUDGET = 2u; // the budget ran out before a node's test
+
 // The walk (linear_rt.h's lrt__walk_origin, the same steps under the same
 // names): from the level-1 node of the texel where the segment starts, up to
 // the start node of level top, which holds the whole segment. A step tests
@@ -1234,9 +1277,12 @@ uint lrt_flip_of(uint lv, uint flip_tall, uint flip_wide) { return lrt_bw_log2(l
 // pending child of the lowest level that has one, in one step, or climbs
 // past the levels it has tested; a parent never tested (the walk began
 // below it) has only the children after the one just walked left to test,
-// unless the segment ends inside that one. True with the first texel hit
-// (hx, hy) and its t, false for a miss (lrt_trace_ray reports either).
-bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy, out float ht, out vec2 hplanes)
+// unless the segment ends inside that one. LRT_WALK_HIT with the first
+// texel hit (hx, hy) and its t; LRT_WALK_MISS; or, with a budget (node
+// tests, 0: none), LRT_WALK_BUDGET where the next test would pass it, ht
+// then the t before which the segment is proven free (lrt_budget_t).
+uint lrt_walk_origin(LrtParams p, LrtSetup s, uint top, uint budget, out uint hx, out uint hy, out float ht,
+                     out vec2 hplanes)
 {
     hplanes = vec2(0.0);
     hx = 0u;
@@ -1255,9 +1301,14 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
     // the levels above lv up to reached (the highest the walk has climbed
     // to) were tested: masks holds their pending children, a byte a level,
     // and bit L of busy says level L's byte is not empty
-    uint eligible = 0xffu, reached = 1u, busy = 0u;
+    uint eligible = 0xffu, reached = 1u, busy = 0u, steps = 0u;
     uvec4 masks = uvec4(0u);
     for (;;) {
+        if (budget != 0u && steps == budget) { // the budget is spent: the next node is not tested
+            ht = lrt_budget_t(s, lv, nx, ny, eligible, flip_tall, flip_wide);
+            return LRT_WALK_BUDGET;
+        }
+        ++steps;
         uint flip = lrt_flip_of(lv, flip_tall, flip_wide);
         uint m = lrt_cull_children(p, s, cull, lv, off, nx, ny, flip, back_base, back) & eligible;
         // a padding node (past its level's grid) has no children in memory:
@@ -1275,7 +1326,7 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
                     hx = tx;
                     hy = ty;
                     ht = t;
-                    return true;
+                    return LRT_WALK_HIT;
                 }
             }
         } else if (m != 0u) { // down into the first child met; the others wait in masks
@@ -1314,7 +1365,7 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
             ny = c.y;
             eligible = 0xffu;
         } else {
-            if (reached >= top) return false; // the start node, which holds the segment, is done
+            if (reached >= top) return LRT_WALK_MISS; // the start node, which holds the segment, is done
             // the ancestor of level reached; an axis the ray does not move
             // along: never left, unless the ray lies on the far edge, where
             // the next node is touched too
@@ -1324,7 +1375,7 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
             float ex_x = fx == s.o.x ? -LRT_INF : LRT_INF, ex_y = fy == s.o.y ? -LRT_INF : LRT_INF;
             if (!s.zero.x) { precise float e = (fx - s.o.x) * s.iv.x; ex_x = e; }
             if (!s.zero.y) { precise float e = (fy - s.o.y) * s.iv.y; ex_y = e; }
-            if (min(ex_x, ex_y) > lrt_widen(s.t_hi)) return false;
+            if (min(ex_x, ex_y) > lrt_widen(s.t_hi)) return LRT_WALK_MISS;
             uint bwl = lrt_bw_log2(reached);
             uint k = lrt_child_slot(reached, ax, ay) ^ lrt_flip_of(reached + 1u, flip_tall, flip_wide);
             eligible = ~((2u << k) - 1u) & 0xffu;
@@ -1335,11 +1386,12 @@ bool lrt_walk_origin(LrtParams p, LrtSetup s, uint top, out uint hx, out uint hy
         }
         for (; lv < to; ++lv) off += lrt_level_slots(p, lv);
     }
-    return false;
+    return LRT_WALK_MISS;
 }
 
-// the walk of a set-up ray, and its report
-LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, uint kind, float tmin, float tmax)
+// the walk of a set-up ray, and its report; budget: node tests (0: none)
+LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, uint kind, float tmin, float tmax,
+                       uint budget)
 {
     LrtHit hit;
     hit.t = 0.0;
@@ -1349,20 +1401,24 @@ LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, ui
     uint nx, ny, hx, hy;
     float ht;
     vec2 hplanes; // the hit texel's planes (lrt_test_texel)
-    bool found;
+    uint found;
     uint top = lrt_start_node(p, s, nx, ny); // the lowest node holding the segment: its level
     if (top == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
         float en = s.t_lo, ex = s.t_hi;
         lrt_slab(float(nx), float(nx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
         lrt_slab(float(ny), float(ny + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
-        found = lrt_test_texel(p, s, nx, ny, en, ex, ht, hplanes);
+        found = lrt_test_texel(p, s, nx, ny, en, ex, ht, hplanes) ? LRT_WALK_HIT : LRT_WALK_MISS;
         hx = nx;
         hy = ny;
     } else {
-        found = lrt_walk_origin(p, s, top, hx, hy, ht, hplanes);
+        found = lrt_walk_origin(p, s, top, budget, hx, hy, ht, hplanes);
     }
     // one exit: the hit's report (its face) stays out of the walk's loop
-    if (found) return lrt_report_hit(p, s, t_exp, scale_normal, ht, tmin, tmax, hx, hy, hplanes);
+    if (found == LRT_WALK_HIT) return lrt_report_hit(p, s, t_exp, scale_normal, ht, tmin, tmax, hx, hy, hplanes);
+    if (found == LRT_WALK_BUDGET) {
+        hit.t = lrt_ray_t(s, t_exp, scale_normal, ht, tmin, tmax);
+        kind = LRT_MISS_BUDGET;
+    }
     hit.kind = kind;
     return hit;
 }
@@ -1379,14 +1435,21 @@ LrtHit lrt_miss(uint kind)
     return hit;
 }
 
-// any ray: lrt_trace of linear_rt.h
-LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
+// any ray: lrt_trace of linear_rt.h, with a step budget (LRT_TRACE_BUDGET:
+// node tests, 0 for none; a ray that needs more gets LRT_MISS_BUDGET)
+LrtHit lrt_trace_ray_budget(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, uint budget)
 {
     LrtSetup s;
     int t_exp; // the set-up scaled t by 2^-t_exp
     uint kind;
     if (!lrt_setup_ray(p, origin, tmin, dir, tmax, s, t_exp, kind)) return lrt_miss(kind);
-    return lrt_trace_setup(p, s, t_exp, false, kind, tmin, tmax);
+    return lrt_trace_setup(p, s, t_exp, false, kind, tmin, tmax, budget);
+}
+
+// any ray, the exact walk
+LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
+{
+    return lrt_trace_ray_budget(p, origin, tmin, dir, tmax, 0u);
 }
 
 // an ordinary ray, without the rare set-up's code: a shader a fraction of
@@ -1395,7 +1458,8 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
 // large, scaled here), which lrt_trace_ray then traces, e.g. in a second
 // pass as the library's own kernel does. The same answer as lrt_trace_ray
 // for every other ray
-LrtHit lrt_trace_ray_ordinary(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, out bool rare)
+LrtHit lrt_trace_ray_ordinary_budget(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, uint budget,
+                                     out bool rare)
 {
     LrtSetup s;
     uint kind = LRT_MISS_INVALID_RAY;
@@ -1403,7 +1467,13 @@ LrtHit lrt_trace_ray_ordinary(LrtParams p, vec3 origin, float tmin, vec3 dir, fl
     float lo = tmin, hi = tmax;
     rare = lrt_ray_rare(p, origin, tmin, dir, tmax) && !lrt_scale_large(p, origin, lo, dir, hi, t_exp);
     if (rare || !lrt_setup_ordinary(p, origin, lo, dir, hi, s, kind)) return lrt_miss(kind);
-    return lrt_trace_setup(p, s, t_exp, true, kind, tmin, tmax); // e <= 126: 2^-e is normal
+    return lrt_trace_setup(p, s, t_exp, true, kind, tmin, tmax, budget); // e <= 126: 2^-e is normal
+}
+
+// the same, the exact walk
+LrtHit lrt_trace_ray_ordinary(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, out bool rare)
+{
+    return lrt_trace_ray_ordinary_budget(p, origin, tmin, dir, tmax, 0u, rare);
 }
 
 #endif

@@ -22,7 +22,8 @@ layout(set = 0, binding = LRT_K_VK_BINDING_RAYS, std430) readonly buffer LrtRays
 layout(set = 0, binding = LRT_K_VK_BINDING_HITS, std430) buffer LrtHits { uvec4 h[]; } lrt_hits; // lrt_hit: t, x, y, kind | face << 16
 
 // 0: the ordinary pass; 1: the rare pass; 2: one pass, every ray by the
-// whole code (a CPU device: lrt_vk_context_flags)
+// whole code (a CPU device: lrt_vk_context_flags); 3: the ordinary pass
+// with a step budget (trace flags: LRT_TRACE_BUDGET), which 0 leaves out
 layout(constant_id = 3) const uint lrt_trace_pass = 0u;
 // a rare ray's hit between the passes: no kind and face a hit has
 const uint LRT_RARE_MARK = 0xffffffffu;
@@ -33,11 +34,13 @@ void lrt_trace_one(uint idx)
     uint i = pc.ray_first + idx;
     LrtRayIn r = lrt_rays.r[i];
     LrtHit hit;
-    if (lrt_trace_pass != 0u) {
-        hit = lrt_trace_ray(lrt_params(), r.origin, r.tmin, r.dir, r.tmax);
+    // LRT_TRACE_BUDGET: node tests, 0 for none; the exact ordinary pass's a constant 0
+    uint budget = lrt_trace_pass == 0u ? 0u : pc.trace_flags & LRT_K_TRACE_BUDGET_MASK;
+    if (lrt_trace_pass == 1u || lrt_trace_pass == 2u) {
+        hit = lrt_trace_ray_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget);
     } else {
         bool rare;
-        hit = lrt_trace_ray_ordinary(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, rare);
+        hit = lrt_trace_ray_ordinary_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget, rare);
         if (rare) {
             lrt_hits.h[i] = uvec4(0u, 0u, 0u, LRT_RARE_MARK);
             return;

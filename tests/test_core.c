@@ -1081,8 +1081,11 @@ static void test_bad_arguments(void)
     CHECK(lrt_trace(&bvh, &dm, NULL, &hit, 1, 0) == LRT_ERROR_NULL_POINTER, "trace null rays");
     CHECK(lrt_trace(&bvh, &dm, &ray, NULL, 1, 0) == LRT_ERROR_NULL_POINTER, "trace null hits");
     CHECK(lrt_trace(&bvh, &dm, NULL, NULL, 0, 0) == LRT_SUCCESS, "trace no rays");
-    CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, 0x10) == LRT_ERROR_INVALID_OPTION, "trace unknown flag");
-    CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, 1) == LRT_ERROR_INVALID_OPTION, "trace flag 1 (any-hit, taken out)");
+    CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, 0x10000) == LRT_ERROR_INVALID_OPTION, "trace unknown flag");
+    CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, 0x80000000u) == LRT_ERROR_INVALID_OPTION, "trace unknown flag (bit 31)");
+    CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, LRT_TRACE_BUDGET(LRT_TRACE_BUDGET_MAX + 1u)) == LRT_ERROR_INVALID_OPTION,
+          "trace budget past LRT_TRACE_BUDGET_MAX");
+    CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, LRT_TRACE_BUDGET(LRT_TRACE_BUDGET_MAX)) == LRT_SUCCESS, "trace budget max");
     CHECK(lrt_trace(&bvh, &dm, &ray, &hit, (size_t)LINEAR_RT_MAX_RAYS_PER_CALL + 1, 0) == LRT_ERROR_TOO_MANY_RAYS,
           "too many rays");
     CHECK(lrt_trace_range(&bvh, &dm, &ray, &hit, 2, 1, 0) == LRT_ERROR_TOO_MANY_RAYS, "range end before first");
@@ -1157,6 +1160,63 @@ static void test_camera_planes(void)
           "camera planes: null pointers");
 }
 
+/* ---- 1d. a step budget (LRT_TRACE_BUDGET) ---------------------------------------- */
+/* A ladder of budgets on the demo's kinds of rays: every answer that is not
+   a budget miss is the exact one bit for bit; a budget miss has t in
+   [tmin, tmax], never past the exact hit (its segment proven free up to
+   there), x, y 0 and no face; a budget no ray needs changes nothing. */
+static void test_budget(void)
+{
+    static const int shapes[] = {SHAPE_SCENE, SHAPE_POLES, SHAPE_NOISE, SHAPE_TERRACES};
+    static const uint32_t ladder[] = {1, 2, 3, 4, 6, 8, 12, 16, 32, 64};
+    size_t c, i, b;
+    for (c = 0; c < 8; ++c) {
+        test_map m;
+        lrt_bvh bvh = {0};
+        lrt_build_options opt;
+        const size_t n = 3000;
+        lrt_ray *rays = (lrt_ray *)malloc(sizeof(lrt_ray) * n);
+        lrt_hit *exact = (lrt_hit *)malloc(sizeof(lrt_hit) * n), *hits = (lrt_hit *)malloc(sizeof(lrt_hit) * n);
+        size_t stopped_at_1 = 0, stopped_at_64 = 0;
+        make_map(&m, 100 + (int)c * 17, 60 + (int)c * 9, shapes[c % 4], (lrt_format)(1 + c % 3), (int)(c & 1), 0);
+        if (c >= 6) add_model(&m, LRT_THICKNESS_CONSTANT, 0.5f, 0.1f, 100.0f);
+        opt = m.model;
+        opt.node_bits = (c & 2) ? 8u : 16u;
+        CHECK(lrt_bvh_build(&bvh, test_map_depth(&m), &opt, NULL) == LRT_SUCCESS, "budget %zu: build", c);
+        for (i = 0; i < n; ++i) rays[i] = make_ray(&m, (int)(i % RAY_KIND_COUNT));
+        CHECK(lrt_trace(&bvh, test_map_depth(&m), rays, exact, n, 0) == LRT_SUCCESS, "budget %zu: exact trace", c);
+        for (b = 0; b < sizeof ladder / sizeof ladder[0]; ++b) {
+            size_t not_exact = 0, bad = 0, stopped = 0;
+            CHECK(lrt_trace(&bvh, test_map_depth(&m), rays, hits, n, LRT_TRACE_BUDGET(ladder[b])) == LRT_SUCCESS,
+                  "budget %zu: trace at %u", c, ladder[b]);
+            for (i = 0; i < n; ++i) {
+                const lrt_hit *g = &hits[i];
+                if (g->kind != LRT_MISS_BUDGET) {
+                    not_exact += memcmp(g, &exact[i], sizeof *g) != 0;
+                    continue;
+                }
+                ++stopped;
+                bad += !(g->t >= rays[i].tmin && g->t <= rays[i].tmax) || g->x || g->y || g->face != LRT_FACE_NONE ||
+                       (exact[i].kind == LRT_HIT && g->t > exact[i].t);
+            }
+            CHECK(not_exact == 0, "budget %zu at %u: %zu answers that are not budget misses differ from the exact walk", c,
+                  ladder[b], not_exact);
+            CHECK(bad == 0, "budget %zu at %u: %zu budget misses with a bad t, texel or face", c, ladder[b], bad);
+            if (ladder[b] == 1) stopped_at_1 = stopped;
+            if (ladder[b] == 64) stopped_at_64 = stopped;
+        }
+        CHECK(stopped_at_1 > stopped_at_64, "budget %zu: %zu rays stopped at 1, %zu at 64", c, stopped_at_1, stopped_at_64);
+        CHECK(lrt_trace(&bvh, test_map_depth(&m), rays, hits, n, LRT_TRACE_BUDGET(LRT_TRACE_BUDGET_MAX)) == LRT_SUCCESS &&
+                  memcmp(hits, exact, sizeof(lrt_hit) * n) == 0,
+              "budget %zu: the largest budget changes answers", c);
+        lrt_bvh_destroy(&bvh);
+        free_map(&m);
+        free(rays);
+        free(exact);
+        free(hits);
+    }
+}
+
 int main(int argc, char **argv)
 {
     check_select(argc, argv);
@@ -1172,6 +1232,7 @@ int main(int argc, char **argv)
     RUN_TEST(test_bad_arguments);
     RUN_TEST(test_ranges);
     RUN_TEST(test_differential);
+    RUN_TEST(test_budget);
     RUN_TEST(test_thickness_grazing);
     RUN_TEST(test_thickness_found);
     RUN_TEST(test_camera_planes);

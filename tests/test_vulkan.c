@@ -202,6 +202,7 @@ typedef struct trace_stats {
 } trace_stats;
 static trace_stats g_trace_total;
 static int g_flushing; /* --flushing-device */
+static size_t g_budget_rays, g_budget_stopped; /* budget_case's rays, and its budget misses */
 
 static int same_answer(const lrt_hit *a, const lrt_hit *b)
 {
@@ -276,6 +277,44 @@ static void judge(const char *what, const test_map *m, const lrt_ray *rays, cons
     if (wrong) printf("  %s: %zu of %zu rays differ from the CPU, %zu of them wrong by the reference\n", what, differ, n, wrong);
 }
 
+/* A step budget (LRT_TRACE_BUDGET), one of a ladder from case to case: the
+   GPU's answers are the CPU's bit for bit (the same steps counted), every
+   answer but a budget miss is the exact one, and a budget miss's t lies in
+   [tmin, tmax] and not after the exact hit. */
+static void budget_case(const test_map *m, const lrt_bvh *cpu, const lrt_vk_bvh *gpu, const gpu_depth *g,
+                        const lrt_ray *rays, const lrt_hit *exact, size_t n, const char *what)
+{
+    static const uint32_t ladder[] = {1, 2, 3, 5, 8, 13, 21};
+    static size_t next;
+    const uint32_t budget = ladder[next++ % (sizeof ladder / sizeof ladder[0])];
+    lrt_hit *cpu_hits = (lrt_hit *)malloc(sizeof(lrt_hit) * n), *gpu_hits = (lrt_hit *)malloc(sizeof(lrt_hit) * n);
+    size_t i, differ = 0, not_exact = 0, bad_t = 0, stopped = 0;
+    char name[300];
+    snprintf(name, sizeof name, "%s budget %u", what, budget);
+    CHECK(lrt_trace(cpu, test_map_depth(m), rays, cpu_hits, n, LRT_TRACE_BUDGET(budget)) == LRT_SUCCESS, "%s: CPU trace", name);
+    if (gpu_trace(gpu, g, rays, gpu_hits, n, 0, LRT_TRACE_BUDGET(budget), name) == 0) {
+        for (i = 0; i < n; ++i) {
+            differ += memcmp(&gpu_hits[i], &cpu_hits[i], sizeof cpu_hits[i]) != 0;
+            if (cpu_hits[i].kind == LRT_MISS_BUDGET) {
+                ++stopped;
+                bad_t += !(cpu_hits[i].t >= rays[i].tmin && cpu_hits[i].t <= rays[i].tmax) ||
+                         (exact[i].kind == LRT_HIT && cpu_hits[i].t > exact[i].t);
+            } else {
+                not_exact += memcmp(&cpu_hits[i], &exact[i], sizeof exact[i]) != 0;
+            }
+        }
+        CHECK(differ == 0, "%s: %zu of %zu GPU answers not bit-identical to the CPU's", name, differ, n);
+        CHECK(not_exact == 0, "%s: %zu answers that are not budget misses differ from the exact walk's", name, not_exact);
+        CHECK(bad_t == 0, "%s: %zu budget misses claim a t past the exact hit or outside [tmin, tmax]", name, bad_t);
+        g_budget_stopped += stopped;
+        g_budget_rays += n;
+    } else {
+        CHECK(0, "%s: GPU trace failed", name);
+    }
+    free(cpu_hits);
+    free(gpu_hits);
+}
+
 static void trace_case(const test_map *m, const lrt_bvh *cpu, const lrt_vk_bvh *gpu, const gpu_depth *g, size_t n,
                        const char *what)
 {
@@ -291,6 +330,7 @@ static void trace_case(const test_map *m, const lrt_bvh *cpu, const lrt_vk_bvh *
     CHECK(lrt_trace(cpu, test_map_depth(m), rays, cpu_hits, n, 0) == LRT_SUCCESS, "%s: CPU trace", what);
     if (gpu_trace(gpu, g, rays, gpu_hits, n, 0, 0, what) == 0) judge(what, m, rays, kinds, gpu_hits, cpu_hits, n, 0);
     else CHECK(0, "%s: GPU trace failed", what);
+    budget_case(m, cpu, gpu, g, rays, cpu_hits, n, what);
     if (n >= 300) { /* a slice at an offset: ray_first */
         snprintf(name, sizeof name, "%s slice", what);
         if (gpu_trace(gpu, g, rays + 5, gpu_hits, 200, 5, 0, name) == 0)
@@ -914,10 +954,10 @@ static void test_bad_arguments(void)
     EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, &g.depth, &rect), LRT_SUCCESS, "update: empty rect (records nothing)");
     rect.x = 1; rect.y = 1; rect.width = 0; rect.height = 1;
     EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, &g.depth, &rect), LRT_SUCCESS, "update: zero-width rect (records nothing)");
-    EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 1, 0x10), LRT_ERROR_INVALID_OPTION,
+    EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 1, 0x10000), LRT_ERROR_INVALID_OPTION,
            "trace: unknown flag");
-    EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 1, 1), LRT_ERROR_INVALID_OPTION,
-           "trace: flag 1 (any-hit, taken out)");
+    EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 1, LRT_TRACE_BUDGET(LRT_TRACE_BUDGET_MAX + 1u)),
+           LRT_ERROR_INVALID_OPTION, "trace: a budget past LRT_TRACE_BUDGET_MAX");
     EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, LINEAR_RT_MAX_RAYS_PER_CALL + 1u, 0),
            LRT_ERROR_TOO_MANY_RAYS, "trace: too many rays");
     EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &g.depth, VK_NULL_HANDLE, 0, hb.buffer, 0, 1, 0), LRT_ERROR_NULL_POINTER,
@@ -1368,6 +1408,11 @@ static void print_trace_summary(void)
         CHECK(g_trace_total.bit_identical == closest, "%zu closest-hit GPU answers not bit-identical to the CPU's",
               closest - g_trace_total.bit_identical);
     }
+    /* a budget case that stopped no ray would not test the stop */
+    printf("  with a step budget: %zu rays, %zu of them budget misses, every answer the CPU's bit for bit\n",
+           g_budget_rays, g_budget_stopped);
+    CHECK(g_budget_stopped > 0 && g_budget_stopped < g_budget_rays, "budget cases: %zu of %zu rays stopped",
+          g_budget_stopped, g_budget_rays);
     /* The kernels compute the CPU's floats step by step: the same kind and
        texel on every ray, t within rounding (the issue's "identical"). */
     CHECK(g_trace_total.differ == 0, "%zu closest-hit GPU answers differ from the CPU's", g_trace_total.differ);

@@ -22,7 +22,7 @@
    library: its SPIR-V, its patching, its specialization and its device
    checks are what compile. Each row is named from what was recorded, not
    from an assumed order; a module that is not one of the four kernels, or
-   a count other than 24, fails the run.
+   a count other than 30, fails the run.
 
    Exit status: 0 tables written; 77 no RADV here (no loader, no
    radeon_icd.json, no RADV device): one line says so (1 under CI=true);
@@ -544,7 +544,7 @@ static VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL gs_gdpa(VkDevice dev, const char
     return f;
 }
 
-/* The library's 24 pipelines, a row each; returns nonzero where it failed.
+/* The library's 30 pipelines, a row each; returns nonzero where it failed.
    *modes, *texels: the float controls and the node texel choice it made. */
 static int gs_library(const gs_vk *g, uint32_t *modes, int *texels, char *why, size_t n)
 {
@@ -592,7 +592,11 @@ static int gs_library(const gs_vk *g, uint32_t *modes, int *texels, char *why, s
             snprintf(name, sizeof name, "linear_rt pipeline %d (unknown)", i);
             bad = 1;
         } else {
-            const char *pass = p->kernel < 2 ? "" : p->consts[3] == 1 ? ", rare pass" : p->consts[3] == 2 ? ", one pass" : "";
+            const char *pass = p->kernel < 2            ? ""
+                               : p->consts[3] == 1 ? ", rare pass"
+                               : p->consts[3] == 2 ? ", one pass"
+                               : p->consts[3] == 3 ? ", budgeted"
+                                                   : "";
             if (!p->consts[0])
                 snprintf(name, sizeof name, "linear_rt %s%s", gs_kernel_names[p->kernel], pass);
             else

@@ -376,6 +376,26 @@ static void judge(const ref_map *m, const lrt_ray *rays, const lrt_hit *hits, si
     }
 }
 
+/* A step budget's answers against the exact walk's: the same but for budget
+   misses, whose t lies in [tmin, tmax] and not past the exact hit, x, y 0
+   and no face. */
+static void judge_budget(const lrt_ray *rays, const lrt_hit *hits, const lrt_hit *exact, size_t n, uint32_t budget)
+{
+    size_t i;
+    for (i = 0; i < n; ++i) {
+        const lrt_hit *h = &hits[i], *e = &exact[i];
+        if (h->kind != LRT_MISS_BUDGET) {
+            if (memcmp(h, e, sizeof *h) != 0)
+                FAIL("%s, budget %u, ray %zu: kind %u t %a (%u,%u), the exact walk kind %u t %a (%u,%u)", g_map, budget, i,
+                     h->kind, h->t, h->x, h->y, e->kind, e->t, e->x, e->y);
+        } else if (!(h->t >= rays[i].tmin && h->t <= rays[i].tmax) || h->x || h->y || h->face != LRT_FACE_NONE ||
+                   (e->kind == LRT_HIT && h->t > e->t)) {
+            FAIL("%s, budget %u, ray %zu: a budget miss at t %a (%u,%u) face %u, the exact walk kind %u t %a", g_map, budget,
+                 i, h->t, h->x, h->y, h->face, e->kind, e->t);
+        }
+    }
+}
+
 /* ---- the constant and relative models' parameters ------------------------------
    Read after the fixed fields (and node_bits_raw) when byte 16 selects one
    of these models: a kind byte pk, then each of thickness_value, near_z,
@@ -697,13 +717,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     /* trace: the whole batch, judged; two slices and the build_in tree agree */
     {
-        codes fe = trace_flags ? CODE(LRT_ERROR_INVALID_OPTION) : 0; /* no trace flags yet */
+        /* the budget's bits only (LRT_TRACE_BUDGET) */
+        codes fe = trace_flags & ~(uint32_t)LRT_K_TRACE_BUDGET_MASK ? CODE(LRT_ERROR_INVALID_OPTION) : 0;
         codes terr = fe | pair_errors(&bvh, dp);
         size_t split = nrays ? rect_sel % (nrays + 1) : 0;
         r = lrt_trace(&bvh, dp, rays, hits, nrays, trace_flags);
         expect("lrt_trace", r, terr);
+        if (r == LRT_SUCCESS && trace_flags) { /* a budget: the exact walk's answers, judged, then the budget's by them */
+            expect("lrt_trace (no budget)", lrt_trace(&bvh, dp, rays, hits2, nrays, 0), 0);
+            judge(&ref, rays, hits2, nrays, 0);
+            judge_budget(rays, hits, hits2, nrays, trace_flags);
+        }
         if (r == LRT_SUCCESS) {
-            judge(&ref, rays, hits, nrays, trace_flags);
+            if (!trace_flags) judge(&ref, rays, hits, nrays, trace_flags);
             expect("lrt_trace_range", lrt_trace_range(&bvh, dp, rays, hits2, 0, split, trace_flags), 0);
             expect("lrt_trace_range", lrt_trace_range(&bvh, dp, rays, hits2, split, nrays, trace_flags), 0);
             if (nrays && memcmp(hits, hits2, sizeof(lrt_hit) * nrays) != 0) FAIL("two slices differ from one batch");
