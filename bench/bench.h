@@ -52,6 +52,7 @@ struct bench_method {
     const char *name;        /* short, unique, for tables and the chart: "linear_rt cpu 16", "embree", "march64 cpu" */
     const char *device;      /* "cpu" or "vulkan" */
     int exact;               /* 1: must agree with the reference on every ray (docs/MODEL.md); 0: scored */
+    int budgeted;            /* linear_rt with a step budget: scored by docs/MODEL.md's rule, a budget miss wrong */
     void *impl;              /* the method's own state */
 
     /* Makes the method ready (pipelines, devices), once; width and height

@@ -33,6 +33,7 @@
 /* ---- CPU --------------------------------------------------------------------- */
 typedef struct lrt_cpu {
     uint32_t node_bits;
+    uint32_t budget; /* LRT_TRACE_BUDGET's steps, 0: the exact walk */
     int threads;
     lrt_bvh bvh;
     int built;
@@ -106,7 +107,7 @@ static int cpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *r
     lrt_cpu *c = (lrt_cpu *)m->impl;
     lrt_cpu_slice sl[64];
     pthread_t th[64];
-    uint32_t flags = 0u; /* closest hit for every set: the first hit the walk finds is the closest */
+    uint32_t flags = LRT_TRACE_BUDGET(c->budget); /* closest hit for every set: the first hit the walk finds is the closest */
     int k, t = c->threads;
     double t0 = bench_now_ms();
     for (k = 0; k < t; ++k) {
@@ -144,16 +145,21 @@ int bench_add_linear_rt_cpu_native(bench_method *out, int max)
 int bench_add_linear_rt_cpu(bench_method *out, int max)
 #endif
 {
-    static const char *names[2] = {"linear_rt cpu 16" BENCH_NAME_SUFFIX, "linear_rt cpu 8" BENCH_NAME_SUFFIX};
+    /* the exact walk with 16- and 8-bit nodes, then 16-bit nodes at a ladder of step budgets */
+    static const char *names[6] = {"linear_rt cpu 16" BENCH_NAME_SUFFIX,          "linear_rt cpu 8" BENCH_NAME_SUFFIX,
+                                   "linear_rt cpu 16 budget 4" BENCH_NAME_SUFFIX,  "linear_rt cpu 16 budget 8" BENCH_NAME_SUFFIX,
+                                   "linear_rt cpu 16 budget 16" BENCH_NAME_SUFFIX, "linear_rt cpu 16 budget 32" BENCH_NAME_SUFFIX};
     int i;
-    for (i = 0; i < 2 && i < max; ++i) {
+    for (i = 0; i < 6 && i < max; ++i) {
         lrt_cpu *c = (lrt_cpu *)calloc(1, sizeof *c);
         memset(&out[i], 0, sizeof out[i]);
         if (!c) return i;
-        c->node_bits = i == 0 ? 16u : 8u;
+        c->node_bits = i == 1 ? 8u : 16u;
+        c->budget = i < 2 ? 0u : 4u << (i - 2);
         out[i].name = names[i];
         out[i].device = "cpu";
-        out[i].exact = 1;
+        out[i].exact = i < 2;
+        out[i].budgeted = i >= 2;
         out[i].impl = c;
         out[i].open = cpu_open;
         out[i].build = cpu_build;
@@ -169,6 +175,7 @@ int bench_add_linear_rt_cpu(bench_method *out, int max)
 #ifdef BENCH_HAVE_VULKAN
 typedef struct lrt_gpu {
     uint32_t node_bits;
+    uint32_t budget; /* LRT_TRACE_BUDGET's steps, 0: the exact walk */
     lrt_vk_device dev;
     vkt t;
     lrt_vk_context *ctx;
@@ -200,7 +207,7 @@ static void gpu_release(lrt_gpu *g)
 static int gpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *why, size_t n)
 {
     lrt_gpu *g = (lrt_gpu *)m->impl;
-    uint32_t bits = g->node_bits;
+    uint32_t bits = g->node_bits, budget = g->budget;
     VkQueryPoolCreateInfo qi;
     lrt_result r;
     (void)w;
@@ -209,6 +216,7 @@ static int gpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *
     if (g->has_dev) return 0;
     gpu_release(g);
     g->node_bits = bits;
+    g->budget = budget;
     if ((r = lrt_vk_device_create(&g->dev, 0)) != LRT_SUCCESS) {
         snprintf(why, n, "no Vulkan device: %s", lrt_result_string(r));
         return 1;
@@ -274,7 +282,8 @@ static int gpu_run(lrt_gpu *g, const bench_scene *sc, gpu_op op, uint32_t count,
     else
         for (i = 0; i < repeat && r == LRT_SUCCESS; ++i) {
             if (i) vkt_compute_barrier(&g->t); /* the same hits written again */
-            r = lrt_vk_cmd_trace(g->ctx, g->t.cmd, &g->bvh, d, g->rays.buffer, 0, g->hits.buffer, 0, count, 0u);
+            r = lrt_vk_cmd_trace(g->ctx, g->t.cmd, &g->bvh, d, g->rays.buffer, 0, g->hits.buffer, 0, count,
+                                 LRT_TRACE_BUDGET(g->budget));
         }
     g->t.vkCmdWriteTimestamp(g->t.cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->pool, 1);
     vkt_host_barrier(&g->t);
@@ -371,18 +380,21 @@ static void gpu_close(bench_method *m)
 #ifndef BENCH_NATIVE_TWIN
 int bench_add_linear_rt_vulkan(bench_method *out, int max)
 {
-    static const char *names[2] = {"linear_rt vulkan 16", "linear_rt vulkan 8"};
+    static const char *names[6] = {"linear_rt vulkan 16",          "linear_rt vulkan 8",          "linear_rt vulkan 16 budget 4",
+                                   "linear_rt vulkan 16 budget 8", "linear_rt vulkan 16 budget 16", "linear_rt vulkan 16 budget 32"};
     int i;
-    for (i = 0; i < 2 && i < max; ++i) {
+    for (i = 0; i < 6 && i < max; ++i) {
         memset(&out[i], 0, sizeof out[i]);
         out[i].name = names[i];
         out[i].device = "vulkan";
-        out[i].exact = 1;
+        out[i].exact = i < 2;
+        out[i].budgeted = i >= 2;
 #ifdef BENCH_HAVE_VULKAN
         {
             lrt_gpu *g = (lrt_gpu *)calloc(1, sizeof *g);
             if (!g) return i;
-            g->node_bits = i == 0 ? 16u : 8u;
+            g->node_bits = i == 1 ? 8u : 16u;
+            g->budget = i < 2 ? 0u : 4u << (i - 2);
             out[i].impl = g;
             out[i].open = gpu_open;
             out[i].build = gpu_build;

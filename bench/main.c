@@ -432,6 +432,8 @@ typedef struct score {
     double dist_sum; /* texels, between the method's hit point and the reference's */
 } score;
 
+/* exact: 1 docs/MODEL.md's rule; 2 the same, but a budget miss (LRT_MISS_BUDGET) is wrong (a
+   budgeted linear_rt); 0 the plain answer */
 static void score_set(const scene *sc, const ray_set *rs, const lrt_hit *hits, int exact, score *s)
 {
     size_t q;
@@ -444,7 +446,9 @@ static void score_set(const scene *sc, const ray_set *rs, const lrt_hit *hits, i
         const int any = (rs->r.flags & BENCH_ANY_HIT) != 0;
         int ok;
         ++s->n;
-        if (exact) { /* docs/MODEL.md's rule, perturbations and all */
+        if (exact == 2 && a->kind == LRT_MISS_BUDGET) {
+            ok = 0;
+        } else if (exact) { /* docs/MODEL.md's rule, perturbations and all */
             ref_ray rr = to_ref(r);
             ref_answer an;
             an.kind = (int)a->kind;
@@ -537,23 +541,27 @@ typedef struct wave_weight {
     int waves;          /* waves per SIMD the registers allow */
 } wave_weight;
 /* The kernels' weight per step, from make gpu-stats' compiler (RADV's ACO,
-   RDNA3 navi31, null hardware), read by hand from its IR after register
-   allocation (RADV_DEBUG=shaders build/gpu_stats --gpu navi31): the static
-   instructions of each kernel's main loop body. linear_rt's walk loop
-   (buffer depth) holds the level-1 texel loop: the walk's own part is a
+   RDNA3 navi31, null hardware): the static instructions of each kernel's
+   main loop body, from its loop head to its last branch back there, and of
+   the loops inside it (tools/loop_weights.py over RADV_DEBUG=shaders
+   build/gpu_stats --gpu navi31). linear_rt's (its ordinary pass, buffer
+   depth) walk loop holds the level-1 texel loop: the walk's own part is a
    node test's weight, the texel loop's a texel test's (infinite thickness
-   1225 = 768 + 457; back-map trees of 16-bit nodes 1654 = 705 + 949, of
-   8-bit nodes 1852 = 903 + 949). The 64-step march's loop body (413) holds
+   1052 = 777 + 275; back-map trees of 16-bit nodes 1361 = 686 + 675, of
+   8-bit nodes 1575 = 900 + 675; with a step budget 1184 = 905 + 279, and
+   back 16-bit 1499 = 820 + 679). The 64-step march's loop body (413) holds
    its sample and its 8 bisection steps unrolled: 413 / 9 a sample. DDA
    128 a column, Hi-Z 287 an iteration. Static counts of a body: a wave
    whose lanes take different branches issues them all, one that agrees
    issues fewer, so this weighs divergent waves. Waves per SIMD: make
    gpu-stats' table, RDNA3. */
 static const wave_weight wave_weights[] = {
-    {"linear_rt vulkan 16", 768.0, 457.0, 18},
-    {"linear_rt vulkan 8", 768.0, 457.0, 18},
-    {"linear_rt vulkan 16 back", 705.0, 949.0, 16},
-    {"linear_rt vulkan 8 back", 903.0, 949.0, 16},
+    {"linear_rt vulkan 16", 777.0, 275.0, 20},
+    {"linear_rt vulkan 8", 777.0, 275.0, 20},
+    {"linear_rt vulkan 16 back", 686.0, 675.0, 18},
+    {"linear_rt vulkan 8 back", 900.0, 675.0, 18},
+    {"linear_rt vulkan 16 budget", 905.0, 279.0, 20},
+    {"linear_rt vulkan 16 budget back", 820.0, 679.0, 18},
     {"march64 vulkan", 413.0 / 9.0, 0.0, 32},
     {"dda vulkan", 128.0, 0.0, 32},
     {"hiz64 vulkan", 287.0, 0.0, 32},
@@ -591,6 +599,31 @@ static double wave_estimate(const wave_weight *w, double wave, double texels_per
     return wave * per_step * (w->waves < WAVE_FULL ? (double)WAVE_FULL / (double)w->waves : 1.0);
 }
 
+/* linear_rt vulkan 16 at each step budget of the benchmark: the budgeted
+   walk is the exact one cut short, so a ray's node tests are min(steps,
+   budget) (its texel tests per node test taken as the exact walk's) */
+static void budget_waves(const scene *sc, const bench_rays *rs, const uint32_t *steps, double texels)
+{
+    static const char *const names[4] = {"linear_rt vulkan 16 budget 4", "linear_rt vulkan 16 budget 8",
+                                         "linear_rt vulkan 16 budget 16", "linear_rt vulkan 16 budget 32"};
+    const wave_weight *ww = weight_of("linear_rt vulkan 16 budget", sc->s.back != NULL);
+    uint32_t *capped = (uint32_t *)malloc(sizeof(uint32_t) * rs->count);
+    size_t q;
+    int b;
+    for (b = 0; capped && ww && b < 4 && g_nwaves < MAX_WAVES; ++b) {
+        wave_row *w = &g_waves[g_nwaves++];
+        const uint32_t budget = 4u << b;
+        for (q = 0; q < rs->count; ++q) capped[q] = steps[q] < budget ? steps[q] : budget;
+        w->scene = sc->s.name;
+        w->set = rs->name;
+        w->method = names[b];
+        bench_wave_stats(capped, rs->count, WAVE_LANES, &w->mean, &w->wave);
+        w->texels = texels;
+        w->estimate = wave_estimate(ww, w->wave, w->texels);
+    }
+    free(capped);
+}
+
 static void count_waves(const scene *sc, const ray_set *sets, int nsets)
 {
     static const char *const names[5] = {"linear_rt vulkan 16", "linear_rt vulkan 8", "march64 vulkan", "dda vulkan",
@@ -614,6 +647,7 @@ static void count_waves(const scene *sc, const ray_set *sets, int nsets)
             w->texels = w->mean > 0.0 ? texels / ((double)rs->count * w->mean) : 0.0;
             w->estimate = wave_estimate(ww, w->wave, w->texels);
             ++g_nwaves;
+            if (k == 0) budget_waves(sc, rs, steps, w->texels);
         }
         free(steps);
     }
@@ -694,7 +728,7 @@ static double pct(size_t a, size_t n) { return n ? 100.0 * (double)a / (double)n
    phases (docs/PERFORMANCE.md, "The machine and its noise") fall on all of
    them alike; each is scored on hits of its own. A method's results come
    out set by set, in the order of the sets, as if it ran alone */
-#define GROUP_MAX 16
+#define GROUP_MAX 24
 static void run_methods(bench_method *const *m, int nm, const scene *sc, ray_set *sets, int nsets, const options *o,
                         lrt_hit *hits)
 {
@@ -766,7 +800,7 @@ static void run_methods(bench_method *const *m, int nm, const scene *sc, ray_set
             r[j]->update_ms = median(upd[j], o->runs);
             r[j]->trace_ms = median(t[j], o->runs);
             r[j]->bytes_per_texel = (double)m[j]->memory_bytes(m[j]) / ((double)sc->s.width * sc->s.height);
-            score_set(sc, &sets[s], hits, m[j]->exact, &r[j]->sc);
+            score_set(sc, &sets[s], hits, m[j]->exact ? 1 : m[j]->budgeted ? 2 : 0, &r[j]->sc);
         }
     }
 }
@@ -1113,6 +1147,70 @@ static void time_thickness_models(const scene *sc, const options *o)
     }
 }
 
+/* Speed against accuracy, per scene, secondary set and device column: is
+   every other method's point dominated by one of linear_rt's (the exact
+   walks and the step budgets), at least as right and at least as fast?
+   A row with nothing else run counts as neither. Returns the rows
+   dominated, *rows the rows with a peer; *exact_only those the exact
+   walks alone dominate. */
+static int is_linear_rt(const char *method) { return strncmp(method, "linear_rt", 9) == 0; }
+static int write_dominance(FILE *md, int *rows, int *exact_only)
+{
+    static const char *const devs[2] = {"cpu", "vulkan"};
+    static const char *const sets[4] = {"reflection", "ao", "shadow", "segments"};
+    const char *scenes[16];
+    int nsc = 0, d, c, s, i, j, won = 0;
+    *rows = *exact_only = 0;
+    for (i = 0; i < g_nres && nsc < 16; ++i) {
+        for (j = 0; j < nsc && strcmp(scenes[j], g_res[i].scene); ++j) {}
+        if (j == nsc && strcmp(g_res[i].set, "primary")) scenes[nsc++] = g_res[i].scene;
+    }
+    fprintf(md, "\n## linear_rt's curve: speed against accuracy, per scene and secondary set\n\n"
+                "A row is dominated when every other method's point (M rays/s, right %%) on that device has a linear_rt "
+                "point (an exact walk or a step budget) at least as fast and at least as right. Not dominated: the "
+                "peers no linear_rt point reaches, with their M rays/s and right %%.\n\n");
+    fprintf(md, "| device | scene | rays | dominated | by the exact walk alone | peers not dominated |\n|---|---|---|---|---|---|\n");
+    for (d = 0; d < 2; ++d)
+        for (c = 0; c < nsc; ++c)
+            for (s = 0; s < 4; ++s) {
+                int peers = 0, beaten = 0, beaten_exact = 0;
+                char left[400];
+                size_t used = 0;
+                left[0] = '\0';
+                for (i = 0; i < g_nres; ++i) {
+                    const result *p = &g_res[i];
+                    int by_any = 0, by_exact = 0;
+                    if (!p->ok || is_linear_rt(p->method) || strcmp(p->device, devs[d]) || strcmp(p->scene, scenes[c]) ||
+                        strcmp(p->set, sets[s]))
+                        continue;
+                    ++peers;
+                    for (j = 0; j < g_nres; ++j) {
+                        const result *q = &g_res[j];
+                        if (!q->ok || !is_linear_rt(q->method) || strcmp(q->device, devs[d]) || strcmp(q->scene, scenes[c]) ||
+                            strcmp(q->set, sets[s]))
+                            continue;
+                        if (mrays(q) >= mrays(p) && pct(q->sc.right, q->sc.n) >= pct(p->sc.right, p->sc.n)) {
+                            by_any = 1;
+                            by_exact |= q->exact;
+                        }
+                    }
+                    beaten += by_any;
+                    beaten_exact += by_exact;
+                    if (!by_any && used + 80 < sizeof left)
+                        used += (size_t)snprintf(left + used, sizeof left - used, "%s%s (%.2f, %.1f%%)", used ? ", " : "",
+                                                 p->method, mrays(p), pct(p->sc.right, p->sc.n));
+                }
+                if (!peers) continue;
+                ++*rows;
+                won += beaten == peers;
+                *exact_only += beaten_exact == peers;
+                fprintf(md, "| %s | %s | %s | %s | %s | %s |\n", devs[d], scenes[c], sets[s], beaten == peers ? "yes" : "no",
+                        beaten_exact == peers ? "yes" : "no", left);
+            }
+    fprintf(md, "\nDominated: %d of %d rows; by the exact walk alone: %d.\n", won, *rows, *exact_only);
+    return won;
+}
+
 static void write_outputs(const options *o, bench_method *m, int nm, const char *const *why_skipped,
                           const char *machine, int nstab, const scene *first)
 {
@@ -1181,6 +1279,11 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
                 fprintf(dat, "\"%s\" %s%s %.4f %.4f %d\n", m[k].name, m[k].device, t ? "_thick" : "", rays / ms / 1e3,
                         100.0 * right / n, m[k].exact);
         }
+    }
+    {
+        int rows, exact_only, won = write_dominance(md, &rows, &exact_only);
+        printf("linear_rt's curve dominates %d of %d rows (scene x secondary set x device); the exact walk alone %d\n", won,
+               rows, exact_only);
     }
     fprintf(md, "\n## Stability: every method against every case (%% of rays right; exact methods must be 100)\n\n");
     fprintf(md, "| case |");
@@ -1332,7 +1435,7 @@ static int chart(const options *o, const char *machine)
 {
     static const int types[] = {7, 6, 5, 4, 9, 8, 13, 12, 15, 14, 11, 10};
     char cmd[2048];
-    chart_point pts[CHART_MAX], panel[CHART_MAX], front[CHART_MAX];
+    chart_point pts[CHART_MAX], panel[CHART_MAX], front[CHART_MAX], curve[CHART_MAX];
     FILE *gp;
     double lowest = 100.0;
     int np, i, k, d;
@@ -1388,12 +1491,21 @@ static int chart(const options *o, const char *machine)
         for (i = 0; i < n; ++i) fprintf(gp, "%.6g %.6g\n", panel[i].mrays, panel[i].right);
         fprintf(gp, "EOD\n$F%d << EOD\n", d);
         for (i = nf - 1; i >= 0; --i) fprintf(gp, "%.6g %.6g\n", front[i].mrays, front[i].right);
+        /* linear_rt's curve: its 16-bit walk exact and at each step budget, by speed */
+        fprintf(gp, "EOD\n$L%d << EOD\n", d);
+        for (i = nf = 0; i < n; ++i)
+            if (!strncmp(panel[i].method, "linear_rt", 9) && strstr(panel[i].method, " 16")) curve[nf++] = panel[i];
+        qsort(curve, (size_t)nf, sizeof(chart_point), chart_by_speed_desc);
+        for (i = 0; i < nf; ++i) fprintf(gp, "%.6g %.6g\n", curve[i].mrays, curve[i].right);
         fprintf(gp, "EOD\nset title '%s'\n", titles[d]);
         if (!n) { /* nothing ran on this device: an empty panel that says so */
             fprintf(gp, "set xrange [0.1:10]\nplot 1/0 lc rgb '#ffffff' title 'no method ran here'\nset autoscale x\n");
             continue;
         }
         fprintf(gp, "plot $F%d using 1:2 with lines lc rgb '#888888' lw 2 dt 2 title 'Pareto front'", d);
+        if (nf > 1)
+            fprintf(gp, ", \\\n  $L%d using 1:2 with lines lc rgb '%s' lw 2 title 'linear_rt 16: step budgets 4 to 32, and exact'", d,
+                    chart_colour("linear_rt"));
         for (i = 0; i < n; ++i) {
             int member = 0;
             if (i == 0 || panel[i].exact != panel[i - 1].exact)
