@@ -662,6 +662,54 @@ static const wave_row *find_wave(const char *scene_name, const char *set, const 
     return NULL;
 }
 
+/* The same run's right % of method on scene / set, -1 where it did not run */
+static double right_of(const char *method, const char *scene_name, const char *set)
+{
+    int i;
+    for (i = 0; i < g_nres; ++i)
+        if (g_res[i].ok && !strcmp(g_res[i].method, method) && !strcmp(g_res[i].scene, scene_name) && !strcmp(g_res[i].set, set))
+            return g_res[i].sc.n ? 100.0 * (double)g_res[i].sc.right / (double)g_res[i].sc.n : 0.0;
+    return -1.0;
+}
+
+/* linear_rt's curve on the GPU estimate: on each scene's secondary sets, is
+   every Vulkan march's point (estimate, right %) matched by a linear_rt
+   vulkan 16 point (exact or a step budget) with an estimate no larger and a
+   right % no lower? Needs the run's scores (not with --only-counts). */
+static void write_wave_dominance(FILE *f)
+{
+    static const char *const peers[3] = {"march64 vulkan", "dda vulkan", "hiz64 vulkan"};
+    static const char *const ours[5] = {"linear_rt vulkan 16", "linear_rt vulkan 16 budget 4", "linear_rt vulkan 16 budget 8",
+                                        "linear_rt vulkan 16 budget 16", "linear_rt vulkan 16 budget 32"};
+    int i, k, j, rows = 0, won = 0;
+    for (i = 0; i < g_nwaves; ++i) {
+        const wave_row *a = &g_waves[i];
+        int peers_seen = 0, beaten = 0;
+        if (strcmp(a->method, ours[0]) || !strcmp(a->set, "primary")) continue;
+        for (k = 0; k < 3; ++k) {
+            const wave_row *p = find_wave(a->scene, a->set, peers[k]);
+            const double pr = right_of(peers[k], a->scene, a->set);
+            int by = 0;
+            if (!p || pr < 0.0) continue;
+            ++peers_seen;
+            for (j = 0; j < 5 && !by; ++j) {
+                const wave_row *q = find_wave(a->scene, a->set, ours[j]);
+                const double qr = right_of(ours[j], a->scene, a->set);
+                by = q && qr >= pr && q->estimate <= p->estimate;
+            }
+            beaten += by;
+        }
+        if (!peers_seen) continue;
+        if (!rows++)
+            fprintf(f, "\nlinear_rt's curve on the estimate: the rows where every Vulkan march's point (estimate, right %%) has a "
+                       "linear_rt vulkan 16 point (exact or a step budget) with no larger an estimate and no lower a right %%:\n\n");
+        won += beaten == peers_seen;
+        fprintf(f, "%s%s / %s", rows > 1 ? ", " : "", a->scene, a->set);
+        if (beaten == peers_seen) fprintf(f, " (yes)");
+    }
+    if (rows) fprintf(f, ".\n\nDominated on the estimate: %d of %d rows.\n", won, rows);
+}
+
 /* The tables of what a wave pays, into f (results.md, or the --only-counts
    output) */
 static void write_waves(FILE *f)
@@ -1364,6 +1412,7 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
         }
     }
     write_waves(md);
+    write_wave_dominance(md);
     (void)nstab;
     fclose(md);
     fclose(dat);
