@@ -3647,7 +3647,6 @@ LRT__FORCE_INLINE void lrt__report_hit(const lrt__walk *w, const lrt_ray *ray, c
     hit->kind = LRT_HIT;
 }
 
-#if LRT__AVX
 /* The nodes above level 1 only cull: a child they keep is tested again
    below, and level 1 and the texels use the exact planes. So their test
    may take a plane's t as p * iv + c (one fused step, c = -o iv) instead
@@ -3660,18 +3659,45 @@ LRT__FORCE_INLINE void lrt__report_hit(const lrt__walk *w, const lrt_ray *ray, c
    +-2^100 here with |t_hi| more margin: then a plane more than 2^-90 or so
    of a texel from o still culls as it does exactly (t beyond t_hi either
    way), a nearer one never culls. Nothing here is NaN: iv and c are
-   finite, so p * iv + c is finite or an infinite c. */
-#define LRT__CULL_IV_MAX 1.26765060e30f /* 2^100 */
+   finite, so p * iv + c is finite or an infinite c. A step budget counts
+   node tests, so these floats are the kernels' float for float: a product
+   rounded before its sum, as their `precise` keeps it. LRT__ROUNDED keeps
+   it so where a compiler would fuse a multiply into the next add (GCC's
+   -ffp-contract=fast, its default outside ISO C; clang's within an
+   expression). */
+#define LRT__CULL_IV_MAX 1.26765060e30f     /* 2^100 */
 #define LRT__CULL_MARGIN (1.0f / 524288.0f) /* 2^-19 */
-static void lrt__cull_axis(float o, float iv, float extent, float t_hi, float *cull_iv, float *c_enter, float *c_exit)
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || (defined(__i386__) && defined(__SSE_MATH__)))
+#define LRT__ROUNDED(x) __asm__("" : "+x"(x))
+#elif (defined(__GNUC__) || defined(__clang__)) && defined(__aarch64__)
+#define LRT__ROUNDED(x) __asm__("" : "+w"(x))
+#else
+#define LRT__ROUNDED(x)                                                                                           \
+    do {                                                                                                          \
+        volatile float lrt__rounded = (x);                                                                        \
+        (x) = lrt__rounded;                                                                                       \
+    } while (0)
+#endif
+
+/* a ray's constants of one axis (the kernels' lrt_cull_axis, float for
+   float: each product rounded, LRT__ROUNDED) */
+LRT__FORCE_INLINE void lrt__cull_axis(float o, float iv, float extent, float t_hi, float *civ, float *c_en, float *c_ex)
 {
-    const int huge = !(fabsf(iv) < LRT__CULL_IV_MAX);
-    const float m = huge ? LRT__CULL_IV_MAX : fabsf(iv), ivc = lrt__sign_bit(iv) ? -m : m, c = -o * ivc;
-    const float d = (fabsf(o) + extent) * m * LRT__CULL_MARGIN + fabsf(t_hi) * (huge ? 2.0f : LRT__CULL_MARGIN);
-    *cull_iv = ivc;
-    *c_enter = c - d;
-    *c_exit = c + d;
+    const int huge = !(fabsf(iv) < LRT__CULL_IV_MAX); /* a 0 direction's inverse is infinite */
+    const float m = huge ? LRT__CULL_IV_MAX : fabsf(iv);
+    float c, d, far;
+    *civ = lrt__sign_bit(iv) ? -m : m;
+    c = -o * *civ;
+    LRT__ROUNDED(c);
+    d = (fabsf(o) + extent) * m;
+    LRT__ROUNDED(d);
+    far = fabsf(t_hi) * (huge ? 2.0f : LRT__CULL_MARGIN); /* both by a power of two: exact */
+    d = d * LRT__CULL_MARGIN + far;
+    *c_en = c - d;
+    *c_ex = c + d;
 }
+
+#if LRT__AVX
 
 /* The constants of lrt__cull_children, in this order, each LRT__CULL_STRIDE
    floats after the last where 8 rays are set up together (lrt__setup8). */
@@ -3948,46 +3974,12 @@ LRT__FORCE_INLINE void lrt__child(uint32_t lv, uint32_t *nx, uint32_t *ny, uint3
    A step budget counts node tests, so a budgeted walk must take the
    kernels' steps, not only give their answers: its node test above level 1
    culls with shaders/linear_rt.glsl's lrt_cull_children float for float
-   (its planes p * iv + c as a product, then a sum: the kernels' `precise`),
-   on every ISA. LRT__ROUNDED keeps a product rounded where a compiler that
-   fuses a multiply into the next add (GCC's -ffp-contract=fast, the default
-   outside ISO C; clang's within an expression) would fuse it. */
-#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || (defined(__i386__) && defined(__SSE_MATH__)))
-#define LRT__ROUNDED(x) __asm__("" : "+x"(x))
-#elif (defined(__GNUC__) || defined(__clang__)) && defined(__aarch64__)
-#define LRT__ROUNDED(x) __asm__("" : "+w"(x))
-#else
-#define LRT__ROUNDED(x)                                                                                           \
-    do {                                                                                                          \
-        volatile float lrt__rounded = (x);                                                                        \
-        (x) = lrt__rounded;                                                                                       \
-    } while (0)
-#endif
-
-#define LRT__KERNEL_IV_MAX 1.26765060e30f     /* 2^100: the kernels' IV_MAX */
-#define LRT__KERNEL_MARGIN (1.0f / 524288.0f) /* 2^-19: their MARGIN */
+   (its planes p * iv + c as a product, then a sum), on every ISA. */
 typedef struct lrt__kernel_cull { /* the kernels' LrtCull */
     float iv[2], en[2], ex[2]; /* x and y: plane p is entered at p * iv + en, left at p * iv + ex */
     float za, zb, ba, bb;      /* a child's depth plane: code * za + zb; its back plane: back code * ba + bb */
     float lo, hi;              /* t_lo, and t_hi widened */
 } lrt__kernel_cull;
-
-/* the kernels' lrt_cull_axis */
-LRT__FORCE_INLINE void lrt__kernel_cull_axis(float o, float iv, float extent, float t_hi, float *civ, float *c_en, float *c_ex)
-{
-    const int huge = !(fabsf(iv) < LRT__KERNEL_IV_MAX); /* a 0 direction's inverse is infinite */
-    const float m = huge ? LRT__KERNEL_IV_MAX : fabsf(iv);
-    float c, d, far;
-    *civ = lrt__sign_bit(iv) ? -m : m;
-    c = -o * *civ;
-    LRT__ROUNDED(c);
-    d = (fabsf(o) + extent) * m;
-    LRT__ROUNDED(d);
-    far = fabsf(t_hi) * (huge ? 2.0f : LRT__KERNEL_MARGIN); /* both by a power of two: exact */
-    d = d * LRT__KERNEL_MARGIN + far;
-    *c_en = c - d;
-    *c_ex = c + d;
-}
 
 /* the kernels' lrt_cull_setup */
 static void lrt__kernel_cull_setup(const lrt__walk *w, const lrt__ray_setup *s, lrt__kernel_cull *c)
@@ -3995,13 +3987,13 @@ static void lrt__kernel_cull_setup(const lrt__walk *w, const lrt__ray_setup *s, 
     float za, en, ex;
     int axis;
     for (axis = 0; axis < 2; ++axis)
-        lrt__kernel_cull_axis(s->o[axis], s->iv[axis], w->extent[axis], s->t_hi, &c->iv[axis], &c->en[axis], &c->ex[axis]);
+        lrt__cull_axis(s->o[axis], s->iv[axis], w->extent[axis], s->t_hi, &c->iv[axis], &c->en[axis], &c->ex[axis]);
     /* a child's depth plane is (65535 - code) * decode_scale */
-    lrt__kernel_cull_axis(s->o[2] - w->code_depth0, s->iv[2], 1.0f, s->t_hi, &za, &en, &ex);
+    lrt__cull_axis(s->o[2] - w->code_depth0, s->iv[2], 1.0f, s->t_hi, &za, &en, &ex);
     c->za = w->code_step * za;
     c->zb = s->neg_z ? ex : en;
     /* the back plane is back code * back_scale: entered going up, left going down */
-    lrt__kernel_cull_axis(s->o[2], s->iv[2], 1.0f, s->t_hi, &za, &en, &ex);
+    lrt__cull_axis(s->o[2], s->iv[2], 1.0f, s->t_hi, &za, &en, &ex);
     c->ba = w->back_scale * za;
     c->bb = s->neg_z ? en : ex;
     c->lo = s->t_lo;
@@ -6453,7 +6445,6 @@ LINEAR_RT_DEF void lrt_vk_device_destroy(lrt_vk_device *device)
 #define lrt__report_hit lrt__report_hit_avx2
 #define lrt__report_budget lrt__report_budget_avx2
 #define lrt__kernel_cull lrt__kernel_cull_avx2
-#define lrt__kernel_cull_axis lrt__kernel_cull_axis_avx2
 #define lrt__kernel_cull_setup lrt__kernel_cull_setup_avx2
 #define lrt__kernel_cull_slab lrt__kernel_cull_slab_avx2
 #define lrt__kernel_cull_children lrt__kernel_cull_children_avx2
