@@ -547,21 +547,21 @@ typedef struct wave_weight {
    build/gpu_stats --gpu navi31). linear_rt's (its ordinary pass, buffer
    depth) walk loop holds the level-1 texel loop: the walk's own part is a
    node test's weight, the texel loop's a texel test's (infinite thickness
-   1052 = 777 + 275; back-map trees of 16-bit nodes 1361 = 686 + 675, of
-   8-bit nodes 1575 = 900 + 675; with a step budget 1184 = 905 + 279, and
-   back 16-bit 1499 = 820 + 679). The 64-step march's loop body (413) holds
+   1057 = 783 + 274; back-map trees of 16-bit nodes 1369 = 694 + 675, of
+   8-bit nodes 1578 = 904 + 674; with a step budget 1174 = 899 + 275, and
+   back 16-bit 1484 = 810 + 674). The 64-step march's loop body (413) holds
    its sample and its 8 bisection steps unrolled: 413 / 9 a sample. DDA
    128 a column, Hi-Z 287 an iteration. Static counts of a body: a wave
    whose lanes take different branches issues them all, one that agrees
    issues fewer, so this weighs divergent waves. Waves per SIMD: make
    gpu-stats' table, RDNA3. */
 static const wave_weight wave_weights[] = {
-    {"linear_rt vulkan 16", 777.0, 275.0, 20},
-    {"linear_rt vulkan 8", 777.0, 275.0, 20},
-    {"linear_rt vulkan 16 back", 686.0, 675.0, 18},
-    {"linear_rt vulkan 8 back", 900.0, 675.0, 18},
-    {"linear_rt vulkan 16 budget", 905.0, 279.0, 20},
-    {"linear_rt vulkan 16 budget back", 820.0, 679.0, 18},
+    {"linear_rt vulkan 16", 783.0, 274.0, 20},
+    {"linear_rt vulkan 8", 783.0, 274.0, 20},
+    {"linear_rt vulkan 16 back", 694.0, 675.0, 18},
+    {"linear_rt vulkan 8 back", 904.0, 674.0, 18},
+    {"linear_rt vulkan 16 budget", 899.0, 275.0, 20},
+    {"linear_rt vulkan 16 budget back", 810.0, 674.0, 18},
     {"march64 vulkan", 413.0 / 9.0, 0.0, 32},
     {"dda vulkan", 128.0, 0.0, 32},
     {"hiz64 vulkan", 287.0, 0.0, 32},

@@ -1280,9 +1280,11 @@ const uint LRT_WALK_BUDGET = 2u; // the budget ran out before a node's test
 // unless the segment ends inside that one. LRT_WALK_HIT with the first
 // texel hit (hx, hy) and its t; LRT_WALK_MISS; or, with a budget (node
 // tests, 0: none), LRT_WALK_BUDGET where the next test would pass it, ht
-// then the t before which the segment is proven free (lrt_budget_t).
-uint lrt_walk_origin(LrtParams p, LrtSetup s, uint top, uint budget, out uint hx, out uint hy, out float ht,
-                     out vec2 hplanes)
+// then the t before which the segment is proven free (lrt_budget_t). Top 0:
+// the segment's one texel (sx, sy) of lrt_start_node, its exact test alone
+// (one call site of lrt_test_texel: a GPU pays for each copy's code).
+uint lrt_walk_origin(LrtParams p, LrtSetup s, uint top, uint sx, uint sy, uint budget, out uint hx, out uint hy,
+                     out float ht, out vec2 hplanes)
 {
     hplanes = vec2(0.0);
     hx = 0u;
@@ -1291,17 +1293,23 @@ uint lrt_walk_origin(LrtParams p, LrtSetup s, uint top, uint budget, out uint hx
     uint back_base = lrt_has_back(p) ? lrt_back_codes(p) : 0u;
     // the back plane; not for a z scaled by 2^zk (lrt_setup_rare): the unscaled codes would cut it
     bool back = lrt_has_back(p) && s.zk == 0;
+    // top 0 (a camera ray): no node test, and no start texel to search for
     LrtCull cull = lrt_cull_setup(p, s);
+    uint px = sx, py = sy;
+    if (top != 0u) {
+        px = uint(lrt_first_texel(s.o.x, s.v.x, s.iv.x, s.neg.x, s.zero.x, s.t_lo, int(p.width)));
+        py = uint(lrt_first_texel(s.o.y, s.v.y, s.iv.y, s.neg.y, s.zero.y, s.t_lo, int(p.height)));
+    }
     uint flip_wide = (s.neg.x != 0u ? 3u : 0u) | (s.neg.y != 0u ? 4u : 0u); // children in 4x2 blocks
     uint flip_tall = (s.neg.x != 0u ? 1u : 0u) | (s.neg.y != 0u ? 6u : 0u); // in 2x4 blocks
-    // the texel where the segment starts, and its level-1 node
-    uint px = uint(lrt_first_texel(s.o.x, s.v.x, s.iv.x, s.neg.x, s.zero.x, s.t_lo, int(p.width)));
-    uint py = uint(lrt_first_texel(s.o.y, s.v.y, s.iv.y, s.neg.y, s.zero.y, s.t_lo, int(p.height)));
+    // the texel where the segment starts (px, py), and its level-1 node
     uint lv = 1u, nx = px >> 2, ny = py >> 1, off = 0u; // the node, and its level's first node
     // the levels above lv up to reached (the highest the walk has climbed
     // to) were tested: masks holds their pending children, a byte a level,
     // and bit L of busy says level L's byte is not empty
     uint eligible = 0xffu, reached = 1u, busy = 0u, steps = 0u;
+    // top 0: the bit of texel (px, py) in visiting order
+    uint one = top == 0u ? 1u << ((((py & 1u) << 2) | (px & 3u)) ^ lrt_flip_of(1u, flip_tall, flip_wide)) : 0u;
     uvec4 masks = uvec4(0u);
     for (;;) {
         if (budget != 0u && steps == budget) { // the budget is spent: the next node is not tested
@@ -1310,7 +1318,9 @@ uint lrt_walk_origin(LrtParams p, LrtSetup s, uint top, uint budget, out uint hx
         }
         ++steps;
         uint flip = lrt_flip_of(lv, flip_tall, flip_wide);
-        uint m = lrt_cull_children(p, s, cull, lv, off, nx, ny, flip, back_base, back) & eligible;
+        uint m = one; // top 0: the one texel, no node tested
+        if (one == 0u) m = lrt_cull_children(p, s, cull, lv, off, nx, ny, flip, back_base, back) & eligible;
+        one = 0u;
         // a padding node (past its level's grid) has no children in memory:
         // never down into one (fuzz_core: a read past the nodes)
         if (lv >= 2u && (nx >= lrt_grid_w(p.width, lv) || ny >= lrt_grid_h(p.height, lv))) m = 0u;
@@ -1389,9 +1399,13 @@ uint lrt_walk_origin(LrtParams p, LrtSetup s, uint top, uint budget, out uint hx
     return LRT_WALK_MISS;
 }
 
-// the walk of a set-up ray, and its report; budget: node tests (0: none)
+// the walk of a set-up ray, and its report; budget: node tests (0: none).
+// A segment inside one texel (a camera ray) takes that texel's exact test
+// apart, or with walk_one through the walk's copy of it: a GPU pays for every
+// copy's code, ray or no ray, and a CPU device for each step of the walk's
+// set-up that a camera ray would skip
 LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, uint kind, float tmin, float tmax,
-                       uint budget)
+                       uint budget, bool walk_one)
 {
     LrtHit hit;
     hit.t = 0.0;
@@ -1403,7 +1417,7 @@ LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, ui
     vec2 hplanes; // the hit texel's planes (lrt_test_texel)
     uint found;
     uint top = lrt_start_node(p, s, nx, ny); // the lowest node holding the segment: its level
-    if (top == 0u) { // one texel: its box alone decides (a camera ray), no tree needed
+    if (top == 0u && !walk_one) { // one texel, (nx, ny): its box alone decides, no node tested
         float en = s.t_lo, ex = s.t_hi;
         lrt_slab(float(nx), float(nx + 1u), s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex);
         lrt_slab(float(ny), float(ny + 1u), s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex);
@@ -1411,7 +1425,7 @@ LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, ui
         hx = nx;
         hy = ny;
     } else {
-        found = lrt_walk_origin(p, s, top, budget, hx, hy, ht, hplanes);
+        found = lrt_walk_origin(p, s, top, nx, ny, budget, hx, hy, ht, hplanes);
     }
     // one exit: the hit's report (its face) stays out of the walk's loop
     if (found == LRT_WALK_HIT) return lrt_report_hit(p, s, t_exp, scale_normal, ht, tmin, tmax, hx, hy, hplanes);
@@ -1443,13 +1457,37 @@ LrtHit lrt_trace_ray_budget(LrtParams p, vec3 origin, float tmin, vec3 dir, floa
     int t_exp; // the set-up scaled t by 2^-t_exp
     uint kind;
     if (!lrt_setup_ray(p, origin, tmin, dir, tmax, s, t_exp, kind)) return lrt_miss(kind);
-    return lrt_trace_setup(p, s, t_exp, false, kind, tmin, tmax, budget);
+    return lrt_trace_setup(p, s, t_exp, false, kind, tmin, tmax, budget, false);
 }
 
 // any ray, the exact walk
 LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
 {
     return lrt_trace_ray_budget(p, origin, tmin, dir, tmax, 0u);
+}
+
+// lrt_ray_rare && !lrt_huge_direction in one look at the bits, sharing
+// their tests: true for a ray only lrt_setup_rare can take; else e, the
+// scale of a direction of 2^16 or more (lrt_huge_direction's), or 0
+bool lrt_ordinary_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out int e)
+{
+    uvec3 ao = floatBitsToUint(o) & 0x7fffffffu, av = floatBitsToUint(v) & 0x7fffffffu;
+    const uint TINY = 0x0d800000u, HUGE = 0x47800000u; // 2^-100, 2^16
+    uvec2 at = floatBitsToUint(vec2(tmin, tmax)) & 0x7fffffffu;
+    uint mb = max(max(av.x, av.y), av.z); // finite floats order as their bits
+    bool big = mb >= HUGE;
+    e = big ? int(mb >> 23) - 127 : 0;
+    bool rare = lrt_far_origin(p, o) || (big && mb >= 0x7e800000u); // 2^126 and up, inf, NaN: no normal 2^-e
+    for (int k = 0; k < 3; ++k) {
+        rare = rare || (ao[k] != 0u && !(ao[k] - TINY < 0x7f800000u - TINY));
+        // below 2^-100, once scaled by 2^-e (e 0: a direction not large)
+        rare = rare || (av[k] != 0u && int(av[k] >> 23) - 127 - e < -100);
+    }
+    for (int k = 0; k < 2; ++k) // 0 or normal, and finite once scaled
+        rare = rare || (at[k] != 0u && !(at[k] - 0x00800000u < 0x7f000000u && int(at[k] >> 23) - 127 + e <= 127));
+    rare = rare || (!big && o.z == 0.0 && abs(v.z) >= 16.0); // a steep ray from z = 0 (never large here)
+    e = rare ? 0 : e;
+    return rare;
 }
 
 // an ordinary ray, without the rare set-up's code: a shader a fraction of
@@ -1463,11 +1501,13 @@ LrtHit lrt_trace_ray_ordinary_budget(LrtParams p, vec3 origin, float tmin, vec3 
 {
     LrtSetup s;
     uint kind = LRT_MISS_INVALID_RAY;
-    int t_exp = 0;
-    float lo = tmin, hi = tmax;
-    rare = lrt_ray_rare(p, origin, tmin, dir, tmax) && !lrt_scale_large(p, origin, lo, dir, hi, t_exp);
-    if (rare || !lrt_setup_ordinary(p, origin, lo, dir, hi, s, kind)) return lrt_miss(kind);
-    return lrt_trace_setup(p, s, t_exp, true, kind, tmin, tmax, budget); // e <= 126: 2^-e is normal
+    int e;
+    rare = lrt_ordinary_rare(p, origin, tmin, dir, tmax, e);
+    // as lrt_scale_large scales (its checks are lrt_ordinary_rare's): 2^e and
+    // 2^-e normal, each product exact, none subnormal or past the largest float
+    float up = lrt_pow2(e);
+    if (rare || !lrt_setup_ordinary(p, origin, tmin * up, dir * lrt_pow2(-e), tmax * up, s, kind)) return lrt_miss(kind);
+    return lrt_trace_setup(p, s, -e, true, kind, tmin, tmax, budget, true); // e <= 125: 2^-e is normal
 }
 
 // the same, the exact walk
