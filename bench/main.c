@@ -701,8 +701,9 @@ static void write_wave_dominance(FILE *f)
         }
         if (!peers_seen) continue;
         if (!rows++)
-            fprintf(f, "\nlinear_rt's curve on the estimate: the rows where every Vulkan march's point (estimate, right %%) has a "
-                       "linear_rt vulkan 16 point (exact or a step budget) with no larger an estimate and no lower a right %%:\n\n");
+            fprintf(f, "\nlinear_rt's curve on the estimate: each secondary row, \"(yes)\" where every Vulkan march's point "
+                       "(estimate, right %%) has a linear_rt vulkan 16 point (exact or a step budget) with no larger an estimate "
+                       "and no lower a right %%:\n\n");
         won += beaten == peers_seen;
         fprintf(f, "%s%s / %s", rows > 1 ? ", " : "", a->scene, a->set);
         if (beaten == peers_seen) fprintf(f, " (yes)");
