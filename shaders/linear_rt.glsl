@@ -774,50 +774,45 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
     return s.t_lo <= s.t_hi;
 }
 
-// linear_rt.h's lrt__huge_direction: a rare ray whose one oddity is a
-// direction of 2^16 or more takes the common set-up once scaled as
-// lrt_setup_rare scales it; e (16 to 125), or 0 for lrt_setup_rare
-int lrt_huge_direction(LrtParams p, vec3 o, float tmin, vec3 v, float tmax)
-{
-    uvec3 ao = floatBitsToUint(o) & 0x7fffffffu, av = floatBitsToUint(v) & 0x7fffffffu;
-    uvec2 at = floatBitsToUint(vec2(tmin, tmax)) & 0x7fffffffu;
-    uint mb = max(max(av.x, av.y), av.z); // finite floats order as their bits
-    if (mb >= 0x7e800000u || mb < 0x47800000u) return 0; // 2^16 <= max |v| < 2^126: 2^-e stays normal
-    int e = int(mb >> 23) - 127;
-    bool ok = !lrt_far_origin(p, o);
-    const uint TINY = 0x0d800000u; // 2^-100
-    for (int k = 0; k < 3; ++k) {
-        ok = ok && (ao[k] == 0u || ao[k] - TINY < 0x7f800000u - TINY); // as lrt_setup_ray's test
-        ok = ok && (av[k] == 0u || (av[k] < 0x7f800000u && int(av[k] >> 23) - 127 - e >= -100)); // v_k 2^-e >= 2^-100
-    }
-    for (int k = 0; k < 2; ++k) // 0 or normal, and finite once scaled
-        ok = ok && (at[k] == 0u || (at[k] - 0x00800000u < 0x7f000000u && int(at[k] >> 23) - 127 + e <= 127));
-    return ok ? e : 0;
-}
-
 // true for a ray the ordinary set-up cannot take exactly: the rays that
-// linear_rt.h takes through lrt__setup_rare (the same test on the bits):
-// a component of o or v, tmin or tmax at the edge of float range, an origin
+// linear_rt.h takes through lrt__setup_rare (the same tests on the bits): a
+// component of o or v, tmin or tmax at the edge of float range, an origin
 // far off the map, a steep ray from z = 0. Almost none in a frame; the
-// library's kernels trace them in a second pass (lrt_trace_ray_ordinary)
-bool lrt_ray_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax)
+// library's kernels trace them in a second pass (lrt_trace_ray_ordinary).
+// Else e: a direction of 2^16 or more whose only oddity that is
+// (linear_rt.h's lrt__huge_direction) is scaled by 2^-e, as lrt_setup_rare
+// would, and takes the ordinary set-up (e 16 to 125); 0 for any other ray
+bool lrt_ray_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out int e)
 {
     uvec3 ao = floatBitsToUint(o) & 0x7fffffffu, av = floatBitsToUint(v) & 0x7fffffffu;
     const uint TINY = 0x0d800000u, HUGE = 0x47800000u; // 2^-100, 2^16
-    uint at0 = floatBitsToUint(tmin) & 0x7fffffffu, at1 = floatBitsToUint(tmax) & 0x7fffffffu;
-    bool rare = (o.z == 0.0 && abs(v.z) >= 16.0) || (at0 != 0u && !(at0 - 0x00800000u < 0x7f000000u)) ||
-                (at1 != 0u && !(at1 - 0x00800000u < 0x7f000000u)); // inf, NaN or subnormal
+    uvec2 at = floatBitsToUint(vec2(tmin, tmax)) & 0x7fffffffu;
+    uint mb = max(max(av.x, av.y), av.z); // finite floats order as their bits
+    bool big = mb >= HUGE;
+    e = big ? int(mb >> 23) - 127 : 0;
+    bool rare = lrt_far_origin(p, o) || (big && mb >= 0x7e800000u); // 2^126 and up, inf, NaN: no normal 2^-e
     for (int k = 0; k < 3; ++k) {
         rare = rare || (ao[k] != 0u && !(ao[k] - TINY < 0x7f800000u - TINY));
-        rare = rare || (av[k] != 0u && !(av[k] - TINY < HUGE - TINY));
+        // below 2^-100, once scaled by 2^-e (e 0: a direction not large)
+        rare = rare || (av[k] != 0u && int(av[k] >> 23) - 127 - e < -100);
     }
-    return rare || lrt_far_origin(p, o);
+    for (int k = 0; k < 2; ++k) // 0 or normal, and finite once scaled
+        rare = rare || (at[k] != 0u && !(at[k] - 0x00800000u < 0x7f000000u && int(at[k] >> 23) - 127 + e <= 127));
+    rare = rare || (!big && o.z == 0.0 && abs(v.z) >= 16.0); // a steep ray from z = 0 (never large here)
+    e = rare ? 0 : e;
+    return rare;
 }
 
-// the set-up of a ray lrt_ray_rare lets through (or one it scaled): validate
-// and clip; false with kind set when nothing is left to walk
-bool lrt_setup_ordinary(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out uint kind)
+// the set-up of a ray lrt_ray_rare lets through, scaled by its 2^-e (2^e
+// and 2^-e normal, every product exact, none subnormal or past the largest
+// float: lrt_ray_rare's checks): validate and clip; false with kind set
+// when nothing is left to walk
+bool lrt_setup_ordinary(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, int e, out LrtSetup s, out uint kind)
 {
+    float up = lrt_pow2(e);
+    tmin *= up;
+    tmax *= up;
+    v *= lrt_pow2(-e);
     s.o = o;
     s.t_base = 0.0;
     s.zk = 0;
@@ -833,29 +828,14 @@ bool lrt_setup_ordinary(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out
     return s.t_lo <= s.t_hi;
 }
 
-// a rare ray whose direction is only large (lrt_huge_direction), scaled by
-// 2^-e as lrt_setup_rare would, for the ordinary set-up: true, and t_exp
-// -e; false, and nothing changed, for any other rare ray
-bool lrt_scale_large(LrtParams p, vec3 o, inout float tmin, inout vec3 v, inout float tmax, inout int t_exp)
-{
-    int e = lrt_huge_direction(p, o, tmin, v, tmax);
-    if (e == 0) return false;
-    v *= lrt_pow2(-e);
-    tmin = lrt_scale_t(tmin, e);
-    tmax = lrt_scale_t(tmax, e);
-    t_exp = -e;
-    return true;
-}
-
 // validates and clips any ray; false with kind set when nothing is left to
-// walk. A rare ray takes lrt_setup_rare, but for a direction that is only
-// large (lrt_scale_large)
+// walk. A rare ray takes lrt_setup_rare; the set-up scaled t by 2^-t_exp
 bool lrt_setup_ray(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out int t_exp, out uint kind)
 {
-    t_exp = 0;
-    if (lrt_ray_rare(p, o, tmin, v, tmax) && !lrt_scale_large(p, o, tmin, v, tmax, t_exp))
-        return lrt_setup_rare(p, o, tmin, v, tmax, s, t_exp, kind);
-    return lrt_setup_ordinary(p, o, tmin, v, tmax, s, kind);
+    int e;
+    if (lrt_ray_rare(p, o, tmin, v, tmax, e)) return lrt_setup_rare(p, o, tmin, v, tmax, s, t_exp, kind);
+    t_exp = -e;
+    return lrt_setup_ordinary(p, o, tmin, v, tmax, e, s, kind);
 }
 
 // lowest level whose one node holds every texel the clipped segment can
@@ -1466,34 +1446,10 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
     return lrt_trace_ray_budget(p, origin, tmin, dir, tmax, 0u);
 }
 
-// lrt_ray_rare && !lrt_huge_direction in one look at the bits, sharing
-// their tests: true for a ray only lrt_setup_rare can take; else e, the
-// scale of a direction of 2^16 or more (lrt_huge_direction's), or 0
-bool lrt_ordinary_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out int e)
-{
-    uvec3 ao = floatBitsToUint(o) & 0x7fffffffu, av = floatBitsToUint(v) & 0x7fffffffu;
-    const uint TINY = 0x0d800000u, HUGE = 0x47800000u; // 2^-100, 2^16
-    uvec2 at = floatBitsToUint(vec2(tmin, tmax)) & 0x7fffffffu;
-    uint mb = max(max(av.x, av.y), av.z); // finite floats order as their bits
-    bool big = mb >= HUGE;
-    e = big ? int(mb >> 23) - 127 : 0;
-    bool rare = lrt_far_origin(p, o) || (big && mb >= 0x7e800000u); // 2^126 and up, inf, NaN: no normal 2^-e
-    for (int k = 0; k < 3; ++k) {
-        rare = rare || (ao[k] != 0u && !(ao[k] - TINY < 0x7f800000u - TINY));
-        // below 2^-100, once scaled by 2^-e (e 0: a direction not large)
-        rare = rare || (av[k] != 0u && int(av[k] >> 23) - 127 - e < -100);
-    }
-    for (int k = 0; k < 2; ++k) // 0 or normal, and finite once scaled
-        rare = rare || (at[k] != 0u && !(at[k] - 0x00800000u < 0x7f000000u && int(at[k] >> 23) - 127 + e <= 127));
-    rare = rare || (!big && o.z == 0.0 && abs(v.z) >= 16.0); // a steep ray from z = 0 (never large here)
-    e = rare ? 0 : e;
-    return rare;
-}
-
 // an ordinary ray, without the rare set-up's code: a shader a fraction of
 // lrt_trace_ray's size. rare true (and the hit undefined) for a ray only
-// lrt_setup_rare can set up (lrt_ray_rare, but for a direction that is only
-// large, scaled here), which lrt_trace_ray then traces, e.g. in a second
+// lrt_setup_rare can set up (lrt_ray_rare; a direction that is only large
+// is scaled here), which lrt_trace_ray then traces, e.g. in a second
 // pass as the library's own kernel does. The same answer as lrt_trace_ray
 // for every other ray
 LrtHit lrt_trace_ray_ordinary_budget(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, uint budget,
@@ -1502,11 +1458,8 @@ LrtHit lrt_trace_ray_ordinary_budget(LrtParams p, vec3 origin, float tmin, vec3 
     LrtSetup s;
     uint kind = LRT_MISS_INVALID_RAY;
     int e;
-    rare = lrt_ordinary_rare(p, origin, tmin, dir, tmax, e);
-    // as lrt_scale_large scales (its checks are lrt_ordinary_rare's): 2^e and
-    // 2^-e normal, each product exact, none subnormal or past the largest float
-    float up = lrt_pow2(e);
-    if (rare || !lrt_setup_ordinary(p, origin, tmin * up, dir * lrt_pow2(-e), tmax * up, s, kind)) return lrt_miss(kind);
+    rare = lrt_ray_rare(p, origin, tmin, dir, tmax, e);
+    if (rare || !lrt_setup_ordinary(p, origin, tmin, dir, tmax, e, s, kind)) return lrt_miss(kind);
     return lrt_trace_setup(p, s, -e, true, kind, tmin, tmax, budget, true); // e <= 125: 2^-e is normal
 }
 
