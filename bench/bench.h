@@ -149,6 +149,9 @@ int bench_visits_thickness(const bench_scene *scene, const bench_rays *rays, dou
    success. bench_wave_stats: the mean of steps and the mean over groups of
    `wave` consecutive rays of the group's most. */
 int bench_wave_linear_rt(const bench_scene *scene, const bench_rays *rays, uint32_t node_bits, uint32_t *steps, double *texels);
+/* bench_wave_cells: the exact ordinary pass's cell walk (one cell or texel
+   a step), each hit checked against lrt_trace's (1 where one differs) */
+int bench_wave_cells(const bench_scene *scene, const bench_rays *rays, uint32_t node_bits, uint32_t *steps, double *texels);
 int bench_wave_march(const bench_scene *scene, const bench_rays *rays, int which, uint32_t *steps);
 void bench_wave_stats(const uint32_t *steps, size_t n, uint32_t wave, double *mean, double *wave_mean);
 

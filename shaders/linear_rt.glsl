@@ -30,6 +30,8 @@
 // without NaN or inf arithmetic). The walk (lrt_trace_ray, below) starts at
 // the ray's origin and needs no stack; it visits children in the CPU walk's
 // front-to-back order, so the first texel hit is the closest and the CPU's.
+// lrt_trace_ray_ordinary (a GPU's pass) walks one cell a step instead
+// (lrt_walk_cells), in that same order, so it finds that same texel.
 // lrt_trace_ray_budget caps the node tests of a ray as linear_rt.h's
 // LRT_TRACE_BUDGET does, step for step (LRT_MISS_BUDGET, t proven free).
 // `precise` keeps compilers from fusing or reordering what must round the
@@ -466,9 +468,13 @@ float lrt_depth_plane(LrtSetup s, uint format, uint raw)
 {
     bool unorm = format != LRT_FLOAT32 && raw != (format == LRT_UNORM8 ? 255u : 65535u); // v = max is d = 1 exactly
     float d = format == LRT_FLOAT32 ? uintBitsToFloat(raw) : unorm ? 0.0 : 1.0;
+    // o.z * max = p + e exactly (one product for both uses below; unorm only)
+    float qm = format == LRT_UNORM8 ? 255.0 : 65535.0, p = 0.0, e = 0.0, v = float(raw);
+    if (format != LRT_FLOAT32) lrt_two_prod(s.o.z, qm, p, e);
     if (s.zero.z) {
         // v/max <= o.z, compared without rounding v/max: v <= o.z * max
-        bool inside = unorm ? lrt_scaled_sign(s.o.z, format, raw) >= 0 : d <= s.o.z;
+        // (lrt_scaled_sign's test, on the same product)
+        bool inside = unorm ? (p != v ? p > v : e >= 0.0) : d <= s.o.z;
         return (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
     }
     if (!unorm) {
@@ -476,10 +482,8 @@ float lrt_depth_plane(LrtSetup s, uint format, uint raw)
         precise float t = (d - s.o.z) * s.iv.z;
         return t;
     }
-    // v/max - o.z = (v - o.z * max) / max, with o.z * max = p + e exactly
-    float qm = format == LRT_UNORM8 ? 255.0 : 65535.0, p, e, v = float(raw);
+    // v/max - o.z = (v - o.z * max) / max
     if (s.zk != 0) v = lrt_ldexp(v, s.zk);
-    lrt_two_prod(s.o.z, qm, p, e);
     precise float n = (v - p) - e;
     // 1.0f/255.0f and 1.0f/65535.0f as linear_rt.h rounds them
     float inv_qm = format == LRT_UNORM8 ? uintBitsToFloat(0x3b808081u) : uintBitsToFloat(0x37800080u);
@@ -1417,6 +1421,185 @@ LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, ui
     return hit;
 }
 
+// ---- the cell walk: the exact ordinary pass on a GPU ----
+//
+// lrt_walk_origin tests a node's 8 children at once and keeps the pending
+// ones in masks: its answer is the first texel in visiting order whose exact
+// test passes, since a node's codes only cull. This walk finds that texel
+// with a GPU's weight: one cell a step, as a Hi-Z walk does. Its state is a
+// cursor (the texel where the ray enters the current cell), the level of the
+// cell and that level's first node. A step tests the cursor's cell: a
+// texel's exact test, or above level 0 the cell's code from its parent
+// node, under the exact planes of its column and row. A cell met is entered
+// (the cell of the cursor one level down); a cell not met is left: the
+// cursor moves to the cell the ray enters next, and the walk tests it at
+// the highest level whose cell the move changed (its parent holds the cells
+// done before: never tested again, never needed).
+//
+// Why the order is the CPU's. Along a ray, cells of one level come in
+// visiting order (row-major with the axes flipped by the direction's
+// signs, front to back), but for the cells a ray touches only at a corner
+// (docs/MODEL.md: a touch is a hit, an exit widened by lrt_widen). Leaving
+// cell C whose column exit tx and row exit ty are within a widening of each
+// other, both neighbours A (the next column) and B (the next row) may be
+// touched: the walk visits both, A first unless the column boundary is the
+// coarser (then B's cell comes first among the parent's children), and then
+// the cell past the corner. Where they are not, the one not entered is not
+// touched (its entry is past its exit widened): the exits are the exact
+// test's own planes, so no margin is needed. That holds for a ray whose
+// widening is small beside a texel (a thin ray, as every ordinary ray is)
+// and that lies in no plane of the texel grid (lrt_walk_cells_takes); the
+// others are traced by the rare pass.
+
+// a ray the cell walk traces: one in no plane of the texel grid (the
+// texels on both sides are met over the same t, out of order). Every
+// ordinary ray is thin: its origin lies within 2 size + 16 of the screen
+// (lrt_far_origin) and its segment on the screen (lrt_clip), so t v spans
+// at most 3 x 16384 + 16 texels along an axis (LINEAR_RT_MAX_DIM), and an
+// exit's widening (2^-21 t) stays below 2^-5 of a texel's t
+bool lrt_walk_cells_takes(LrtSetup s) { return !lrt_in_grid_plane(s.o, s.zero); }
+
+// the highest level whose nodes' columns (rows) split texel columns a and b:
+// the largest L with span (L + (L + 1) / 2, rows L + L / 2) at most the
+// highest bit where a and b differ. Column -1 (past the screen's first)
+// differs from 0 in bit 31: a level past every tree's root
+int lrt_split_level_x(int a, int b) { return a == b ? -1 : (2 * findMSB(uint(a ^ b))) / 3; }
+int lrt_split_level_y(int a, int b) { return a == b ? -1 : (2 * findMSB(uint(a ^ b)) + 1) / 3; }
+
+// the texel along one axis where the ray enters a cell through its other
+// axis's face at t: the one holding o + t v within the cell's [lo, hi], or
+// the one behind it if the ray touches it at t (its exit widened); o + t v
+// is off by far less than a texel on a thin ray, so one look behind is all
+int lrt_cross_texel(float o, float v, float iv, uint neg, bool zero, float t, int lo, int hi, int cur)
+{
+    if (zero) return cur;
+    float q = o + t * v;
+    int c = int(floor(clamp(q, float(lo), float(hi))));
+    int b = neg != 0u ? c + 1 : c - 1;
+    precise float e = (float(neg != 0u ? c + 1 : c) - o) * iv;
+    return (b >= lo && b <= hi && t <= lrt_widen(e)) ? b : c;
+}
+
+// the code index of cell (cx, cy) of level lv >= 1 in its parent's node,
+// whose level's first node is off: lrt_node_code0 of the parent plus the
+// cell's slot. A parent and its own parent take 3 bits of x and 3 of y
+// whatever their shapes (4x2 under 2x4, or 2x4 under 4x2), so the
+// grandparent is (cx >> 3, cy >> 3); the root's (0, 0) needs no case. A
+// compact level 1 (8-bit trees) takes fewer codes: the caller subtracts them
+uint lrt_cell_code(LrtParams p, uint lv, uint off, uint cx, uint cy)
+{
+    bool wide = (lv & 1u) == 0u; // a level-lv cell's parent holds 4x2 of them
+    uint slots = wide ? ((((cy >> 1) & 3u) << 1) | ((cx >> 2) & 1u)) << 3 | ((cy & 1u) << 2) | (cx & 3u)
+                      : ((((cy >> 2) & 1u) << 2) | ((cx >> 1) & 3u)) << 3 | ((cy & 3u) << 1) | (cx & 1u);
+    uint index = ((cy >> 3) * lrt_grid_w(p.width, lv + 2u) + (cx >> 3)) * 64u + slots;
+    return off * 8u + index;
+}
+
+// one axis of a cell [a, a + n): its slab (lrt_slab's numbers), the t where
+// the ray leaves it along this axis (+inf: it does not move along it), the
+// texel past it and its last texel in visiting order
+void lrt_cell_axis(int a, int n, float o, float iv, uint neg, bool zero, inout float en, inout float ex, out float leave,
+                   out int past, out int last)
+{
+    precise float ta = (float(a) - o) * iv, tb = (float(a + n) - o) * iv;
+    lrt_slab(float(a), float(a + n), o, iv, neg, zero, en, ex);
+    leave = zero ? LRT_INF : neg != 0u ? ta : tb;
+    past = neg != 0u ? a - 1 : a + n;
+    last = neg != 0u ? a : a + n - 1;
+}
+
+// The walk of an ordinary thin ray (lrt_trace_ray_ordinary): LRT_WALK_HIT
+// with the first texel hit (hx, hy), its t and planes, or LRT_WALK_MISS
+uint lrt_walk_cells(LrtParams p, LrtSetup s, out uint hx, out uint hy, out float ht, out vec2 hplanes)
+{
+    hplanes = vec2(0.0);
+    hx = 0u;
+    hy = 0u;
+    ht = 0.0;
+    uint back_base = lrt_has_back(p) ? lrt_back_codes(p) : 0u;
+    bool back = lrt_has_back(p);
+    // a compact level 1's nodes take fewer codes (lrt_node_code0)
+    uint compact = lrt_compact(p) ? lrt_level_slots(p, 1u) * 5u : 0u;
+    LrtCull cull = lrt_cull_setup(p, s); // its depth and back planes: a code's t in one step
+    // the cursor: the first texel the segment touches (every texel it
+    // touches comes at or after it in visiting order); an axis the ray does
+    // not move along: o's texel (o is on the screen, on no texel edge)
+    int x = lrt_cross_texel(s.o.x, s.v.x, s.iv.x, s.neg.x, s.zero.x, s.t_lo, 0, int(p.width) - 1, int(s.o.x));
+    int y = lrt_cross_texel(s.o.y, s.v.y, s.iv.y, s.neg.y, s.zero.y, s.t_lo, 0, int(p.height) - 1, int(s.o.y));
+    int lv = 0;    // the level of the cell tested
+    uint off = 0u; // the first node of level lv + 1, which holds its code
+    // a corner's second cell, entered by the next move (0: none): 1, one
+    // texel back in x and on in y from the cursor (A came first), 2, on in
+    // x and back in y (B came first); the level of that move above
+    int pend = 0;
+    for (;;) {
+        uint sw = lrt_span_w_log2(uint(lv)), sh = lrt_span_h_log2(uint(lv));
+        int cx = x >> sw, cy = y >> sh; // the cell (int: the cursor may stand past the screen)
+        float en = s.t_lo, ex = s.t_hi, lx, ly;
+        int px, py, lastx, lasty;
+        lrt_cell_axis(cx << sw, 1 << sw, s.o.x, s.iv.x, s.neg.x, s.zero.x, en, ex, lx, px, lastx);
+        lrt_cell_axis(cy << sh, 1 << sh, s.o.y, s.iv.y, s.neg.y, s.zero.y, en, ex, ly, py, lasty);
+        bool met = false;
+        if (lv == 0) {
+            float t;
+            if (lrt_test_texel(p, s, uint(x), uint(y), en, ex, t, hplanes)) {
+                hx = uint(x);
+                hy = uint(y);
+                ht = t;
+                return LRT_WALK_HIT;
+            }
+        } else if (uint(x) < p.width && uint(y) < p.height) {
+            // a cell on the screen (a cursor past its edge, where a corner
+            // took it, stands in no node): its code, in its parent's node
+            uint code = lrt_cell_code(p, uint(lv), off, uint(cx), uint(cy)) - compact;
+            bool nz = s.neg.z != 0u;
+            precise float tz = float(lrt_code(code)) * cull.za + cull.zb;
+            float tb = back ? float(lrt_code(back_base + code)) * cull.ba + cull.bb : 0.0;
+            float e0 = max(en, max(nz ? -LRT_INF : tz, back && nz ? tb : -LRT_INF));
+            float x0 = min(lrt_widen(ex), min(nz ? tz : LRT_INF, back && !nz ? tb : LRT_INF));
+            met = e0 <= x0;
+        }
+        // met: into the cell of the cursor one level down. Else the cell is
+        // done and the cursor moves to the cell the ray enters next, tested
+        // at the highest level whose cell the move changed: the level of the
+        // column (row) boundary crossed
+        int to = lv - 1;
+        if (!met) {
+            int bx = lrt_split_level_x(lastx, px), by = lrt_split_level_y(lasty, py);
+            float lt = min(lx, ly);
+            if (pend != 0) { // the second cell of a corner
+                x += (pend & 1) == (s.neg.x != 0u ? 1 : 0) ? 1 : -1;
+                y += (pend & 1) == (s.neg.y != 0u ? 1 : 0) ? -1 : 1;
+                to = pend >> 2;
+                pend = 0;
+            } else if (!(lt <= lrt_widen(s.t_hi))) {
+                return LRT_WALK_MISS; // the segment ends in this cell
+            } else if (max(lx, ly) <= lrt_widen(lt)) { // a corner: both neighbours, in visiting order
+                bool a_first = bx <= by;
+                x = a_first ? px : lastx;
+                y = a_first ? lasty : py;
+                to = a_first ? bx : by;
+                pend = (max(bx, by) << 2) | 2 | (a_first ? 1 : 0);
+            } else { // the next column, or the next row: one texel along the other axis
+                bool along_x = lx < ly;
+                int c = along_x ? lrt_cross_texel(s.o.y, s.v.y, s.iv.y, s.neg.y, s.zero.y, lx, cy << sh, ((cy + 1) << sh) - 1, y)
+                                : lrt_cross_texel(s.o.x, s.v.x, s.iv.x, s.neg.x, s.zero.x, ly, cx << sw, ((cx + 1) << sw) - 1, x);
+                x = along_x ? px : c;
+                y = along_x ? c : py;
+                to = along_x ? bx : by;
+            }
+            if (to >= int(p.level_count)) return LRT_WALK_MISS; // past the root's cell: off the screen
+        }
+        while (lv != to) { // level by level: off follows
+            bool up = lv < to;
+            uint n = lrt_level_slots(p, uint(up ? lv + 1 : lv));
+            off = up ? off + n : off - n;
+            lv += up ? 1 : -1;
+        }
+    }
+    return LRT_WALK_MISS;
+}
+
 // a miss of the kind a failed set-up gave
 LrtHit lrt_miss(uint kind)
 {
@@ -1463,10 +1646,21 @@ LrtHit lrt_trace_ray_ordinary_budget(LrtParams p, vec3 origin, float tmin, vec3 
     return lrt_trace_setup(p, s, -e, true, kind, tmin, tmax, budget, true); // e <= 125: 2^-e is normal
 }
 
-// the same, the exact walk
+// the same, the exact walk: the cell walk (lrt_walk_cells), and rare true
+// for a ray it does not trace (lrt_walk_cells_takes), which lrt_trace_ray does
 LrtHit lrt_trace_ray_ordinary(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, out bool rare)
 {
-    return lrt_trace_ray_ordinary_budget(p, origin, tmin, dir, tmax, 0u, rare);
+    LrtSetup s;
+    uint kind = LRT_MISS_INVALID_RAY;
+    int e;
+    rare = lrt_ray_rare(p, origin, tmin, dir, tmax, e);
+    if (rare || !lrt_setup_ordinary(p, origin, tmin, dir, tmax, e, s, kind)) return lrt_miss(kind);
+    rare = !lrt_walk_cells_takes(s);
+    uint hx, hy;
+    float ht;
+    vec2 hplanes;
+    if (rare || lrt_walk_cells(p, s, hx, hy, ht, hplanes) != LRT_WALK_HIT) return lrt_miss(kind);
+    return lrt_report_hit(p, s, -e, true, ht, tmin, tmax, hx, hy, hplanes); // e <= 125: 2^-e is normal
 }
 
 #endif

@@ -40,7 +40,10 @@ void lrt_trace_one(uint idx)
         hit = lrt_trace_ray_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget);
     } else {
         bool rare;
-        hit = lrt_trace_ray_ordinary_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget, rare);
+        if (lrt_trace_pass == 0u)
+            hit = lrt_trace_ray_ordinary(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, rare);
+        else
+            hit = lrt_trace_ray_ordinary_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget, rare);
         if (rare) {
             lrt_hits.h[i] = uvec4(0u, 0u, 0u, LRT_RARE_MARK);
             return;
