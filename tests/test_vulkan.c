@@ -27,7 +27,9 @@
    flushes them does (an NVIDIA H200: this mode gave its very answers),
    while the CPU path and the reference run as usual.
    No Vulkan loader or device: prints why and exits 0 (skipped), or 1 when
-   the environment variable CI is "true". Ends with "N passed, M failed". */
+   the environment variable CI is "true". Ends with "N passed, M failed".
+   LRT_TEST_SEED (a number) draws other rays of the same kinds: a longer
+   soak of the GPU walks against the CPU's, one seed a run. */
 #ifndef LINEAR_RT_VULKAN
 #define LINEAR_RT_VULKAN
 #endif
@@ -1426,8 +1428,13 @@ int main(int argc, char **argv)
 #ifdef HAVE_MXCSR
     const unsigned int mxcsr = _mm_getcsr();
 #endif
+    const char *seed = getenv("LRT_TEST_SEED");
     g_flushing = argc > 1 && strcmp(argv[1], "--flushing-device") == 0;
     check_select(argc - g_flushing, argv + g_flushing);
+    if (seed) { /* rays.h's generator; never 0, where xorshift stays */
+        g_rng = (strtoull(seed, NULL, 0) * 0x9e3779b97f4a7c15ull) | 1u;
+        printf("rays from LRT_TEST_SEED=%s\n", seed);
+    }
     if (g_flushing) {
 #ifdef HAVE_MXCSR
         _mm_setcsr(mxcsr | 0x8040u); /* FTZ (bit 15), DAZ (bit 6): inherited by the threads made from here */
