@@ -545,12 +545,13 @@ typedef struct wave_weight {
    main loop body, from its loop head to its last branch back there, and of
    the loops inside it (tools/loop_weights.py over RADV_DEBUG=shaders
    build/gpu_stats --gpu navi31). linear_rt's exact ordinary pass (buffer
-   depth) is the cell walk: a step tests one cell or one texel, and its
-   loop body holds both tests and the move (infinite thickness 559;
-   back-map trees of 16-bit nodes 951, of 8-bit nodes 953). Its budgeted
-   pass is the 8-child walk, whose loop holds the level-1 texel loop: the
-   walk's own part is a node test's weight, the texel loop's a texel
-   test's (1139 = 899 + 240; back 16-bit 1419 = 812 + 607). The 64-step march's loop body (413) holds
+   depth) of an infinite tree is the cell walk: a step tests one cell or
+   one texel, and its loop body holds both tests and the move (559). A
+   thickness tree's, and every budgeted pass, is the 8-child walk, whose
+   loop holds the level-1 texel loop: the walk's own part is a node test's
+   weight, the texel loop's a texel test's (back-map trees of 16-bit nodes
+   1304 = 696 + 608, of 8-bit nodes 1512 = 905 + 607; with a step budget
+   1139 = 899 + 240, back 16-bit 1419 = 812 + 607). The 64-step march's loop body (413) holds
    its sample and its 8 bisection steps unrolled: 413 / 9 a sample. DDA
    128 a column, Hi-Z 287 an iteration. Static counts of a body: a wave
    whose lanes take different branches issues them all, one that agrees
@@ -559,8 +560,8 @@ typedef struct wave_weight {
 static const wave_weight wave_weights[] = {
     {"linear_rt vulkan 16", 559.0, 0.0, 32},
     {"linear_rt vulkan 8", 559.0, 0.0, 32},
-    {"linear_rt vulkan 16 back", 951.0, 0.0, 24},
-    {"linear_rt vulkan 8 back", 953.0, 0.0, 24},
+    {"linear_rt vulkan 16 back", 696.0, 608.0, 18},
+    {"linear_rt vulkan 8 back", 905.0, 607.0, 18},
     {"linear_rt vulkan 16 budget", 899.0, 240.0, 20},
     {"linear_rt vulkan 16 budget back", 812.0, 607.0, 18},
     {"march64 vulkan", 413.0 / 9.0, 0.0, 32},
@@ -639,7 +640,8 @@ static void count_waves(const scene *sc, const ray_set *sets, int nsets)
             wave_row *w = &g_waves[g_nwaves];
             const wave_weight *ww = weight_of(names[k], sc->s.back != NULL);
             double texels = 0.0;
-            int bad = k < 2 ? bench_wave_cells(&sc->s, rs, k == 0 ? 16u : 8u, steps, &texels)
+            /* the exact pass: the cell walk, a thickness tree's the 8-child walk */
+            int bad = k < 2 ? (sc->s.back ? bench_wave_linear_rt : bench_wave_cells)(&sc->s, rs, k == 0 ? 16u : 8u, steps, &texels)
                             : bench_wave_march(&sc->s, rs, k - 2, steps);
             if (bad && k < 2) fprintf(stderr, "bench: %s %s: the cell walk's mirror (bench/visits.c) differs from lrt_trace\n",
                                       sc->s.name, rs->name);
@@ -730,13 +732,15 @@ static void write_waves(FILE *f)
     if (!g_nwaves) return;
     fprintf(f, "\n## What a wave pays\n\nA GPU steps %u rays together (a warp, a wave32) and a group pays for its "
                "slowest ray. Steps per ray, counted on the CPU (bench/visits.c, bench/wave.c) as the Vulkan kernels "
-               "take them: linear_rt's node tests at any level, walking as its kernels do (always from the origin's "
-               "level-1 node); the 64-step march's samples and bisection steps; the DDA's columns; the Hi-Z walk's "
-               "iterations. Wave steps: the mean over groups of %u consecutive rays (dispatch order) of the group's "
-               "most. The ray-query peers are not counted (the hardware's traversal). Estimate: wave steps x the "
-               "kernel's instructions per step (RDNA3, RADV: the static instructions of its loop body; linear_rt's "
-               "texel tests added at their own weight per node test) x %d / waves per SIMD below %d: instructions "
-               "a wave issues per ray, not a time (bench/main.c, wave_weights, says where each figure comes from).\n\n",
+               "take them: linear_rt's exact walk on an infinite tree, its cells and texels tested (the cell walk); "
+               "on a thickness tree, and with a step budget, its node tests at any level (the 8-child walk, always "
+               "from the origin's level-1 node); the 64-step march's samples and bisection steps; the DDA's columns; "
+               "the Hi-Z walk's iterations. Wave steps: the mean over groups of %u consecutive rays (dispatch order) "
+               "of the group's most. The ray-query peers are not counted (the hardware's traversal). Estimate: wave "
+               "steps x the kernel's instructions per step (RDNA3, RADV: the static instructions of its loop body; "
+               "the 8-child walk's texel tests added at their own weight per node test) x %d / waves per SIMD below "
+               "%d: instructions a wave issues per ray, not a time (bench/main.c, wave_weights, says where each "
+               "figure comes from).\n\n",
             WAVE_LANES, WAVE_LANES, WAVE_FULL, WAVE_FULL);
     fprintf(f, "| scene | rays | method | steps per ray | wave steps (%u) | wave / mean | texel tests per step | "
                "estimate |\n|---|---|---|--:|--:|--:|--:|--:|\n", WAVE_LANES);
