@@ -1488,9 +1488,7 @@ int lrt_cross_texel(float o, float v, float iv, uint neg, bool zero, float t, in
 // compact level 1 (8-bit trees) takes fewer codes: the caller subtracts them
 uint lrt_cell_code(LrtParams p, uint lv, uint off, uint cx, uint cy)
 {
-    bool wide = (lv & 1u) == 0u; // a level-lv cell's parent holds 4x2 of them
-    uint slots = wide ? ((((cy >> 1) & 3u) << 1) | ((cx >> 2) & 1u)) << 3 | ((cy & 1u) << 2) | (cx & 3u)
-                      : ((((cy >> 2) & 1u) << 2) | ((cx >> 1) & 3u)) << 3 | ((cy & 3u) << 1) | (cx & 1u);
+    uint slots = lrt_child_slot(lv + 1u, cx >> lrt_bw_log2(lv), cy >> lrt_bh_log2(lv)) << 3 | lrt_child_slot(lv, cx, cy);
     uint index = ((cy >> 3) * lrt_grid_w(p.width, lv + 2u) + (cx >> 3)) * 64u + slots;
     return off * 8u + index;
 }
@@ -1629,6 +1627,17 @@ LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
     return lrt_trace_ray_budget(p, origin, tmin, dir, tmax, 0u);
 }
 
+// the ordinary set-up of a ray lrt_ray_rare lets through (scaled by its
+// 2^-e); false with rare set for one it does not, or with kind set when
+// nothing is left to walk
+bool lrt_setup_unless_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out LrtSetup s, out int e, out uint kind,
+                           out bool rare)
+{
+    kind = LRT_MISS_INVALID_RAY;
+    rare = lrt_ray_rare(p, o, tmin, v, tmax, e);
+    return !rare && lrt_setup_ordinary(p, o, tmin, v, tmax, e, s, kind);
+}
+
 // an ordinary ray, without the rare set-up's code: a shader a fraction of
 // lrt_trace_ray's size. rare true (and the hit undefined) for a ray only
 // lrt_setup_rare can set up (lrt_ray_rare; a direction that is only large
@@ -1639,10 +1648,9 @@ LrtHit lrt_trace_ray_ordinary_budget(LrtParams p, vec3 origin, float tmin, vec3 
                                      out bool rare)
 {
     LrtSetup s;
-    uint kind = LRT_MISS_INVALID_RAY;
+    uint kind;
     int e;
-    rare = lrt_ray_rare(p, origin, tmin, dir, tmax, e);
-    if (rare || !lrt_setup_ordinary(p, origin, tmin, dir, tmax, e, s, kind)) return lrt_miss(kind);
+    if (!lrt_setup_unless_rare(p, origin, tmin, dir, tmax, s, e, kind, rare)) return lrt_miss(kind);
     return lrt_trace_setup(p, s, -e, true, kind, tmin, tmax, budget, true); // e <= 125: 2^-e is normal
 }
 
@@ -1651,10 +1659,9 @@ LrtHit lrt_trace_ray_ordinary_budget(LrtParams p, vec3 origin, float tmin, vec3 
 LrtHit lrt_trace_ray_ordinary(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, out bool rare)
 {
     LrtSetup s;
-    uint kind = LRT_MISS_INVALID_RAY;
+    uint kind;
     int e;
-    rare = lrt_ray_rare(p, origin, tmin, dir, tmax, e);
-    if (rare || !lrt_setup_ordinary(p, origin, tmin, dir, tmax, e, s, kind)) return lrt_miss(kind);
+    if (!lrt_setup_unless_rare(p, origin, tmin, dir, tmax, s, e, kind, rare)) return lrt_miss(kind);
     rare = !lrt_walk_cells_takes(s);
     uint hx, hy;
     float ht;

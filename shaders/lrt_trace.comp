@@ -41,8 +41,8 @@ void lrt_trace_one(uint idx)
     } else {
         bool rare;
         // the exact pass of an infinite tree walks cells; a thickness tree's
-        // the 8-child walk, whose wider step pays there (bench: a wave's
-        // estimate 2.2-3.1x lower on the yard back's sets)
+        // the 8-child walk, whose wider step pays where each texel test
+        // also reads a back (docs/PERFORMANCE.md, what a wave pays)
         if (lrt_trace_pass == 0u && !LRT_BACK_TREES)
             hit = lrt_trace_ray_ordinary(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, rare);
         else
