@@ -60,7 +60,7 @@ SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl) linear_rt.h # the kerne
 SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 
 # what `make test` runs, one count each in its summary line
-TESTS := test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-vulkan-trace test-demo test-examples test-bench test-gpu-stats
+TESTS := test-programs-build test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-vulkan-trace test-demo test-examples test-bench test-gpu-stats
 
 # hardening (sanitizers with clang, valgrind, static checks, limits) and the
 # fuzzers: their own makefiles, which add their tests to TESTS
@@ -463,6 +463,11 @@ bench-publish:
 test-bench: $(B)/bench
 	$(B)/bench --quick --out $(B)
 
+# tools/walk_rays.c, the workload of tools/walk_ab.sh (which builds its own
+# copies against two headers): built here so that it keeps compiling
+$(B)/walk_rays: tools/walk_rays.c $(LIB) $(SCENE) | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) -O3 $< -o $@ $(LDLIBS)
+
 # ---- the kernels' weight on AMD GPUs ------------------------------------------
 # tools/gpu_stats.c: every pipeline of lrt_vk_context_create, and the
 # benchmark's Vulkan peers (their kernels as make bench compiles them), built
@@ -522,11 +527,31 @@ TEST_PROGRAMS = $(addprefix $(FB)/,$(FUZZERS)) \
   $(addprefix $(B)/,test_core_csan test_core_san test_core_m32 test_limits_isan32 test_core_isan \
     test_limits_csan test_limits_m32 test_limits test_limits_isan test_core_san_sse2 test_core \
     test_core_scalar test_core_sse2 test_paths test_examples $(EXAMPLES) demo test_demo bench \
-    test_threads test_threads_tsan test_reference test_reference_san test_reference_csan spv2h static_tu.c) \
-  $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,test_vulkan test_vulkan_threads test_vulkan_threads_tsan vulkan_trace gpu_stats)) \
+    test_threads test_threads_tsan test_reference test_reference_san test_reference_csan spv2h static_tu.c \
+    test_misuse test_misuse_san soak soak_tsan bench-twin walk_rays) \
+  $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,$(VULKAN_PROGRAMS))) \
   $(if $(filter 11,$(HAVE_VULKAN)$(VI_HAVE_GLSLANG)),$(B)/vulkan_inline)
+VULKAN_PROGRAMS := test_vulkan test_vulkan_threads test_vulkan_threads_tsan vulkan_trace gpu_stats
 
 test-programs: $(TEST_PROGRAMS)
+
+# Every program that a make target builds (the soaks, the benchmark and its
+# twin, the tools, every example), also those no test runs: each is in
+# TEST_PROGRAMS, so the build above compiles it, and here all of them must be
+# built, so that a program that stops compiling fails make test. The list is
+# read off the makefiles' rules (tests/programs.awk): a new program's rule
+# that is missing from TEST_PROGRAMS fails here too. Without Vulkan headers
+# (ALLOW_SKIP) the Vulkan programs are not asked for.
+PROGRAM_MAKEFILES := Makefile tests/hardening.mk tests/threads.mk tests/fuzz/fuzz.mk examples/vulkan_inline/vulkan_inline.mk
+PROGRAMS_NOT_HERE := $(if $(filter 1,$(HAVE_VULKAN)),,$(VULKAN_PROGRAMS) fuzz_vk_args vulkan_inline) \
+  $(if $(filter 11,$(HAVE_VULKAN)$(VI_HAVE_GLSLANG)),,vulkan_inline)
+test-programs-build:
+	@missing=; for p in $$(awk -f tests/programs.awk $(PROGRAM_MAKEFILES) | sort -u); do \
+	  case " $(notdir $(TEST_PROGRAMS)) $(PROGRAMS_NOT_HERE) " in *" $$p "*) ;; *) missing="$$missing $$p";; esac; \
+	done; \
+	if [ -n "$$missing" ]; then echo "test-programs-build: FAIL: built by a make rule but not in TEST_PROGRAMS:$$missing"; exit 1; fi
+	@$(MAKE) --no-print-directory -k test-programs && \
+	echo "test-programs-build: ok, $(words $(TEST_PROGRAMS)) programs, every one a make target builds, compile"
 
 # Then the tests, two at a time (tools/run_tests.sh: each one's output whole
 # when it ends), the longest first so that both queues end together: in a

@@ -260,7 +260,7 @@ static lrt_rect pick_rect(int w, int h)
 /* ---- one frame ------------------------------------------------------------------------ */
 typedef struct world {
     test_map m;
-    lrt_bvh live = {0}, fresh = {0};
+    lrt_bvh live, fresh; /* zeroed with the whole world in main (lrt_bvh_build needs a zeroed tree) */
     lrt_build_options opt;
     int have_map;
     lrt_ray *rays;

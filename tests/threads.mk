@@ -23,12 +23,14 @@
 #                               a frame loop of random maps, dirty rects, refits
 #                               and threaded traces; SOAK_SEED=n replays a run
 #   make soak-tsan              the same under ThreadSanitizer
+# of which `make test` runs a short one (test-soak: TEST_SOAK_SECONDS of each).
 # The TSan targets skip (exit 0, with a line that says what is missing) where
 # clang's TSan runtime is not installed, and fail there under CI=true; the
 # Vulkan ones skip without Vulkan, as test-vulkan does.
 
 CLANG ?= clang
 SOAK_SECONDS ?= 60
+TEST_SOAK_SECONDS ?= 10
 
 TSAN := -fsanitize=thread -fno-omit-frame-pointer -O1 -g
 # halt_on_error: the first report ends the run with exit code 66, so any
@@ -38,7 +40,7 @@ TSAN_ENV = TSAN_OPTIONS=halt_on_error=1:exitcode=66:second_deadlock_stack=1$(if 
 THREADS_DEPS := tests/test_threads.c $(LIB) $(REF) $(SCENE) $(RAYS)
 VK_THREADS_DEPS := tests/test_vulkan_threads.c $(LIB) $(SPV_H) $(REF) $(SCENE) $(RAYS) $(VK_UTIL)
 
-THREADS_TESTS := test-threads test-threads-tsan test-vulkan-threads test-vulkan-threads-tsan
+THREADS_TESTS := test-threads test-threads-tsan test-vulkan-threads test-vulkan-threads-tsan test-soak
 TESTS += $(THREADS_TESTS)
 
 .PHONY: test-threads-all soak soak-tsan
@@ -107,3 +109,9 @@ soak-tsan: | $(B)
 	@$(HAVE_TSAN); \
 	$(MAKE) --no-print-directory $(B)/soak_tsan && \
 	echo "$(TSAN_ENV) $(B)/soak_tsan $(SOAK_SECONDS)" && $(TSAN_ENV) $(B)/soak_tsan $(SOAK_SECONDS)
+
+# make test's short soak: both builds, TEST_SOAK_SECONDS each (a new seed each
+# run: the seed is printed, SOAK_SEED=n replays it)
+test-soak: $(B)/soak
+	$(B)/soak $(TEST_SOAK_SECONDS)
+	@$(MAKE) --no-print-directory soak-tsan SOAK_SECONDS=$(TEST_SOAK_SECONDS)
