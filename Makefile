@@ -184,13 +184,37 @@ $(B)/paths_avx2.o: tests/paths_tu.c tests/support/build_trace.h $(LIB) | deps $(
 $(B)/paths_sse2.o: tests/paths_tu.c tests/support/build_trace.h $(LIB) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) -DLINEAR_RT_NO_AVX -DPATHS_FN=paths_trace_sse2 -c $< -o $@
 
-# gnu99: gcc fuses a * b + c wherever it may, also in the AVX2 + FMA pass
-$(B)/paths_contract.o: tests/paths_tu.c tests/support/build_trace.h $(LIB) | deps $(B)
-	$(CC) -std=gnu99 -ffp-contract=fast $(WARN) $(CFLAGS) -DPATHS_FN=paths_trace_contract -c $< -o $@
+# The builds an engine makes of the implementation, each a copy of it in
+# tests/paths_tu.c held to this test's own -std=c99 copy bit for bit
+# (tests/test_paths.c names them): GNU C modes (gcc fuses a * b + c wherever
+# it may, -ffp-contract=fast), -ffast-math and -Ofast, -O0 to -O3, with and
+# without -march=native, C and C++, gcc and clang. $(call paths_build,NAME,
+# COMPILER AND FLAGS) adds one; test_paths.c's PATHS_BUILDS lists the same.
+PATHS_OBJ := $(B)/paths_scalar.o $(B)/paths_sse2.o $(B)/paths_avx2.o
+define paths_build
+$(B)/paths_$(1).o: tests/paths_tu.c tests/support/build_trace.h $(LIB) | deps $(B)
+	$(2) $(WARN) $(CFLAGS_PATHS) -DPATHS_FN=paths_trace_$(1) -c $$< -o $$@
+PATHS_OBJ += $(B)/paths_$(1).o
+endef
+HAVE_CLANG := $(shell command -v clang >/dev/null 2>&1 && command -v clang++ >/dev/null 2>&1 && echo 1)
+$(eval $(call paths_build,gnu99_contract,gcc -std=gnu99 -O2 -ffp-contract=fast))
+$(eval $(call paths_build,gcc_gnu11_native,gcc -std=gnu11 -O2 -march=native))
+$(eval $(call paths_build,gcc_fast_native,gcc -std=gnu11 -O3 -march=native -ffast-math))
+$(eval $(call paths_build,gcc_ofast,gcc -std=gnu11 -Ofast))
+$(eval $(call paths_build,gcc_o0,gcc -std=c99 -O0))
+$(eval $(call paths_build,gcc_fast_nosimd,gcc -std=gnu11 -O2 -ffast-math -DLINEAR_RT_NO_SIMD))
+$(eval $(call paths_build,gxx_fast_native,g++ -x c++ -std=gnu++14 -O3 -march=native -ffast-math))
+$(eval $(call paths_build,gxx_o1,g++ -x c++ -std=c++11 -O1))
+ifeq ($(HAVE_CLANG),1)
+$(eval $(call paths_build,clang_fast,clang -std=gnu11 -O3 -ffast-math))
+$(eval $(call paths_build,clang_ofast_native,clang -std=gnu11 -Ofast -march=native))
+$(eval $(call paths_build,clang_o1_contract,clang -std=c99 -O1 -ffp-contract=fast))
+$(eval $(call paths_build,clangxx_fast_native,clang++ -x c++ -std=c++17 -O2 -march=native -ffast-math))
+endif
+CFLAGS_PATHS := -g
 
-PATHS_OBJ := $(B)/paths_scalar.o $(B)/paths_sse2.o $(B)/paths_avx2.o $(B)/paths_contract.o
-$(B)/test_paths: tests/test_paths.c tests/support/build_trace.h $(PATHS_OBJ) $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
-	$(CC) $(STD) $(WARN) $(CFLAGS) $< $(PATHS_OBJ) -o $@ $(LDLIBS)
+$(B)/test_paths: tests/test_paths.c tests/support/build_trace.h bench/scenes.h $(PATHS_OBJ) $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) -DPATHS_HAVE_CLANG=$(if $(HAVE_CLANG),1,0) $< $(PATHS_OBJ) -o $@ $(LDLIBS)
 
 test-core-paths: $(B)/test_core_scalar $(B)/test_core_sse2 $(B)/test_paths
 	$(B)/test_paths
@@ -388,7 +412,7 @@ test-demo: $(B)/demo $(B)/test_demo
 HAVE_EMBREE := $(shell test -f /usr/include/embree3/rtcore.h && echo 1)
 HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
 BENCH_SRC := bench/main.c bench/m_linear_rt.c bench/visits.c bench/wave.c bench/m_embree.c bench/march_cpu.c bench/m_vk_peers.c
-BENCH_HDR := bench/bench.h bench/march_common.h examples/march.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
+BENCH_HDR := bench/bench.h bench/scenes.h bench/march_common.h examples/march.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
 BENCH_FLAGS := $(STD) $(WARN) $(CFLAGS) -O3 $(NATIVE)
 BENCH_LIBS := $(LDLIBS)
 BENCH_DEPS :=

@@ -935,6 +935,42 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
    place that decides which SIMD paths are compiled.
    ========================================================================== */
 #ifdef LINEAR_RT_IMPLEMENTATION
+#ifndef LRT__AVX2_PASS
+/* Floating-point rules. The answers are exact, and equal to the kernels' bit
+   for bit, only if every float operation is the IEEE one written: no
+   reassociation, no contraction into fma, no reciprocal in place of a
+   division, signed zeros, infinities and NaNs kept. An engine may build
+   this translation unit with -ffast-math, -Ofast, GNU C's default
+   -ffp-contract=fast or MSVC's /fp:fast; the implementation restores the
+   rules for its own code, whatever the command line, and hands the
+   includer's back at its end (make test builds it under each: the same
+   bytes). Subnormals flushed by the includer's start-up code (fast-math's
+   FTZ / DAZ) change nothing: the model reads them as 0 (docs/MODEL.md). */
+#include <float.h>
+#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0
+#error "linear_rt.h: floats evaluated in a wider format (FLT_EVAL_METHOD != 0: x87 math, e.g. gcc -m32 without -mfpmath=sse) change its answers: build this file with -msse2 -mfpmath=sse"
+#endif
+#if defined(__clang__) && ((defined(__apple_build_version__) && __clang_major__ < 13) || __clang_major__ < 12)
+/* before float_control (clang 12, Apple clang 13) only contraction can be undone */
+#if defined(__FAST_MATH__) || defined(__FINITE_MATH_ONLY__)
+#error "linear_rt.h: this clang cannot undo -ffast-math / -ffinite-math-only for the implementation: build the file that defines LINEAR_RT_IMPLEMENTATION without them (clang 12 or newer can)"
+#endif
+#pragma STDC FP_CONTRACT OFF
+#elif defined(__clang__)
+#pragma float_control(precise, on, push) /* no reassociation or reciprocals; NaN, inf, -0 kept */
+#pragma clang fp contract(off)
+#define LRT__FP_RULES_PUSHED
+#elif defined(__GNUC__)
+#pragma GCC push_options
+#pragma GCC optimize("no-unsafe-math-optimizations", "no-associative-math", "no-reciprocal-math", "signed-zeros", \
+                     "no-finite-math-only", "fp-contract=off")
+#define LRT__FP_RULES_PUSHED
+#elif defined(_MSC_VER)
+#pragma float_control(precise, on, push) /* /fp:precise here, also under /fp:fast */
+#pragma fp_contract(off)
+#define LRT__FP_RULES_PUSHED
+#endif
+#endif /* !LRT__AVX2_PASS */
 #if !defined(LINEAR_RT_IMPLEMENTATION_DONE) || defined(LRT__AVX2_PASS)
 #ifndef LRT__AVX2_PASS /* the AVX2 pass (section walk-avx2) compiles only the walk */
 #define LINEAR_RT_IMPLEMENTATION_DONE
@@ -6493,6 +6529,16 @@ LINEAR_RT_DEF void lrt_vk_device_destroy(lrt_vk_device *device)
 #define LRT__AVX LRT__AVX_BUILT
 #undef LRT__AVX2_PASS
 #endif /* the AVX2 pass */
+#if defined(LRT__FP_RULES_PUSHED) && !defined(LRT__AVX2_PASS) /* the includer's floating-point rules again */
+#undef LRT__FP_RULES_PUSHED
+#if defined(__clang__)
+#pragma float_control(pop)
+#elif defined(__GNUC__)
+#pragma GCC pop_options
+#elif defined(_MSC_VER)
+#pragma float_control(pop)
+#endif
+#endif
 #endif /* LINEAR_RT_IMPLEMENTATION */
 
 #endif /* LRT_GLSL */

@@ -26,6 +26,7 @@
 #include "bench.h"
 #include "../tests/support/reference.h"
 #include "../examples/scene.h"
+#include "scenes.h"
 #include "../examples/depth_file.h"
 #include "../examples/surface.h"
 
@@ -121,43 +122,17 @@ static void scene_finish(scene *sc, const char *name, uint32_t w, uint32_t h)
 static int scene_set_camera(scene *sc, float fov_deg, float near_z, float far_z, const float view_from_world[9],
                             char *why, size_t why_size);
 
-/* kind: 0 yard (the demo's scene, with its camera: reflection, AO and
-   shadow rays built as the examples build them), 1 poles (thin features),
-   2 terraces (8-bit steps facing the camera), 3 noise (the worst case for
-   culling); the last three are maps without a camera, whose secondary rays
-   come from screen-space normals; 4 "yard back", the yard with thickness:
-   its objects end at their back faces (a back-face depth pass), so rays
-   pass behind them */
+/* kind: a scene of bench/scenes.h. The yard has a camera: its reflection,
+   AO and shadow rays are built as the examples build them; the maps without
+   one (poles, terraces, noise) get secondary rays from screen-space normals */
 static void scene_make(scene *sc, int kind, uint32_t w, uint32_t h)
 {
-    static const char *names[5] = {"yard", "poles", "terraces", "noise", "yard back"};
-    uint32_t i, j;
     memset(sc, 0, sizeof *sc);
     sc->depth = (float *)malloc(sizeof(float) * w * h);
     if (!sc->depth) exit(2);
-    if (kind == 0 || kind == 4) {
-        scene_camera cam = scene_default_camera();
-        scene_render((int)w, (int)h, &cam, sc->depth, NULL);
-        if (kind == 4) {
-            if (!(sc->back = (float *)malloc(sizeof(float) * w * h))) exit(2);
-            scene_render_back((int)w, (int)h, &cam, sc->back);
-        }
-    } else {
-        for (j = 0; j < h; ++j)
-            for (i = 0; i < w; ++i) {
-                float floor_d = 0.55f + 0.44f * (float)j / (float)h, d = floor_d;
-                if (kind == 1) { /* 1-texel poles on a floor, and a few 2-texel ones */
-                    if (i % 37u == 11u && j < h * 3u / 4u) d = 0.35f + 0.1f * (float)(i % 5u) / 5.0f;
-                    if (i % 53u >= 20u && i % 53u <= 21u && j < h / 2u) d = 0.25f;
-                } else if (kind == 2) { /* camera-facing terraces of 8-bit depth */
-                    d = floorf((0.4f + 0.5f * (float)((i / 24u + j / 16u) % 9u) / 9.0f) * 255.0f) / 255.0f;
-                } else {
-                    d = 0.3f + 0.7f * rnd01();
-                }
-                sc->depth[j * w + i] = d;
-            }
-    }
-    scene_finish(sc, names[kind], w, h);
+    if (kind == 4 && !(sc->back = (float *)malloc(sizeof(float) * w * h))) exit(2);
+    bench_scene_depth(kind, w, h, sc->depth, sc->back, rnd01);
+    scene_finish(sc, bench_scene_names[kind], w, h);
     if (kind == 0 || kind == 4) { /* the yard has a camera: its reflection, AO and shadow rays are the examples' */
         scene_camera cam = scene_default_camera();
         float view_from_world[9];

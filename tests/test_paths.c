@@ -1,13 +1,22 @@
-/* tests/test_paths.c - linear_rt.h's traversal paths give the same answers,
-   bit for bit. This file's own copy is built as users build it (plain
-   x86-64 flags: the walk twice, AVX2 chosen at run time where the CPU has
-   it); the others are separate copies of the implementation
-   (tests/paths_tu.c): plain C (LINEAR_RT_NO_SIMD), SSE2 alone
-   (LINEAR_RT_NO_AVX), AVX2 compiled in (-mavx2 -mfma, run only where the
-   CPU has it) and the run-time choice again under -std=gnu99, where gcc
-   fuses a * b + c into an fma wherever it may (-ffp-contract=fast); and on
-   x86, the own and scalar copies again with subnormals flushed (MXCSR's
-   FTZ and DAZ), as a GPU may run the kernels.
+/* tests/test_paths.c - every build of linear_rt.h gives the same answers,
+   bit for bit. This file's own copy is built as the tests build it
+   (-std=c99, plain x86-64 flags: the walk twice, AVX2 chosen at run time
+   where the CPU has it); the others are separate copies of the
+   implementation (tests/paths_tu.c), linked side by side:
+   - the traversal paths: plain C (LINEAR_RT_NO_SIMD), SSE2 alone
+     (LINEAR_RT_NO_AVX), AVX2 compiled in (-mavx2 -mfma, run only where the
+     CPU has it);
+   - an engine's builds (the Makefile's PATHS_BUILDS): GNU C modes, whose
+     default -ffp-contract=fast fuses a * b + c wherever it may, -ffast-math
+     and -Ofast, -O0 to -O3, with and without -march=native, C and C++, gcc
+     and clang. linear_rt.h keeps its floating-point rules whatever the
+     includer's flags (section impl);
+   - on x86, the own and scalar copies again with subnormals flushed (MXCSR's
+     FTZ and DAZ), as a GPU may run the kernels and as -ffast-math's start-up
+     code sets them for a whole program.
+   The maps: every size, shape, format, Z direction and node width of
+   tests/support/rays.h, and the benchmark's five scenes (bench/scenes.h)
+   under every thickness model and step budget.
    test_core judges every path against the reference within docs/MODEL.md's
    tolerance; this test holds them to the same floats, which the header
    promises and the GPU comparison of test_vulkan relies on.
@@ -19,15 +28,40 @@
 #include "support/rays.h"
 #include "support/check.h"
 #include "support/build_trace.h"
+#include "../bench/scenes.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-int paths_trace_scalar(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
-int paths_trace_avx2(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
-int paths_trace_sse2(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
-int paths_trace_contract(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
+#define PATHS_DECLARE(fn) \
+    int fn(const lrt_depth *depth, const lrt_build_options *opt, const lrt_ray *rays, lrt_hit *hits, size_t n, uint32_t flags);
+/* the Makefile's PATHS_BUILDS, each one's flags in its name */
+#define PATHS_BUILDS(X)                                                                                            \
+    X(paths_trace_gnu99_contract, "gcc -std=gnu99 -ffp-contract=fast", 0)                                           \
+    X(paths_trace_gcc_gnu11_native, "gcc -std=gnu11 -O2 -march=native", 0)                                          \
+    X(paths_trace_gcc_fast_native, "gcc -std=gnu11 -O3 -march=native -ffast-math", 0)                               \
+    X(paths_trace_gcc_ofast, "gcc -std=gnu11 -Ofast", 0)                                                            \
+    X(paths_trace_gcc_o0, "gcc -std=c99 -O0", 0)                                                                    \
+    X(paths_trace_gcc_fast_nosimd, "gcc -std=gnu11 -O2 -ffast-math -DLINEAR_RT_NO_SIMD", 0)                         \
+    X(paths_trace_gxx_fast_native, "g++ -std=gnu++14 -O3 -march=native -ffast-math", 0)                             \
+    X(paths_trace_gxx_o1, "g++ -std=c++11 -O1", 0)                                                                  \
+    PATHS_CLANG_BUILDS(X)
+#if PATHS_HAVE_CLANG
+#define PATHS_CLANG_BUILDS(X)                                                                                      \
+    X(paths_trace_clang_fast, "clang -std=gnu11 -O3 -ffast-math", 0)                                                \
+    X(paths_trace_clang_ofast_native, "clang -std=gnu11 -Ofast -march=native", 0)                                   \
+    X(paths_trace_clang_o1_contract, "clang -std=c99 -O1 -ffp-contract=fast", 0)                                    \
+    X(paths_trace_clangxx_fast_native, "clang++ -std=c++17 -O2 -march=native -ffast-math", 0)
+#else
+#define PATHS_CLANG_BUILDS(X)
+#endif
+#define PATHS_ROW(fn, name, avx2) {name, fn, avx2},
+#define PATHS_DECLARE_ROW(fn, name, avx2) PATHS_DECLARE(fn)
+PATHS_DECLARE(paths_trace_scalar)
+PATHS_DECLARE(paths_trace_avx2)
+PATHS_DECLARE(paths_trace_sse2)
+PATHS_BUILDS(PATHS_DECLARE_ROW)
 typedef int (*paths_fn)(const lrt_depth *, const lrt_build_options *, const lrt_ray *, lrt_hit *, size_t, uint32_t);
 static const struct {
     const char *name;
@@ -36,7 +70,7 @@ static const struct {
 } g_paths[] = {{"scalar", paths_trace_scalar, 0},
                {"SSE2 alone", paths_trace_sse2, 0},
                {"AVX2 compiled in", paths_trace_avx2, 1},
-               {"gnu99 fp-contract=fast", paths_trace_contract, 0}};
+               PATHS_BUILDS(PATHS_ROW)};
 #define PATHS ((int)(sizeof g_paths / sizeof g_paths[0]))
 
 static int g_have_avx2;
@@ -81,7 +115,7 @@ static const struct {
 
 /* The rays of one map through every path; the first differing ray of each
    path is printed. */
-static void compare(const char *what, const test_map *m, uint32_t node_bits, const lrt_ray *rays, size_t n)
+static void compare(const char *what, const test_map *m, uint32_t node_bits, const lrt_ray *rays, size_t n, uint32_t flags)
 {
     lrt_hit *own = (lrt_hit *)calloc(n ? n : 1, sizeof(lrt_hit)), *other = (lrt_hit *)calloc(n ? n : 1, sizeof(lrt_hit));
     const lrt_depth *depth = test_map_depth(m);
@@ -96,7 +130,7 @@ static void compare(const char *what, const test_map *m, uint32_t node_bits, con
         free(other);
         return;
     }
-    CHECK(lrt_trace(&bvh, depth, rays, own, n, 0) == LRT_SUCCESS, "%s: own trace", what);
+    CHECK(lrt_trace(&bvh, depth, rays, own, n, flags) == LRT_SUCCESS, "%s: own trace", what);
     lrt_bvh_destroy(&bvh);
     for (p = 0; p < PATHS + FLUSHING_PATHS; ++p) {
         const char *name;
@@ -116,7 +150,7 @@ static void compare(const char *what, const test_map *m, uint32_t node_bits, con
 #endif
         }
         memset(other, 0xab, n * sizeof *other);
-        r = trace(depth, &opt, rays, other, n, 0);
+        r = trace(depth, &opt, rays, other, n, flags);
         CHECK(r == LRT_SUCCESS, "%s: %s trace returned %d", what, name, r);
         for (i = 0; i < n; ++i) {
             if (memcmp(&own[i], &other[i], sizeof own[i]) != 0) {
@@ -149,7 +183,7 @@ static void map_and_rays(int w, int h, int shape, lrt_format format, int reverse
              node_bits, padded ? " strided" : "", model_name(&m));
     if (rays) {
         for (i = 0; i < n; ++i) rays[i] = make_ray(&m, (int)(i % RAY_KIND_COUNT));
-        compare(what, &m, node_bits, rays, n);
+        compare(what, &m, node_bits, rays, n, 0);
     } else CHECK(0, "%s: out of memory", what);
     free_map(&m);
     free(rays);
@@ -191,6 +225,71 @@ static void test_thickness(void)
     map_and_rays(101, 37, SHAPE_TERRACES, LRT_FORMAT_UNORM8, 0, 16, 20000, 0, LRT_THICKNESS_RELATIVE);
 }
 
+/* A float map of w x h texels (and its back, if any) as a test_map. */
+static void map_from_floats(test_map *m, const float *depth, const float *back, int w, int h, const char *name)
+{
+    const size_t bytes = sizeof(float) * (size_t)w * (size_t)h;
+    memset(m, 0, sizeof *m);
+    if (!(m->storage = malloc(bytes)) || (back && !(m->back_storage = malloc(bytes)))) exit(2);
+    memcpy(m->storage, depth, bytes);
+    m->depth.data = m->storage;
+    m->depth.width = (uint32_t)w;
+    m->depth.height = (uint32_t)h;
+    m->depth.format = LRT_FORMAT_FLOAT32;
+    m->name = name;
+    if (ref_map_from_raw(&m->ref, m->storage, w, h, 0, REF_FORMAT_FLOAT32, 0) != 0) exit(2);
+    if (back) {
+        memcpy(m->back_storage, back, bytes);
+        m->pair[0] = m->depth;
+        m->pair[0].back = &m->pair[1];
+        m->pair[1] = m->depth;
+        m->pair[1].data = m->back_storage;
+        m->model.thickness = LRT_THICKNESS_BACK_MAP;
+        if (ref_map_set_back_from_raw(&m->ref, m->back_storage, 0, REF_FORMAT_FLOAT32, 0) != 0) exit(2);
+    }
+}
+
+static float bench_rnd01(void) { return rndf(); }
+
+/* The benchmark's five scenes, every thickness model (the yard back's own
+   back map; a constant and a relative layer on the others), with no budget
+   and each of the benchmark's step budgets, both node widths. */
+static void test_bench_scenes(void)
+{
+    static const uint32_t budgets[] = {0, 4, 8, 16, 32};
+    const int w = 320, h = 200;
+    const size_t n = 6000;
+    float *depth = (float *)malloc(sizeof(float) * (size_t)w * (size_t)h);
+    float *back = (float *)malloc(sizeof(float) * (size_t)w * (size_t)h);
+    lrt_ray *rays = (lrt_ray *)malloc(sizeof(lrt_ray) * n);
+    int kind, model;
+    size_t b, i;
+    if (!depth || !back || !rays) exit(2);
+    for (kind = 0; kind < BENCH_SCENE_COUNT; ++kind) {
+        bench_scene_depth(kind, (uint32_t)w, (uint32_t)h, depth, back, bench_rnd01);
+        for (model = 0; model < (kind == 4 ? 1 : 3); ++model) {
+            test_map m;
+            map_from_floats(&m, depth, kind == 4 ? back : NULL, w, h, bench_scene_names[kind]);
+            if (model == 1) add_model(&m, LRT_THICKNESS_CONSTANT, 0.3f, 0.1f, 100.0f);
+            if (model == 2) add_model(&m, LRT_THICKNESS_RELATIVE, 0.05f, 0.1f, INFINITY);
+            for (i = 0; i < n; ++i) rays[i] = make_ray(&m, (int)(i % RAY_KIND_COUNT));
+            for (b = 0; b < sizeof budgets / sizeof budgets[0]; ++b) {
+                char what[160];
+                uint32_t bits;
+                for (bits = 8; bits <= 16; bits += 8) {
+                    snprintf(what, sizeof what, "bench scene %s%s, budget %u, nodes %u", m.name, model_name(&m),
+                             (unsigned)budgets[b], (unsigned)bits);
+                    compare(what, &m, bits, rays, n, LRT_TRACE_BUDGET(budgets[b]));
+                }
+            }
+            free_map(&m);
+        }
+    }
+    free(depth);
+    free(back);
+    free(rays);
+}
+
 /* the fuzzer's rays, the rare set-up among them */
 static void test_found_cases(void)
 {
@@ -200,7 +299,7 @@ static void test_found_cases(void)
     for (k = 0; found_case(k, &m, &r); ++k) {
         char what[64];
         snprintf(what, sizeof what, "found case %d", k);
-        compare(what, &m, 0, &r, 1);
+        compare(what, &m, 0, &r, 1, 0);
         free_map(&m);
     }
 }
@@ -217,6 +316,7 @@ int main(int argc, char **argv)
     RUN_TEST(test_maps);
     RUN_TEST(test_large);
     RUN_TEST(test_thickness);
+    RUN_TEST(test_bench_scenes);
     RUN_TEST(test_found_cases);
     printf("%zu rays compared across the paths\n", g_rays);
     return check_summary();
