@@ -119,8 +119,9 @@ int main(void)
    or newer (instance too), VK_KHR_push_descriptor enabled, and the features
    lrt_vk_get_requirements lists (read from the kernels' SPIR-V) enabled.
    The library never owns a queue, submits, waits or allocates per frame;
-   the recording functions only read the context and the BVH, so several
-   threads may record with one context at once. The GPU tree is the CPU's
+   the recording functions only read the context and the BVH (but build,
+   which marks its tree built), so several threads may record with one
+   context at once (a tree's build before anything else records with it). The GPU tree is the CPU's
    node array byte for byte (lrt_vk_bvh.layout is an lrt_layout), and the
    kernels answer what the CPU answers (docs/MODEL.md: same kind and texel, t
    within float rounding): the CPU and the kernels run one walk, with no
@@ -339,6 +340,8 @@ typedef enum lrt_result {
     LRT_ERROR_DEPTH_MISMATCH = 22,  /* the map's format or LRT_DEPTH_REVERSED_Z differs from the tree's (what
                                        it was built from), or the back map's from the depth's */
     LRT_ERROR_ALREADY_BUILT = 23,   /* build or create on a tree that is built: destroy it first */
+    LRT_ERROR_CONTEXT_MISMATCH = 24, /* a GPU tree recorded with a context of another VkDevice than the one
+                                        it was created with */
     LRT_RESULT_MAX_ENUM = 0x7fffffff
 } lrt_result;
 
@@ -792,6 +795,10 @@ typedef struct lrt_vk_bvh {      /* fields are read-only to callers */
                                     create, as lrt_bvh: create refuses a created one) */
     lrt_format format;           /* the desc's format and depth_flags: every map must agree */
     uint32_t depth_flags;
+    VkDevice device;             /* the context's device at create: every command needs a context of it
+                                    (else LRT_ERROR_CONTEXT_MISMATCH) */
+    uint32_t build_recorded;     /* set by lrt_vk_cmd_build: update and trace need it (else
+                                    LRT_ERROR_INVALID_BVH); it says recorded, not yet run */
 } lrt_vk_bvh;
 
 /* Bytes of the node and counter ranges of a map of this size and format. */
@@ -848,8 +855,11 @@ typedef struct lrt_vk_depth {
    descriptors and push constants are left changed. */
 
 /* BuildBVH: fills the counters with 0, then refits every node from depth
-   (padding too). Once after create, before any update or trace. */
-LINEAR_RT_API lrt_result lrt_vk_cmd_build(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+   (padding too). Once after create, before any update or trace: it marks
+   the tree (build_recorded), and update and trace of a tree whose build was
+   never recorded are LRT_ERROR_INVALID_BVH. Every command takes a context
+   of the device the tree was created on (else LRT_ERROR_CONTEXT_MISMATCH). */
+LINEAR_RT_API lrt_result lrt_vk_cmd_build(lrt_vk_context *ctx, VkCommandBuffer cmd, lrt_vk_bvh *bvh,
                                           const lrt_vk_depth *depth);
 /* UpdateBVH: refits the nodes above the texels of *dirty (NULL: the whole
    map), bottom-up to the root, in one dispatch; byte-for-byte a fresh build
@@ -1107,6 +1117,7 @@ LINEAR_RT_DEF const char *lrt_result_string(lrt_result result)
     case LRT_ERROR_DEPTH_MISMATCH:
         return "the map's format or reversed-Z flag differs from the tree's, or the back map's from the depth's";
     case LRT_ERROR_ALREADY_BUILT: return "the BVH is already built: destroy it before building again";
+    case LRT_ERROR_CONTEXT_MISMATCH: return "the GPU tree was created with a context of another VkDevice";
     default: return "unknown result code";
     }
 }
@@ -5609,6 +5620,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
     bvh.counters_bytes = counters_bytes;
     bvh.format = desc->format;
     bvh.depth_flags = desc->depth_flags;
+    bvh.device = ctx->device;
     if (desc->nodes != VK_NULL_HANDLE) { /* the caller's buffers */
         if (desc->flags & LRT_VK_BVH_HOST_VISIBLE) return LRT_ERROR_INVALID_OPTION;
         if (desc->nodes_offset % align || desc->counters_offset % align ||
@@ -5687,6 +5699,8 @@ LINEAR_RT_DEF lrt_result lrt_vk_bvh_create(lrt_vk_context *ctx, const lrt_vk_bvh
 LINEAR_RT_DEF void lrt_vk_bvh_destroy(lrt_vk_context *ctx, lrt_vk_bvh *bvh)
 {
     if (!bvh) return;
+    /* a context of another device would free handles it does not own: the tree is left for the right one */
+    if (ctx && bvh->created == LRT__BUILT && bvh->device != ctx->device) return;
     if (ctx && bvh->created == LRT__BUILT && bvh->node_texels != VK_NULL_HANDLE)
         ctx->p_vkDestroyBufferView(ctx->device, bvh->node_texels, ctx->callbacks);
     if (ctx && bvh->created == LRT__BUILT && bvh->memory != VK_NULL_HANDLE) {
@@ -5770,8 +5784,8 @@ static lrt_result lrt__vk_map(const lrt_vk_context *c, const lrt_vk_depth *map, 
     return LRT_SUCCESS;
 }
 
-static lrt_result lrt__vk_check(const lrt_vk_context *c, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
-                                const lrt_vk_depth *depth, lrt__vk_source *src)
+static lrt_result lrt__vk_check_maps(const lrt_vk_context *c, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                     const lrt_vk_depth *depth, lrt__vk_source *src)
 {
     const lrt_vk_depth *back;
     uint32_t bpp;
@@ -5780,6 +5794,7 @@ static lrt_result lrt__vk_check(const lrt_vk_context *c, VkCommandBuffer cmd, co
     if (!c || !cmd || !bvh || !depth) return LRT_ERROR_NULL_POINTER;
     back = depth->back;
     if (bvh->created != LRT__BUILT) return LRT_ERROR_INVALID_BVH;
+    if (bvh->device != c->device) return LRT_ERROR_CONTEXT_MISMATCH;
     if ((r = lrt__check_size(depth->width, depth->height)) != LRT_SUCCESS) return r;
     bpp = lrt__format_bytes(depth->format);
     if (!bpp) return LRT_ERROR_INVALID_FORMAT;
@@ -5806,6 +5821,16 @@ static lrt_result lrt__vk_check(const lrt_vk_context *c, VkCommandBuffer cmd, co
                          &src->back_row_stride)) != LRT_SUCCESS)
         return r;
     return back_image == src->image ? LRT_SUCCESS : LRT_ERROR_INVALID_OPTION; /* both buffers, or both images */
+}
+
+/* build: 1 for lrt_vk_cmd_build, which alone may find the tree unbuilt
+   (last: the arguments' own errors are the more telling) */
+static lrt_result lrt__vk_check(const lrt_vk_context *c, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                const lrt_vk_depth *depth, int build, lrt__vk_source *src)
+{
+    lrt_result r = lrt__vk_check_maps(c, cmd, bvh, depth, src);
+    if (r == LRT_SUCCESS && !build && bvh->build_recorded != LRT__BUILT) r = LRT_ERROR_INVALID_BVH;
+    return r;
 }
 
 /* Workgroups for n invocations: 1D up to 65535 groups, then rows of them. */
@@ -5966,13 +5991,15 @@ static lrt_result lrt__vk_refit(lrt_vk_context *c, VkCommandBuffer cmd, const lr
     return LRT_SUCCESS;
 }
 
-LINEAR_RT_DEF lrt_result lrt_vk_cmd_build(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+LINEAR_RT_DEF lrt_result lrt_vk_cmd_build(lrt_vk_context *ctx, VkCommandBuffer cmd, lrt_vk_bvh *bvh,
                                           const lrt_vk_depth *depth)
 {
     lrt__vk_source src;
     lrt_result r;
-    if ((r = lrt__vk_check(ctx, cmd, bvh, depth, &src)) != LRT_SUCCESS) return r;
-    return lrt__vk_refit(ctx, cmd, bvh, depth, &src, 0, 0, depth->width - 1u, depth->height - 1u, 1);
+    if ((r = lrt__vk_check(ctx, cmd, bvh, depth, 1, &src)) != LRT_SUCCESS) return r;
+    r = lrt__vk_refit(ctx, cmd, bvh, depth, &src, 0, 0, depth->width - 1u, depth->height - 1u, 1);
+    if (r == LRT_SUCCESS) bvh->build_recorded = LRT__BUILT;
+    return r;
 }
 
 LINEAR_RT_DEF lrt_result lrt_vk_cmd_update(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
@@ -5980,7 +6007,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_update(lrt_vk_context *ctx, VkCommandBuffer 
 {
     lrt__vk_source src;
     lrt_result r;
-    if ((r = lrt__vk_check(ctx, cmd, bvh, depth, &src)) != LRT_SUCCESS) return r;
+    if ((r = lrt__vk_check(ctx, cmd, bvh, depth, 0, &src)) != LRT_SUCCESS) return r;
     if (!dirty) return lrt__vk_refit(ctx, cmd, bvh, depth, &src, 0, 0, depth->width - 1u, depth->height - 1u, 0);
     if (dirty->x > depth->width || dirty->width > depth->width - dirty->x || dirty->y > depth->height ||
         dirty->height > depth->height - dirty->y)
@@ -6004,7 +6031,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer c
     lrt__vk_push pc;
     uint32_t gx, gy;
     lrt_result r;
-    if ((r = lrt__vk_check(ctx, cmd, bvh, depth, &src)) != LRT_SUCCESS) return r;
+    if ((r = lrt__vk_check(ctx, cmd, bvh, depth, 0, &src)) != LRT_SUCCESS) return r;
     if (flags & ~LRT_K_TRACE_BUDGET_MASK) return LRT_ERROR_INVALID_OPTION; /* the budget's bits only */
     if (count > LINEAR_RT_MAX_RAYS_PER_CALL) return LRT_ERROR_TOO_MANY_RAYS;
     if (count == 0) return LRT_SUCCESS;

@@ -220,14 +220,14 @@ static void test_back_map_pointer(void)
 
 static void test_messages(void)
 {
-    const char *seen[LRT_ERROR_ALREADY_BUILT + 1];
+    const char *seen[LRT_ERROR_CONTEXT_MISMATCH + 1];
     int k, j;
-    for (k = 0; k <= LRT_ERROR_ALREADY_BUILT; ++k) {
+    for (k = 0; k <= LRT_ERROR_CONTEXT_MISMATCH; ++k) {
         seen[k] = lrt_result_string((lrt_result)k);
         CHECK(seen[k] && strcmp(seen[k], "unknown result code") != 0, "code %d has a message", k);
         for (j = 0; j < k; ++j) CHECK(strcmp(seen[j], seen[k]) != 0, "codes %d and %d share a message", j, k);
     }
-    CHECK(strcmp(lrt_result_string((lrt_result)(LRT_ERROR_ALREADY_BUILT + 1)), "unknown result code") == 0,
+    CHECK(strcmp(lrt_result_string((lrt_result)(LRT_ERROR_CONTEXT_MISMATCH + 1)), "unknown result code") == 0,
           "the code after the last is unknown");
     /* the cases whose message used to name another problem */
     CHECK(strstr(lrt_result_string(LRT_ERROR_DEPTH_MISMATCH), "format") != NULL &&

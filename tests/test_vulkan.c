@@ -887,6 +887,47 @@ static void test_bad_arguments(void)
                "trace: a tree of garbage bytes");
         lrt_vk_bvh_destroy(g_ctx, &junk); /* destroys nothing it did not make */
     }
+    { /* a tree created but never built: update and trace refuse it (its nodes are garbage until a build runs) */
+        lrt_vk_bvh fresh;
+        lrt_rect rect = {0, 0, 2, 2};
+        memset(&fresh, 0, sizeof fresh);
+        CHECK(lrt_vk_bvh_create(g_ctx, &bd, &fresh) == LRT_SUCCESS, "a second tree");
+        EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &fresh, &g.depth, rb.buffer, 0, hb.buffer, 0, 1, 0), LRT_ERROR_INVALID_BVH,
+               "trace: a tree never built");
+        EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &fresh, &g.depth, rb.buffer, 0, hb.buffer, 0, 1, LRT_TRACE_BUDGET(8)),
+               LRT_ERROR_INVALID_BVH, "trace with a budget: a tree never built");
+        EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &fresh, &g.depth, NULL), LRT_ERROR_INVALID_BVH, "update: a tree never built");
+        EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &fresh, &g.depth, &rect), LRT_ERROR_INVALID_BVH,
+               "update of a rect: a tree never built");
+        lrt_vk_bvh_destroy(g_ctx, &fresh);
+    }
+    { /* a tree of another VkDevice: refused before anything is recorded, both ways; destroy with the wrong
+         context frees nothing, the right one frees it (the validation layer of both devices watches) */
+        static lrt_vk_device other; /* stays put: its validation callback counts into it */
+        lrt_vk_context *other_ctx = NULL;
+        lrt_vk_bvh theirs, before;
+        memset(&theirs, 0, sizeof theirs);
+        CHECK(lrt_vk_device_create(&other, LRT_VK_DEVICE_VALIDATION) == LRT_SUCCESS &&
+                  lrt_vk_context_create(&other.desc, &other_ctx) == LRT_SUCCESS &&
+                  lrt_vk_bvh_create(other_ctx, &bd, &theirs) == LRT_SUCCESS,
+              "a second device, its context and a tree on it");
+        if (other_ctx && theirs.created) {
+            EXPECT(lrt_vk_cmd_build(g_ctx, cmd, &theirs, &g.depth), LRT_ERROR_CONTEXT_MISMATCH,
+                   "build: a tree of another device");
+            EXPECT(lrt_vk_cmd_trace(other_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 1, 0),
+                   LRT_ERROR_CONTEXT_MISMATCH, "trace: a context of another device");
+            EXPECT(lrt_vk_cmd_update(other_ctx, cmd, &bvh, &g.depth, NULL), LRT_ERROR_CONTEXT_MISMATCH,
+                   "update: a context of another device");
+            before = theirs;
+            lrt_vk_bvh_destroy(g_ctx, &theirs);
+            CHECK(memcmp(&before, &theirs, sizeof theirs) == 0, "destroy with another device's context left the tree");
+            lrt_vk_bvh_destroy(other_ctx, &theirs);
+            CHECK(theirs.created == 0, "destroy with its own context");
+        }
+        lrt_vk_context_destroy(other_ctx);
+        lrt_vk_device_destroy(&other);
+        CHECK(other.message_count == 0, "%u validation messages of the second device", other.message_count);
+    }
     bad = g.depth; bad.buffer = VK_NULL_HANDLE;
     EXPECT(lrt_vk_cmd_update(g_ctx, cmd, &bvh, &bad, NULL), LRT_ERROR_NULL_POINTER, "update: neither buffer nor view");
     bad = g.depth; /* any non-null view handle: rejected before use */
@@ -1081,7 +1122,7 @@ static void limits_trace(lrt_vk_context *ctx, const lrt_vk_bvh *bvh, const lrt_v
 
 /* Records build (dirty == NULL) or update of dirty with ctx, submits, and
    compares the nodes with the CPU's. */
-static void limits_refit(lrt_vk_context *ctx, const lrt_vk_bvh *bvh, const lrt_vk_depth *depth, const lrt_rect *dirty,
+static void limits_refit(lrt_vk_context *ctx, lrt_vk_bvh *bvh, const lrt_vk_depth *depth, const lrt_rect *dirty,
                          const lrt_bvh *cpu, const char *what)
 {
     lrt_result r;

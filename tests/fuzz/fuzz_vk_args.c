@@ -627,6 +627,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     lrt_vk_context_desc cd;
     lrt_vk_context *ctx = NULL, *const sentinel = (lrt_vk_context *)(uintptr_t)0x5a5a;
     lrt_vk_bvh bvh[BVHS] = {{0}};
+    int built[BVHS] = {0};
     VkResult vr = VK_SUCCESS;
     codes must = 0, may = 0;
     uint8_t cs;
@@ -698,6 +699,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     for (ops = 0; ops < 24 && in.at < in.n; ++ops) {
         uint8_t op = u8(&in);
         lrt_vk_bvh *b = &bvh[(op >> 4) % BVHS];
+        int *b_built = &built[(op >> 4) % BVHS]; /* a build of it recorded since its create (update and trace need one) */
         uint32_t before = g.commands;
         VkCommandBuffer cmd = (op & 0x80) && (op & 0x40) ? NULL : (VkCommandBuffer)(uintptr_t)0x40;
         codes cmust = 0, cmay = 0;
@@ -742,6 +744,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (s & 0x10) bd.nodes = (VkBuffer)(uintptr_t)0xa0, bd.nodes_offset = offset(&in);
             if (s & 0x20) bd.counters = (VkBuffer)(uintptr_t)0xa8, bd.counters_offset = offset(&in);
             lrt_vk_bvh_destroy(ctx, b);
+            *b_built = 0;
             objects = g.live_objects;
             if (!ctx) cmust |= CODE(LRT_ERROR_NULL_POINTER);
             if (s & 0x40 && s & 0x80) pbd = NULL, cmust |= CODE(LRT_ERROR_NULL_POINTER);
@@ -817,7 +820,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             int empty = 0;
             read_depth(&in, b, &d);
             if (!ctx || !cmd) cmust |= CODE(LRT_ERROR_NULL_POINTER);
-            if (!b->created) cmust |= CODE(LRT_ERROR_INVALID_BVH);
+            if (!b->created || ((op & 7) != 3 && !*b_built)) cmust |= CODE(LRT_ERROR_INVALID_BVH);
             cmust |= depth_errors(&d, b, &stride);
             x1 = d.width - 1u;
             y1 = d.height - 1u;
@@ -842,6 +845,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if ((op & 8) && (op & 0xc0)) cmust |= CODE(LRT_ERROR_NULL_POINTER);
             injected(calls0, allocs0, &cmust);
             expect(what, r, cmust, cmay);
+            if ((op & 7) == 3 && r == LRT_SUCCESS) *b_built = 1;
             ++*(r == LRT_SUCCESS ? &g_ok[op & 7] : &g_err[op & 7]);
             if (r != LRT_SUCCESS || empty) {
                 if (g.commands != before) FAIL("%s recorded %u commands, with %s", what, g.commands - before,
@@ -896,7 +900,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (s & 0x20) rays = VK_NULL_HANDLE;
             if (s & 0x40) hits = VK_NULL_HANDLE;
             if (!ctx || !cmd) cmust |= CODE(LRT_ERROR_NULL_POINTER);
-            if (!b->created) cmust |= CODE(LRT_ERROR_INVALID_BVH);
+            if (!b->created || !*b_built) cmust |= CODE(LRT_ERROR_INVALID_BVH);
             cmust |= depth_errors(&d, b, &stride);
             if (flags & ~(uint32_t)LRT_K_TRACE_BUDGET_MASK) cmust |= CODE(LRT_ERROR_INVALID_OPTION); /* the budget's bits only */
             if (count > LINEAR_RT_MAX_RAYS_PER_CALL) cmust |= CODE(LRT_ERROR_TOO_MANY_RAYS);
