@@ -60,7 +60,7 @@ SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl) linear_rt.h # the kerne
 SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 
 # what `make test` runs, one count each in its summary line
-TESTS := test-programs-build test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-vulkan-trace test-demo test-examples test-bench test-gpu-stats
+TESTS := test-programs-build test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-vulkan-trace test-demo test-examples test-lift test-bench test-gpu-stats
 
 # hardening (sanitizers with clang, valgrind, static checks, limits) and the
 # fuzzers: their own makefiles, which add their tests to TESTS
@@ -129,6 +129,16 @@ $(B)/test_examples: tests/test_examples.c examples/ssr.c examples/ao.c examples/
 
 test-examples: $(B)/test_examples $(addprefix $(B)/,$(EXAMPLES))
 	$(B)/test_examples
+
+# THE LIFT of linear_rt.h on the embedded scene: rays leaving a surface along
+# normals from depth, analytic and from an 8-bit G-buffer never hit their own
+# texel and (almost) never a stair of their own surface; lifted rays reach
+# the sky (tests/test_lift.c)
+$(B)/test_lift: tests/test_lift.c $(EXAMPLE_HDR) tests/support/check.h | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) -O2 $< -o $@ $(LDLIBS)
+
+test-lift: $(B)/test_lift
+	$(B)/test_lift
 
 # ---- tests --------------------------------------------------------------------
 $(B)/test_reference: tests/test_reference.c $(REF) tests/support/check.h | deps $(B)
@@ -550,7 +560,7 @@ TEST_PROGRAMS = $(addprefix $(FB)/,$(FUZZERS)) \
   $(if $(filter 1,$(HAVE_VULKAN)),$(B)/test_vulkan_csan) \
   $(addprefix $(B)/,test_core_csan test_core_san test_core_m32 test_limits_isan32 test_core_isan \
     test_limits_csan test_limits_m32 test_limits test_limits_isan test_core_san_sse2 test_core \
-    test_core_scalar test_core_sse2 test_paths test_examples $(EXAMPLES) demo test_demo bench \
+    test_core_scalar test_core_sse2 test_paths test_examples test_lift $(EXAMPLES) demo test_demo bench \
     test_threads test_threads_tsan test_reference test_reference_san test_reference_csan spv2h static_tu.c \
     test_misuse test_misuse_san soak soak_tsan bench-twin walk_rays) \
   $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,$(VULKAN_PROGRAMS))) \

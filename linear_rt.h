@@ -316,7 +316,10 @@ typedef enum lrt_result {
     LRT_ERROR_INVALID_SIZE = 2,     /* width or height is 0 or above LINEAR_RT_MAX_DIM */
     LRT_ERROR_INVALID_STRIDE = 3,   /* row stride smaller than one row of texels    */
     LRT_ERROR_INVALID_FORMAT = 4,   /* depth format is not one of lrt_format        */
-    LRT_ERROR_INVALID_OPTION = 5,   /* unknown flag bits, node bits not 0/8/16, or a buffer and an image at once */
+    LRT_ERROR_INVALID_OPTION = 5,   /* unknown flag bits, node bits not 0/8/16, a budget over 65535; GPU: a map
+                                       both buffer and image, a back map an image where the depth is a buffer
+                                       (or the reverse), an image layout not listed at lrt_vk_depth.layout,
+                                       LRT_VK_BVH_HOST_VISIBLE with your own buffers */
     LRT_ERROR_SIZE_OVERFLOW = 6,    /* the map's byte span exceeds PTRDIFF_MAX      */
     LRT_ERROR_OUT_OF_MEMORY = 7,    /* the allocator returned NULL                  */
     LRT_ERROR_BUFFER_TOO_SMALL = 8, /* caller memory smaller than lrt_bvh_memory_size */
@@ -629,18 +632,31 @@ LINEAR_RT_API int lrt_camera_segment(const lrt_camera *camera, const float from[
                                      lrt_ray *ray);
 /* THE LIFT (self-intersection; the tracer itself has no policy). A ray
    leaving the visible surface at texel (x, y) starts on that texel's flat
-   top (docs/MODEL.md), and on a sloped surface the neighbouring texels'
-   tops stand up to half a texel's slope above the true surface between
-   them: such a ray would hit its own surface's stairs. The recipe: lower
-   the ray's screen-space origin z (move it towards the eye) by
-   lrt_surface_lift(step_x, step_y), where step_x and step_y are the depth
-   steps from the texel to the neighbours its normal was taken from (0 for
-   none), and start at tmin = 0. lrt_surface_lift = 0.5 * (|step_x| +
-   |step_y|) * 1.01 + 1e-7: half the slope, 1% and a hair for rounding. */
+   top (docs/MODEL.md), and the texels around stand up to half their depth
+   step above the true surface between them: such a ray would hit its own
+   surface's stairs. The recipe, whatever gave the normal (depth, a
+   G-buffer, the renderer's own): lower the ray's screen-space origin z
+   (move it towards the eye) by lrt_surface_lift(step_x, step_y), where
+   step_x and step_y are the depth steps from the texel to its neighbours on
+   its own surface, one on each axis (of the two, the one whose line through
+   the next texel meets the texel's depth; the larger step where both do:
+   examples/surface.h does it), and start at tmin = 0. lrt_surface_lift =
+   0.5 * (|step_x| + |step_y|) * 1.01 + 1e-7: half the slope, 1% and a hair
+   for rounding. Steps of 0 (no neighbour, or a normal not from depth and no
+   steps taken) leave the stairs around the texel uncleared. */
 LINEAR_RT_API float lrt_surface_lift(float step_x, float step_y);
 /* lrt_camera_segment(from, to), its origin then lifted by `lift`
    (lrt_surface_lift): the screen ray of a reflection, AO or shadow ray
-   from the view-space surface point `from`. Returns as lrt_camera_segment. */
+   from the view-space surface point `from`. It lifts more where the ray
+   itself would sink into its own texel's top before leaving the texel (a
+   normal that tilts it away from the eye). A ray whose end lies on the far
+   plane keeps its end there (its dir z grows by the lift), so that a ray to
+   the sky hits the sky texel's top at depth 1, as the model has it; one
+   that reaches the far plane without leaving its texel (at the horizon) is
+   lifted whole and ends with LRT_MISS_TMAX. Returns as lrt_camera_segment.
+   Not every stair is cleared: where a curved surface turns away or two
+   surfaces touch, a few rays in 10^5 still meet their own surface
+   (tests/test_lift.c counts them). */
 LINEAR_RT_API int lrt_camera_surface_ray(const lrt_camera *camera, const float from[3], const float to[3], float lift,
                                          lrt_ray *ray);
 /* The near and far plane distances of a perspective camera (far: INFINITY
@@ -1093,8 +1109,9 @@ LINEAR_RT_DEF const char *lrt_result_string(lrt_result result)
     case LRT_ERROR_INVALID_STRIDE: return "row stride is smaller than one row";
     case LRT_ERROR_INVALID_FORMAT: return "unknown depth format";
     case LRT_ERROR_INVALID_OPTION:
-        return "unknown flag bits, node bits not 0, 8 or 16, or a GPU map given as both a buffer and an image, "
-               "or in an unsupported image layout";
+        return "unknown flag bits, node bits not 0, 8 or 16, a budget over 65535, or a GPU map given as both a buffer "
+               "and an image, a back map unlike its depth (image or buffer), an unsupported image layout, or "
+               "host-visible nodes in your own buffers";
     case LRT_ERROR_SIZE_OVERFLOW: return "the depth map's byte span exceeds PTRDIFF_MAX";
     case LRT_ERROR_OUT_OF_MEMORY: return "out of memory";
     case LRT_ERROR_BUFFER_TOO_SMALL: return "memory smaller than lrt_bvh_memory_size";
@@ -4939,11 +4956,34 @@ LINEAR_RT_DEF float lrt_surface_lift(float step_x, float step_y)
     return 0.5f * (fabsf(step_x) + fabsf(step_y)) * 1.01f + 1e-7f;
 }
 
+/* The ray starts at its texel's centre, on the texel's flat top. Lifted by
+   `lift`, it must still clear that top until it leaves the texel: a ray that
+   goes away from the eye (dir z > 0) sinks by dir z * t_out there, t_out the
+   t where it crosses the texel's first side; so the lift is at least that
+   (the normal's slope, whatever gave the normal), 1% and a hair more. A ray
+   whose end is on the far plane keeps its end there, so that it still
+   reaches the sky (depth 1): its dir z grows by the lift, which the bound
+   takes into account (lift >= dir z * t_out / (1 - t_out)). */
 LINEAR_RT_DEF int lrt_camera_surface_ray(const lrt_camera *camera, const float from[3], const float to[3], float lift,
                                          lrt_ray *ray)
 {
+    double t_out = 1.0, need;
+    int k, to_far;
     if (!lrt_camera_segment(camera, from, to, ray)) return 0;
+    for (k = 0; k < 2; ++k) { /* where the ray leaves the origin's texel */
+        const double o = ray->origin[k], v = ray->dir[k], cell = floor(o);
+        const double t = v > 0.0 ? (cell + 1.0 - o) / v : v < 0.0 ? (cell - o) / v : 1.0;
+        if (t < t_out) t_out = t;
+    }
+    /* (a ray that reaches the far plane over its own texel, at the horizon, is shortened as the rest) */
+    to_far = ray->origin[2] + ray->dir[2] >= 1.0f && t_out < 1.0;
+    if (ray->dir[2] > 0.0f && t_out < 1.0) {
+        need = (double)ray->dir[2] * t_out / (to_far ? 1.0 - t_out : 1.0);
+        need = need * 1.01 + 1e-7;
+        if (need > (double)lift) lift = (float)need;
+    }
     ray->origin[2] -= lift;
+    if (to_far) ray->dir[2] += lift;
     return 1;
 }
 

@@ -256,4 +256,61 @@ static inline void scene_render_back(int w, int h, const scene_camera *cam, floa
     }
 }
 
+/* The analytic normals of what scene_render sees (w*h*3 floats, view
+   space, unit length; 0 0 0 for the sky) and which surface each pixel shows
+   (id: -1 sky, 0 the ground, 1 + the primitive's index), as a G-buffer pass
+   would give them: for tests of rays that leave a surface along a normal
+   not taken from depth. */
+static inline void scene_render_normals(int w, int h, const scene_camera *cam, float *nrm, int *id)
+{
+    float m[9];
+    int x, y, i, k;
+    scene_view_from_world(cam, m);
+    for (y = 0; y < h; ++y) {
+        for (x = 0; x < w; ++x) {
+            const size_t q = (size_t)y * (size_t)w + (size_t)x;
+            float o[3], d[3], forward, best = 1e30f, p[3], nw[3] = {0, 0, 0}, l;
+            int which = -1;
+            scene__pixel_ray(w, h, cam, x, y, o, d, &forward);
+            if (d[1] < 0.0f) {
+                best = -o[1] / d[1];
+                which = 0;
+            }
+            for (i = 0; i < SCENE__PRIMS; ++i) {
+                float t = scene__hit(&scene__prims[i], o, d);
+                if (t > 0.0f && t < best) {
+                    best = t;
+                    which = 1 + i;
+                }
+            }
+            if (scene__depth(cam, best, forward) >= 1.0f) which = -1;
+            for (k = 0; k < 3; ++k) p[k] = o[k] + best * d[k];
+            if (which == 0) {
+                nw[1] = 1.0f;
+            } else if (which > 0) {
+                const scene__prim *pr = &scene__prims[which - 1];
+                if (pr->kind == 0) { /* the face the point lies nearest */
+                    float dist = 1e30f;
+                    for (k = 0; k < 3; ++k) {
+                        float da = fabsf(p[k] - pr->a[k]), db = fabsf(p[k] - pr->b[k]);
+                        if (da < dist) { dist = da; nw[0] = nw[1] = nw[2] = 0.0f; nw[k] = -1.0f; }
+                        if (db < dist) { dist = db; nw[0] = nw[1] = nw[2] = 0.0f; nw[k] = 1.0f; }
+                    }
+                } else if (pr->kind == 1) {
+                    for (k = 0; k < 3; ++k) nw[k] = p[k] - pr->a[k];
+                } else {
+                    nw[0] = p[0] - pr->a[0];
+                    nw[2] = p[2] - pr->a[2];
+                }
+            }
+            l = sqrtf(nw[0] * nw[0] + nw[1] * nw[1] + nw[2] * nw[2]);
+            for (k = 0; k < 3; ++k) {
+                const float v = m[3 * k] * nw[0] + m[3 * k + 1] * nw[1] + m[3 * k + 2] * nw[2];
+                nrm[3 * q + (size_t)k] = l > 0.0f ? v / l : 0.0f;
+            }
+            if (id) id[q] = which;
+        }
+    }
+}
+
 #endif

@@ -39,28 +39,62 @@ static inline void surface_positions_row(const lrt_camera *cam, const float *dep
     }
 }
 
+/* One axis of texel k (stride: 1 for x, w for y; at: the texel's index on
+   that axis, of n): which neighbour lies on the texel's own surface (-1,
+   +1, or 0 for none: sky or the edge) and, in *lift_step, the depth step to
+   take into THE LIFT. Of two neighbours, the one whose line through the next
+   texel beyond it passes nearer the texel's depth: at a contact (a box on
+   the ground, its base a hair behind) the smaller step would take the other
+   surface, and a ray would leave along the wrong normal. Where both
+   neighbours lie on the surface (each line passes within a tenth of its own
+   step, curved or flat), the lift takes the larger step: a curved surface's
+   flat texel tops stand out more on its steeper side. */
+static inline int surface__side(const float *depth, size_t k, size_t stride, uint32_t at, uint32_t n, float *lift_step)
+{
+    const float d = depth[k];
+    const int minus = at > 0 && depth[k - stride] < 1.0f, plus = at + 1 < n && depth[k + stride] < 1.0f;
+    float sm = 0.0f, sp = 0.0f, em = 1.0f, ep = 1.0f; /* steps, and how far each side's line misses d */
+    *lift_step = 0.0f;
+    if (minus) {
+        sm = fabsf(d - depth[k - stride]);
+        em = at > 1 && depth[k - 2 * stride] < 1.0f ? fabsf(2.0f * depth[k - stride] - depth[k - 2 * stride] - d) : sm;
+    }
+    if (plus) {
+        sp = fabsf(depth[k + stride] - d);
+        ep = at + 2 < n && depth[k + 2 * stride] < 1.0f ? fabsf(2.0f * depth[k + stride] - depth[k + 2 * stride] - d) : sp;
+    }
+    if (minus && plus && em <= 0.1f * sm + 1e-7f && ep <= 0.1f * sp + 1e-7f) {
+        *lift_step = sm > sp ? sm : sp;
+        return em <= ep ? -1 : 1;
+    }
+    if (minus && (!plus || em < ep || (em == ep && sm <= sp))) {
+        *lift_step = sm;
+        return -1;
+    }
+    if (plus) *lift_step = sp;
+    return plus;
+}
+
 /* Row j of the normals and lifts, from positions of rows j-1..j+1.
    The normal is the cross product of one horizontal and one vertical
-   difference of positions; of the two neighbours on each axis, the one with
-   the smaller depth step is used, so that a silhouette does not bend the
-   normal of the surface in front of it. The lift is THE LIFT of
-   linear_rt.h, lrt_surface_lift of the depth steps to those neighbours;
-   lrt_camera_surface_ray applies it. */
+   difference of positions, each towards the neighbour on the texel's own
+   surface (surface__side). The lift is THE LIFT of linear_rt.h,
+   lrt_surface_lift of the depth steps surface__side gives;
+   lrt_camera_surface_ray applies it (and lifts more where the ray itself
+   sinks into its own texel). */
 static inline void surface_normals_row(const float *depth, const float *pos, uint32_t w, uint32_t h, uint32_t j,
                                        float *nrm, float *lift)
 {
     uint32_t i;
     for (i = 0; i < w; ++i) {
         size_t k = (size_t)j * w + i;
-        float d = depth[k], dx = 0.0f, dy = 0.0f, ex[3] = {0, 0, 0}, ey[3] = {0, 0, 0}, *n = &nrm[3 * k];
-        int sx = 0, sy = 0, c;
+        float d = depth[k], dx, dy, ex[3] = {0, 0, 0}, ey[3] = {0, 0, 0}, *n = &nrm[3 * k];
+        int sx, sy, c;
         n[0] = n[1] = n[2] = 0.0f;
         lift[k] = 0.0f;
         if (d >= 1.0f) continue;
-        if (i + 1 < w && depth[k + 1] < 1.0f) { sx = 1; dx = depth[k + 1] - d; }
-        if (i > 0 && depth[k - 1] < 1.0f && (!sx || fabsf(d - depth[k - 1]) < fabsf(dx))) { sx = -1; dx = d - depth[k - 1]; }
-        if (j + 1 < h && depth[k + w] < 1.0f) { sy = 1; dy = depth[k + w] - d; }
-        if (j > 0 && depth[k - w] < 1.0f && (!sy || fabsf(d - depth[k - w]) < fabsf(dy))) { sy = -1; dy = d - depth[k - w]; }
+        sx = surface__side(depth, k, 1, i, w, &dx);
+        sy = surface__side(depth, k, w, j, h, &dy);
         for (c = 0; c < 3; ++c) {
             if (sx) ex[c] = sx > 0 ? pos[3 * (k + 1) + c] - pos[3 * k + c] : pos[3 * k + c] - pos[3 * (k - 1) + c];
             if (sy) ey[c] = sy > 0 ? pos[3 * (k + w) + c] - pos[3 * k + c] : pos[3 * k + c] - pos[3 * (k - w) + c];
