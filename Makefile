@@ -458,8 +458,9 @@ bench-deps:
 # BENCH_ARGS: options of build/bench (build/bench --help), e.g. --quick
 bench: bench-deps
 	@$(MAKE) --no-print-directory $(B)/bench
-	$(B)/bench $(BENCH_ARGS)
-	@$(MAKE) --no-print-directory gpu-stats GPU_STATS_OUT=$(B)/bench-results/gpu-stats.md
+	@mkdir -p $(B)/bench-results
+	@$(MAKE) --no-print-directory gpu-stats GPU_STATS_OUT=$(B)/bench-results/gpu-stats.md GPU_WEIGHTS=$(B)/bench-results/gpu-weights.tsv
+	w=$(B)/bench-results/gpu-weights.tsv; $(B)/bench $$([ -s $$w ] && echo --weights $$w) $(BENCH_ARGS)
 	@if [ -f $(B)/bench-results/gpu-stats.md ] && [ -f $(B)/bench-results/results.md ]; then \
 	  { echo; cat $(B)/bench-results/gpu-stats.md; } >> $(B)/bench-results/results.md; \
 	  echo "bench: the kernels' weight on AMD GPUs appended to $(B)/bench-results/results.md"; fi
@@ -507,10 +508,14 @@ $(B)/walk_rays: tools/walk_rays.c $(LIB) $(SCENE) | deps $(B)
 # benchmark's Vulkan peers (their kernels as make bench compiles them), built
 # by Mesa's RADV on null hardware for RDNA3, RDNA2 and GCN (RADV_FORCE_FAMILY:
 # no AMD GPU needed, nothing dispatched); instructions, registers, spills,
-# branches and waves per SIMD from VK_KHR_pipeline_executable_properties.
+# branches and waves per SIMD from VK_KHR_pipeline_executable_properties,
+# and from each pipeline's disassembly its loops: the instructions and loads
+# of a step (GPU_WEIGHTS, the benchmark's estimate reads them; no weight is
+# typed anywhere). Every pipeline made must compile, or the run fails.
 # RADV is Debian's mesa-vulkan-drivers, which make demo and make test install.
 # Its exit 77 is "no RADV here" (1 under CI=true).
 GPU_STATS_OUT ?= $(B)/gpu-stats.md
+GPU_WEIGHTS ?= $(B)/gpu-weights.tsv
 ifeq ($(HAVE_VULKAN),1)
 GPU_STATS_FLAGS := -DLINEAR_RT_VULKAN -DVK_NO_PROTOTYPES $(ONE_WALK)
 GPU_STATS_DEPS := $(LIB) $(SPV_H)
@@ -522,18 +527,27 @@ $(B)/gpu_stats: tools/gpu_stats.c $(GPU_STATS_DEPS) $(B)/config.stamp | deps $(B
 	$(CC) $(STD) $(STRICT) $(CFLAGS) $(GPU_STATS_FLAGS) $< -o $@ -lm $(VK_LIBS)
 
 gpu-stats: $(B)/gpu_stats
-	@$(B)/gpu_stats --out $(GPU_STATS_OUT); rc=$$?; [ $$rc -eq 77 ] && exit 0; exit $$rc
+	@$(B)/gpu_stats --out $(GPU_STATS_OUT) --weights $(GPU_WEIGHTS); rc=$$?; [ $$rc -eq 77 ] && exit 0; exit $$rc
 
 # the library's trace pipeline alone compiled (--quick: all thirty are still
 # made and identified), on each of the three GPUs; then the table of each
-# must have its figures
+# must have its figures. Then every pipeline, the library's 30 and the
+# benchmark's 7 peers, on RDNA3: each must compile and the walks' loops be
+# found (a peer dropped or a loop lost fails here)
+GPU_PIPELINES := 37
 test-gpu-stats: $(B)/gpu_stats
 	@$(B)/gpu_stats --quick --out $(B)/gpu-stats-quick.md; rc=$$?; \
 	if [ $$rc -eq 77 ]; then echo "test-gpu-stats: skipped: no RADV"; exit 0; fi; [ $$rc -eq 0 ] || exit $$rc; \
 	tables=$$(grep -c '^### ' $(B)/gpu-stats-quick.md); \
 	good=$$(awk -F'|' '$$2 == " linear_rt trace buffer " && $$3 + 0 > 0 && $$4 + 0 > 0 && $$5 + 0 > 0 && $$9 + 0 > 0' $(B)/gpu-stats-quick.md | wc -l); \
 	if [ "$$tables" = 3 ] && [ "$$good" = 3 ]; then echo "test-gpu-stats: ok, 3 GPUs, the trace pipeline's figures on each"; \
-	else echo "test-gpu-stats: FAIL: $$tables tables, $$good with the trace pipeline's figures (of 3)"; exit 1; fi
+	else echo "test-gpu-stats: FAIL: $$tables tables, $$good with the trace pipeline's figures (of 3)"; exit 1; fi; \
+	$(B)/gpu_stats --gpu navi31 --out $(B)/gpu-stats-all.md --weights $(B)/gpu-weights-test.tsv > /dev/null || exit 1; \
+	rows=$$(grep -vc '^#' $(B)/gpu-weights-test.tsv); \
+	loops=$$(awk -F'\t' '($$2 == "linear_rt trace buffer" || $$2 == "bench march64" || $$2 == "bench dda" || $$2 == "bench hiz64") && $$6 > 0' $(B)/gpu-weights-test.tsv | wc -l); \
+	if [ "$(HAVE_GLSLANG)" != 1 ]; then echo "test-gpu-stats: FAIL: no glslang: the peers cannot be compiled"; exit 1; fi; \
+	if [ "$$rows" = $(GPU_PIPELINES) ] && [ "$$loops" = 4 ]; then echo "test-gpu-stats: ok, RDNA3: all $$rows pipelines compiled, the walks' loops read"; \
+	else echo "test-gpu-stats: FAIL: RDNA3: $$rows of $(GPU_PIPELINES) pipelines compiled, $$loops of 4 walks' loops read"; exit 1; fi
 else
 .PHONY: $(B)/gpu_stats
 $(B)/gpu_stats:

@@ -61,6 +61,7 @@ typedef struct options {
     const char *only;    /* run only methods whose name contains this */
     int chart_only;      /* redraw the chart from out_dir's points.dat, run nothing */
     int only_counts;     /* the scenes' sets and what a wave pays (counting), no method timed */
+    const char *weights; /* make gpu-stats --weights FILE: the estimate's instructions and loads per step */
 } options;
 
 /* ---- deterministic random numbers -------------------------------------------- */
@@ -503,46 +504,94 @@ static void count_visits(const scene *sc, const ray_set *sets, int nsets)
 }
 
 /* ---- what a wave pays --------------------------------------------------------------
-   A GPU runs rays in groups (32 lanes: an NVIDIA warp, an RDNA wave32) that
-   step together: a group pays for its slowest ray. Each Vulkan method's
-   steps per ray on each set (bench/visits.c, bench/wave.c: counted, never
-   timed), their mean and the mean over groups of 32 consecutive rays (the
-   dispatch order) of the group's most. The ray-query peers are not counted:
-   their traversal is the hardware's. */
+   A GPU runs rays in groups that step together: 32 lanes (an NVIDIA warp,
+   an RDNA wave32) or 64 (GCN, and RDNA as RADV compiles these kernels); a
+   group pays for its slowest ray. Each Vulkan method's steps per ray on
+   each set (bench/visits.c, bench/wave.c: counted, never timed), their mean
+   and the mean over groups of 32 and of 64 consecutive rays (the dispatch
+   order) of the group's most. The ray-query peers are not counted: their
+   traversal is the hardware's. */
 #define WAVE_LANES 32u
+#define WAVE_LANES_WIDE 64u
 typedef struct wave_weight {
     const char *method;
-    double node, texel; /* instructions per step; linear_rt: per node test, and per texel test */
-    int waves;          /* waves per SIMD the registers allow */
+    const char *pipeline; /* make gpu-stats' row whose loops weigh the method's step */
+    int split;            /* 1: the loop's inner loop is a texel test, weighed apart (the 8-child walk) */
+    double per_loop;      /* steps one trip round the loop takes (the march: a sample, 8 bisection steps) */
+    /* read from the weights file: instructions and loads per step, and per texel test */
+    double node, texel, node_loads, texel_loads;
+    int waves; /* waves per SIMD the registers allow */
+    int read;
 } wave_weight;
-/* The kernels' weight per step, from make gpu-stats' compiler (RADV's ACO,
-   RDNA3 navi31, null hardware): the static instructions of each kernel's
-   main loop body, from its loop head to its last branch back there, and of
-   the loops inside it (tools/loop_weights.py over RADV_DEBUG=shaders
-   build/gpu_stats --gpu navi31). linear_rt's exact ordinary pass (buffer
-   depth) of an infinite tree is the cell walk: a step tests one cell or
-   one texel, and its loop body holds both tests and the move (559). A
-   thickness tree's, and every budgeted pass, is the 8-child walk, whose
-   loop holds the level-1 texel loop: the walk's own part is a node test's
-   weight, the texel loop's a texel test's (back-map trees of 16-bit nodes
-   1304 = 696 + 608, of 8-bit nodes 1512 = 905 + 607; with a step budget
-   1139 = 899 + 240, back 16-bit 1419 = 812 + 607). The 64-step march's loop body (413) holds
-   its sample and its 8 bisection steps unrolled: 413 / 9 a sample. DDA
-   128 a column, Hi-Z 287 an iteration. Static counts of a body: a wave
-   whose lanes take different branches issues them all, one that agrees
-   issues fewer, so this weighs divergent waves. Waves per SIMD: make
-   gpu-stats' table, RDNA3. */
-static const wave_weight wave_weights[] = {
-    {"linear_rt vulkan 16", 559.0, 0.0, 32},
-    {"linear_rt vulkan 8", 559.0, 0.0, 32},
-    {"linear_rt vulkan 16 back", 696.0, 608.0, 18},
-    {"linear_rt vulkan 8 back", 905.0, 607.0, 18},
-    {"linear_rt vulkan 16 budget", 899.0, 240.0, 20},
-    {"linear_rt vulkan 16 budget back", 812.0, 607.0, 18},
-    {"march64 vulkan", 413.0 / 9.0, 0.0, 32},
-    {"dda vulkan", 128.0, 0.0, 32},
-    {"hiz64 vulkan", 287.0, 0.0, 32},
+/* Which compiled loop weighs which method's step. Every figure comes from
+   make gpu-stats --weights (tools/gpu_stats.c: RADV's ACO for RDNA3, the
+   static instructions and loads of each kernel's outermost loop body and of
+   the largest loop inside it; bench --weights FILE). linear_rt's exact
+   ordinary pass of an infinite tree is the cell walk: a step tests one cell
+   or one texel, its loop body holds both tests and the move. A thickness
+   tree's, and every budgeted pass, is the 8-child walk, whose loop holds the
+   level-1 texel loop: the walk's own part (body - inner) is a node test's
+   weight, the texel loop's a texel test's. The 64-step march's loop body
+   holds its sample and its 8 bisection steps unrolled
+   (bench/shaders/vkp_march64.comp): a ninth of it a step. DDA: a column;
+   Hi-Z: an iteration. Static counts of a body: a wave whose lanes take
+   different branches issues them all, one that agrees issues fewer, so
+   this weighs divergent waves. */
+static wave_weight wave_weights[] = {
+    {"linear_rt vulkan 16", "linear_rt trace buffer", 0, 1.0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 8", "linear_rt trace buffer", 0, 1.0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16 back", "linear_rt trace buffer, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 8 back", "linear_rt trace buffer, back 8-bit", 1, 1.0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16 budget", "linear_rt trace buffer, budgeted", 1, 1.0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16 budget back", "linear_rt trace buffer, budgeted, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0},
+    {"march64 vulkan", "bench march64", 0, 9.0, 0, 0, 0, 0, 0, 0},
+    {"dda vulkan", "bench dda", 0, 1.0, 0, 0, 0, 0, 0, 0},
+    {"hiz64 vulkan", "bench hiz64", 0, 1.0, 0, 0, 0, 0, 0, 0},
 };
+#define WAVE_WEIGHTS ((int)(sizeof wave_weights / sizeof wave_weights[0]))
+static int g_have_weights;
+
+/* make gpu-stats --weights FILE's rows of one GPU (navi31: RDNA3) into
+   wave_weights; 0 when every method found its pipeline */
+static int load_weights(const char *path, const char *gpu)
+{
+    FILE *f = fopen(path, "r");
+    char line[512];
+    int k, missing = 0;
+    if (!f) return 1;
+    while (fgets(line, sizeof line, f)) {
+        char g[32], name[128];
+        unsigned long long instr, vgprs, waves;
+        unsigned body, inner, loads, inner_loads;
+        char *tab = strchr(line, '\t'), *tab2;
+        if (line[0] == '#' || !tab || (size_t)(tab - line) >= sizeof g) continue;
+        memcpy(g, line, (size_t)(tab - line));
+        g[tab - line] = 0;
+        tab2 = strchr(tab + 1, '\t');
+        if (!tab2 || (size_t)(tab2 - tab - 1) >= sizeof name || strcmp(g, gpu)) continue;
+        memcpy(name, tab + 1, (size_t)(tab2 - tab - 1));
+        name[tab2 - tab - 1] = 0;
+        if (sscanf(tab2 + 1, "%llu %llu %llu %u %u %u %u", &instr, &vgprs, &waves, &body, &inner, &loads, &inner_loads) != 7)
+            continue;
+        for (k = 0; k < WAVE_WEIGHTS; ++k) {
+            wave_weight *w = &wave_weights[k];
+            if (strcmp(w->pipeline, name)) continue;
+            w->node = (double)(w->split ? body - inner : body) / w->per_loop;
+            w->texel = w->split ? (double)inner : 0.0;
+            w->node_loads = (double)(w->split ? loads - inner_loads : loads) / w->per_loop;
+            w->texel_loads = w->split ? (double)inner_loads : 0.0;
+            w->waves = (int)waves;
+            w->read = body > 0;
+        }
+    }
+    fclose(f);
+    for (k = 0; k < WAVE_WEIGHTS; ++k)
+        if (!wave_weights[k].read) {
+            fprintf(stderr, "bench: %s: no loop of '%s' for %s\n", path, wave_weights[k].pipeline, wave_weights[k].method);
+            ++missing;
+        }
+    return missing != 0;
+}
 /* Waves per SIMD at or above this hide a step's latency alike: below it, a
    step costs WAVE_FULL / waves times more (an assumption; RDNA3's kernels
    here are all above it) */
@@ -550,7 +599,8 @@ static const wave_weight wave_weights[] = {
 
 typedef struct wave_row {
     const char *scene, *set, *method;
-    double mean, wave, texels, estimate; /* texels: linear_rt's texel tests per node test */
+    double mean, wave, wave64, texels, estimate; /* texels: linear_rt's texel tests per node test */
+    double loads;                                /* loads a wave issues per ray (wave32 steps x a step's loads) */
 } wave_row;
 #define MAX_WAVES 512
 static wave_row g_waves[MAX_WAVES];
@@ -561,7 +611,7 @@ static const wave_weight *weight_of(const char *method, int back)
     char name[64];
     size_t k;
     snprintf(name, sizeof name, "%s%s", method, back && !strncmp(method, "linear_rt", 9) ? " back" : "");
-    for (k = 0; k < sizeof wave_weights / sizeof wave_weights[0]; ++k)
+    for (k = 0; k < (size_t)WAVE_WEIGHTS; ++k)
         if (!strcmp(wave_weights[k].method, name)) return &wave_weights[k];
     return NULL;
 }
@@ -573,7 +623,14 @@ static const wave_weight *weight_of(const char *method, int back)
 static double wave_estimate(const wave_weight *w, double wave, double texels_per_node)
 {
     const double per_step = w->node + w->texel * texels_per_node;
+    if (!g_have_weights || !w->read) return 0.0;
     return wave * per_step * (w->waves < WAVE_FULL ? (double)WAVE_FULL / (double)w->waves : 1.0);
+}
+
+/* a wave's loads per ray: wave steps x a step's loads */
+static double wave_loads(const wave_weight *w, double wave, double texels_per_node)
+{
+    return g_have_weights && w->read ? wave * (w->node_loads + w->texel_loads * texels_per_node) : 0.0;
 }
 
 /* linear_rt vulkan 16 at each step budget of the benchmark: the budgeted
@@ -596,8 +653,10 @@ static void budget_waves(const scene *sc, const bench_rays *rs, const uint32_t *
         w->set = rs->name;
         w->method = names[b];
         bench_wave_stats(capped, rs->count, WAVE_LANES, &w->mean, &w->wave);
+        bench_wave_stats(capped, rs->count, WAVE_LANES_WIDE, &w->mean, &w->wave64);
         w->texels = texels;
         w->estimate = wave_estimate(ww, w->wave, w->texels);
+        w->loads = wave_loads(ww, w->wave, w->texels);
     }
     free(capped);
 }
@@ -625,8 +684,10 @@ static void count_waves(const scene *sc, const ray_set *sets, int nsets)
             w->set = rs->name;
             w->method = names[k];
             bench_wave_stats(steps, rs->count, WAVE_LANES, &w->mean, &w->wave);
+            bench_wave_stats(steps, rs->count, WAVE_LANES_WIDE, &w->mean, &w->wave64);
             w->texels = w->mean > 0.0 ? texels / ((double)rs->count * w->mean) : 0.0;
             w->estimate = wave_estimate(ww, w->wave, w->texels);
+            w->loads = wave_loads(ww, w->wave, w->texels);
             ++g_nwaves;
             if (k == 0) { /* the budgets cut the 8-child walk */
                 double mean, wave, tex8 = 0.0;
@@ -669,6 +730,7 @@ static void write_wave_dominance(FILE *f)
     static const char *const ours[5] = {"linear_rt vulkan 16", "linear_rt vulkan 16 budget 4", "linear_rt vulkan 16 budget 8",
                                         "linear_rt vulkan 16 budget 16", "linear_rt vulkan 16 budget 32"};
     int i, k, j, rows = 0, won = 0;
+    if (!g_have_weights) return; /* no estimate to compare */
     for (i = 0; i < g_nwaves; ++i) {
         const wave_row *a = &g_waves[i];
         int peers_seen = 0, beaten = 0;
@@ -711,18 +773,21 @@ static void write_waves(FILE *f)
                "on a thickness tree, and with a step budget, its node tests at any level (the 8-child walk, always "
                "from the origin's level-1 node); the 64-step march's samples and bisection steps; the DDA's columns; "
                "the Hi-Z walk's iterations. Wave steps: the mean over groups of %u consecutive rays (dispatch order) "
-               "of the group's most. The ray-query peers are not counted (the hardware's traversal). Estimate: wave "
-               "steps x the kernel's instructions per step (RDNA3, RADV: the static instructions of its loop body; "
-               "the 8-child walk's texel tests added at their own weight per node test) x %d / waves per SIMD below "
-               "%d: instructions a wave issues per ray, not a time (bench/main.c, wave_weights, says where each "
-               "figure comes from).\n\n",
-            WAVE_LANES, WAVE_LANES, WAVE_FULL, WAVE_FULL);
-    fprintf(f, "| scene | rays | method | steps per ray | wave steps (%u) | wave / mean | texel tests per step | "
-               "estimate |\n|---|---|---|--:|--:|--:|--:|--:|\n", WAVE_LANES);
+               "of the group's most, for an NVIDIA warp or an RDNA wave32, and for %u lanes, the wave64 RADV compiles "
+               "these kernels to. The ray-query peers are not counted (the hardware's traversal). Estimate: wave32 "
+               "steps x the kernel's instructions per step (RDNA3, RADV: the static instructions of its loop body, "
+               "read by make gpu-stats from the compiled code; the 8-child walk's texel tests added at their own "
+               "weight per node test) x %d / waves per SIMD below %d: instructions a wave issues per ray, not a "
+               "time.%s\n\n",
+            WAVE_LANES, WAVE_LANES, WAVE_LANES_WIDE, WAVE_FULL, WAVE_FULL,
+            g_have_weights ? "" : " No weights were given (bench --weights FILE, make gpu-stats): no estimate.");
+    fprintf(f, "| scene | rays | method | steps per ray | wave steps (%u) | wave / mean | wave steps (%u) | wave / mean "
+               "| texel tests per step | estimate |\n|---|---|---|--:|--:|--:|--:|--:|--:|--:|\n",
+            WAVE_LANES, WAVE_LANES_WIDE);
     for (i = 0; i < g_nwaves; ++i) {
         const wave_row *w = &g_waves[i];
-        fprintf(f, "| %s | %s | %s | %.2f | %.2f | %.2f |", w->scene, w->set, w->method, w->mean, w->wave,
-                w->mean > 0.0 ? w->wave / w->mean : 0.0);
+        fprintf(f, "| %s | %s | %s | %.2f | %.2f | %.2f | %.2f | %.2f |", w->scene, w->set, w->method, w->mean, w->wave,
+                w->mean > 0.0 ? w->wave / w->mean : 0.0, w->wave64, w->mean > 0.0 ? w->wave64 / w->mean : 0.0);
         if (!strncmp(w->method, "linear_rt", 9)) fprintf(f, " %.2f |", w->texels);
         else fprintf(f, " |");
         fprintf(f, " %.0f |\n", w->estimate);
@@ -740,6 +805,26 @@ static void write_waves(FILE *f)
         }
         fprintf(f, "\n");
     }
+}
+
+/* The counts as tab-separated values (DIR/waves.tsv), for the estimate's
+   calibration (bench/calibrate.py): scene, set, method, steps per ray, wave
+   steps of 32 and of 64, texel tests per step, the estimate's instructions
+   and loads a wave issues per ray. */
+static void write_waves_tsv(const char *dir)
+{
+    char path[600];
+    FILE *f;
+    int i;
+    snprintf(path, sizeof path, "%s/waves.tsv", dir);
+    if (!g_nwaves || !(f = fopen(path, "w"))) return;
+    fprintf(f, "# scene\tset\tmethod\tmean\twave32\twave64\ttexels_per_step\tinstructions\tloads\n");
+    for (i = 0; i < g_nwaves; ++i) {
+        const wave_row *w = &g_waves[i];
+        fprintf(f, "%s\t%s\t%s\t%.4f\t%.4f\t%.4f\t%.4f\t%.1f\t%.2f\n", w->scene, w->set, w->method, w->mean, w->wave,
+                w->wave64, w->texels, w->estimate, w->loads);
+    }
+    fclose(f);
 }
 
 static double median(double *v, int n)
@@ -1402,6 +1487,7 @@ static void write_outputs(const options *o, bench_method *m, int nm, const char 
         }
     }
     write_waves(md);
+    write_waves_tsv(o->out_dir);
     write_wave_dominance(md);
     (void)nstab;
     fclose(md);
@@ -1571,11 +1657,12 @@ static int chart(const options *o, const char *machine)
 static void usage(void)
 {
     printf("usage: bench [--size N] [--threads T] [--runs R] [--sample S] [--quick] [--only TEXT] [--only-counts] [--out DIR]\n"
+           "             [--weights FILE]   (make gpu-stats' weights per step: the wave estimate; none without it)\n"
            "             [--depth FILE [--format png|pfm|raw] [--width W --height H] [--reversed]\n"
            "                          [--fov DEG --near N --far F]]\n"
            "       bench --chart-only [--out DIR]   (redraw DIR/speed_vs_accuracy.png from DIR/points.dat)\n"
-           "  --only-counts: no method timed; each set's steps per ray and per wave of 32 as the Vulkan kernels\n"
-           "                 take them (counted on the CPU), the tables on stdout and in DIR/waves.md\n"
+           "  --only-counts: no method timed; each set's steps per ray and per wave of 32 and 64 as the Vulkan\n"
+           "                 kernels take them (counted on the CPU), the tables on stdout and in DIR/waves.md and .tsv\n"
            "  --depth FILE: the file's reflection, ao and shadow rays are built from view-space positions and\n"
            "  normals through a perspective camera, as the examples build them: vertical field of view DEG\n"
            "  (default 60), near and far planes N and F (default 0.1 and 60, the examples' defaults)\n");
@@ -1623,6 +1710,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[a], "--quick")) o.quick = 1;
         else if (!strcmp(argv[a], "--chart-only")) o.chart_only = 1;
         else if (!strcmp(argv[a], "--only-counts")) o.only_counts = 1;
+        else if (!strcmp(argv[a], "--weights") && v) o.weights = argv[++a];
         else if (!strcmp(argv[a], "--only") && v) o.only = argv[++a];
         else if (!strcmp(argv[a], "--out") && v) o.out_dir = argv[++a];
         else if (!strcmp(argv[a], "--depth") && v) o.depth_file = argv[++a];
@@ -1677,6 +1765,13 @@ int main(int argc, char **argv)
     if (o.runs < 1 || o.runs > 15 || o.threads < 1 || o.size < 1 || o.size > LINEAR_RT_MAX_DIM || o.sample < 1) {
         usage();
         return 2;
+    }
+    if (o.weights) {
+        if (load_weights(o.weights, "navi31")) {
+            fprintf(stderr, "bench: %s: no weights for every method (make gpu-stats writes them)\n", o.weights);
+            return 2;
+        }
+        g_have_weights = 1;
     }
 #ifdef BENCH_WITH_NATIVE_TWIN
     { /* make bench-plain-vs-native: each CPU method of linear_rt, then its -march=native twin */
@@ -1802,6 +1897,7 @@ int main(int argc, char **argv)
         FILE *f;
         write_waves(stdout);
         make_dirs(o.out_dir);
+        write_waves_tsv(o.out_dir);
         snprintf(path, sizeof path, "%s/waves.md", o.out_dir);
         if ((f = fopen(path, "w"))) {
             fprintf(f, "# What a wave pays: %s\n", machine);

@@ -33,7 +33,9 @@
    knows; repeatable), --out FILE, --all (every statistic of every
    pipeline, to stderr), --quick (the test's: of the library's pipelines
    only the plain trace one compiles, every one is still made and
-   identified; no bench peers). GPU_STATS_RADV_ICD: another radeon_icd.json. */
+   identified; no bench peers), --weights FILE (each pipeline's loops as tab-separated
+   values: the benchmark's estimate reads them). GPU_STATS_RADV_ICD: another
+   radeon_icd.json; GS_ISA=FILE: every disassembly appended there. */
 #define _POSIX_C_SOURCE 200809L
 #ifndef LINEAR_RT_VULKAN
 #define LINEAR_RT_VULKAN
@@ -74,10 +76,18 @@ typedef struct gs_row {
     int left_out;  /* --quick */
     int has[GS_COLS];
     unsigned long long v[GS_COLS];
+    /* from the compiled code (gs_loops): static instructions of the whole
+       program, of its outermost loop's body and of the largest loop inside
+       that one (0: none); loads: the memory instructions (buffer, global,
+       image, scalar memory) in the outermost loop's body, and of them those
+       in the inner loop */
+    int has_isa;
+    unsigned isa_total, isa_outer, isa_inner, loads_outer, loads_inner;
 } gs_row;
 
-enum { GS_MAX_ROWS = 32 };
+enum { GS_MAX_ROWS = 64 };
 static gs_row gs_rows[GS_MAX_ROWS];
+static int gs_rows_lost; /* a row past GS_MAX_ROWS: the run fails */
 static int gs_row_count;
 static int gs_all; /* --all: every statistic, to stderr */
 
@@ -94,7 +104,10 @@ typedef struct gs_vk {
 static gs_row *gs_new_row(const char *name)
 {
     gs_row *r;
-    if (gs_row_count == GS_MAX_ROWS) return NULL;
+    if (gs_row_count == GS_MAX_ROWS) {
+        ++gs_rows_lost;
+        return NULL;
+    }
     r = &gs_rows[gs_row_count++];
     memset(r, 0, sizeof *r);
     snprintf(r->name, sizeof r->name, "%s", name);
@@ -117,6 +130,131 @@ static const char *gs_vk_result(VkResult r)
 }
 
 /* Reads the statistics of pipeline's one executable into row. */
+/* The loops of a disassembly (RADV's "Assembly" representation: one
+   instruction a line, "BB<n>:" labels, branches naming their target): the
+   outermost loop runs from its head to the last branch back to it, the
+   largest loop inside it likewise. Labels do not count; scheduling hints
+   (s_delay_alu, s_waitcnt...) do, as the hardware issues them. A step of a
+   walk is one trip round the outer loop: its body is the step's weight. */
+static int gs_is_label(const char *line, size_t len)
+{
+    size_t k = 0;
+    while (k < len && (line[k] == ' ' || line[k] == '\t')) ++k;
+    if (len - k < 4 || strncmp(line + k, "BB", 2) != 0) return 0;
+    for (k += 2; k < len && line[k] >= '0' && line[k] <= '9'; ++k) {}
+    return k < len && line[k] == ':';
+}
+
+static int gs_is_load(const char *line, size_t len)
+{
+    static const char *const ops[] = {"buffer_load", "global_load", "image_load", "image_sample", "s_load",
+                                      "s_buffer_load", "flat_load", "tbuffer_load", "buffer_atomic", "global_atomic"};
+    size_t k, o;
+    for (o = 0; o < sizeof ops / sizeof ops[0]; ++o) {
+        const size_t n = strlen(ops[o]);
+        for (k = 0; k + n <= len; ++k)
+            if (strncmp(line + k, ops[o], n) == 0) return 1;
+    }
+    return 0;
+}
+
+static void gs_loops(const char *text, gs_row *row)
+{
+    enum { MAX_LINES = 20000 };
+    static const char *line[MAX_LINES];
+    static size_t len[MAX_LINES];
+    static int label_line[4096];
+    size_t n = 0, k;
+    int heads_a[512], heads_b[512], nheads = 0, h, outer = -1, inner = -1;
+    const char *p = text;
+    memset(label_line, -1, sizeof label_line);
+    while (*p && n < MAX_LINES) {
+        const char *e = strchr(p, '\n');
+        size_t l = e ? (size_t)(e - p) : strlen(p);
+        line[n] = p;
+        len[n] = l;
+        if (gs_is_label(p, l)) {
+            const char *b = strstr(p, "BB");
+            int id = atoi(b + 2);
+            if (id >= 0 && id < 4096) label_line[id] = (int)n;
+        }
+        ++n;
+        p = e ? e + 1 : p + l;
+    }
+    for (k = 0; k < n; ++k) { /* branches back: loops */
+        const char *b = NULL;
+        size_t q;
+        for (q = 0; q + 3 < len[k]; ++q)
+            if (line[k][q] == 'B' && line[k][q + 1] == 'B' && line[k][q + 2] >= '0' && line[k][q + 2] <= '9') b = line[k] + q;
+        if (!b || gs_is_label(line[k], len[k]) || !strstr(line[k], "branch")) continue;
+        {
+            const int id = atoi(b + 2), a = id >= 0 && id < 4096 ? label_line[id] : -1;
+            if (a < 0 || a >= (int)k) continue;
+            for (h = 0; h < nheads && heads_a[h] != a; ++h) {}
+            if (h == nheads && nheads < 512) heads_a[nheads++] = a, heads_b[h] = (int)k;
+            else if (h < nheads && heads_b[h] < (int)k) heads_b[h] = (int)k;
+        }
+    }
+    for (h = 0; h < nheads; ++h)
+        if (outer < 0 || heads_b[h] - heads_a[h] > heads_b[outer] - heads_a[outer]) outer = h;
+    for (h = 0; outer >= 0 && h < nheads; ++h)
+        if (h != outer && heads_a[h] > heads_a[outer] && heads_b[h] < heads_b[outer] &&
+            (inner < 0 || heads_b[h] - heads_a[h] > heads_b[inner] - heads_a[inner]))
+            inner = h;
+    row->isa_total = row->isa_outer = row->isa_inner = row->loads_outer = row->loads_inner = 0;
+    for (k = 0; k < n; ++k) {
+        int blank = 1, in_outer, in_inner;
+        size_t q;
+        for (q = 0; q < len[k]; ++q)
+            if (line[k][q] != ' ' && line[k][q] != '\t' && line[k][q] != '\r') blank = 0;
+        if (blank || gs_is_label(line[k], len[k])) continue;
+        in_outer = outer >= 0 && (int)k >= heads_a[outer] && (int)k <= heads_b[outer];
+        in_inner = inner >= 0 && (int)k >= heads_a[inner] && (int)k <= heads_b[inner];
+        ++row->isa_total;
+        row->isa_outer += (unsigned)in_outer;
+        row->isa_inner += (unsigned)in_inner;
+        if (gs_is_load(line[k], len[k])) {
+            row->loads_outer += (unsigned)in_outer;
+            row->loads_inner += (unsigned)in_inner;
+        }
+    }
+    row->has_isa = 1;
+}
+
+/* The disassembly of a pipeline made with CAPTURE_INTERNAL_REPRESENTATIONS:
+   its loops into row (gs_loops); GS_ISA=FILE appends every text there. */
+static void gs_read_isa(VkDevice dev, PFN_vkGetDeviceProcAddr gdpa, const VkPipelineExecutableInfoKHR *ei, gs_row *row)
+{
+    PFN_vkGetPipelineExecutableInternalRepresentationsKHR get_ir =
+        (PFN_vkGetPipelineExecutableInternalRepresentationsKHR)gdpa(dev, "vkGetPipelineExecutableInternalRepresentationsKHR");
+    VkPipelineExecutableInternalRepresentationKHR *ir;
+    uint32_t n = 0, i;
+    if (!get_ir || get_ir(dev, ei, &n, NULL) != VK_SUCCESS || n == 0) return;
+    ir = (VkPipelineExecutableInternalRepresentationKHR *)calloc(n, sizeof *ir);
+    if (!ir) return;
+    for (i = 0; i < n; ++i) ir[i].sType = VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_INTERNAL_REPRESENTATION_KHR;
+    if (get_ir(dev, ei, &n, ir) >= VK_SUCCESS) {
+        for (i = 0; i < n; ++i) { /* sizes first, then the texts */
+            if (ir[i].isText && ir[i].dataSize) ir[i].pData = calloc(1, ir[i].dataSize + 1);
+        }
+        if (get_ir(dev, ei, &n, ir) >= VK_SUCCESS)
+            for (i = 0; i < n; ++i) {
+                const char *isa_file = getenv("GS_ISA");
+                if (!ir[i].pData) continue;
+                if (isa_file && *isa_file) {
+                    FILE *f = fopen(isa_file, "a");
+                    if (f) {
+                        fprintf(f, "==== %s: %s\n%s\n", row->name, ir[i].name, (const char *)ir[i].pData);
+                        fclose(f);
+                    }
+                }
+                if (strcmp(ir[i].name, "Assembly") == 0) gs_loops((const char *)ir[i].pData, row);
+            }
+    }
+    for (i = 0; i < n; ++i) free(ir[i].pData);
+    free(ir);
+}
+
 static void gs_read_stats(VkDevice dev, PFN_vkGetDeviceProcAddr gdpa, VkPipeline pipeline, gs_row *row)
 {
     PFN_vkGetPipelineExecutablePropertiesKHR get_exes =
@@ -176,6 +314,7 @@ static void gs_read_stats(VkDevice dev, PFN_vkGetDeviceProcAddr gdpa, VkPipeline
             }
     }
     free(st);
+    gs_read_isa(dev, gdpa, &ei, row);
 }
 
 /* ---- the RADV device ------------------------------------------------------- */
@@ -517,7 +656,8 @@ static VKAPI_ATTR VkResult VKAPI_CALL gs_create_pipelines(VkDevice dev, VkPipeli
             seen.pipeline = (VkPipeline)(uintptr_t)&gs_fake[gs_pipeline_count];
             seen.skipped = 1;
         } else {
-            ci.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
+            ci.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR |
+                        VK_PIPELINE_CREATE_CAPTURE_INTERNAL_REPRESENTATIONS_BIT_KHR;
             if ((r = gs_real_create_pipelines(dev, cache, 1, &ci, cb, &seen.pipeline)) != VK_SUCCESS) return r;
         }
         gs_pipelines[gs_pipeline_count++] = seen;
@@ -685,7 +825,7 @@ static void gs_peer_row(const gs_vk *g, VkDevice dev, const gs_peer *peer)
     if (!row->why[0]) {
         memset(&ci, 0, sizeof ci);
         ci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
-        ci.flags = VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
+        ci.flags = VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR | VK_PIPELINE_CREATE_CAPTURE_INTERNAL_REPRESENTATIONS_BIT_KHR;
         ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
         ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
         ci.stage.module = module;
@@ -749,8 +889,9 @@ static void gs_print_table(FILE *f, const char *gpu, const char *arch, const gs_
                "nodes read through %s.\n\n",
             modes & 1u ? "RTE" : "", modes == 3u ? " + " : modes ? "" : "none", modes & 2u ? "inf/NaN kept" : "",
             texels == 1 ? "a uniform texel buffer" : texels == 0 ? "the storage buffer" : "?");
-    fprintf(f, "| pipeline | instructions | code bytes | VGPRs | SGPRs | spilled VGPRs / SGPRs | branches | waves per SIMD |\n");
-    fprintf(f, "|---|--:|--:|--:|--:|--:|--:|--:|\n");
+    fprintf(f, "| pipeline | instructions | code bytes | VGPRs | SGPRs | spilled VGPRs / SGPRs | branches | waves per SIMD "
+               "| loop body (loads) | inner loop (loads) |\n");
+    fprintf(f, "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
     for (i = 0; i < gs_row_count; ++i) {
         const gs_row *r = &gs_rows[i];
         char cell[GS_COLS][24];
@@ -759,21 +900,44 @@ static void gs_print_table(FILE *f, const char *gpu, const char *arch, const gs_
             continue;
         }
         if (r->why[0]) {
-            fprintf(f, "| %s | not compiled: %s |||||||\n", r->name, r->why);
+            fprintf(f, "| %s | not compiled: %s |||||||||\n", r->name, r->why);
             continue;
         }
         for (c = 0; c < GS_COLS; ++c) {
             if (r->has[c]) snprintf(cell[c], sizeof cell[c], "%llu", r->v[c]);
             else snprintf(cell[c], sizeof cell[c], "-");
         }
-        fprintf(f, "| %s | %s | %s | %s | %s | %s / %s | %s | %s |\n", r->name, cell[GS_INSTR], cell[GS_CODE],
+        fprintf(f, "| %s | %s | %s | %s | %s | %s / %s | %s | %s | ", r->name, cell[GS_INSTR], cell[GS_CODE],
                 cell[GS_VGPR], cell[GS_SGPR], cell[GS_VSPILL], cell[GS_SSPILL], cell[GS_BRANCH], cell[GS_WAVES]);
+        if (r->has_isa && r->isa_outer) fprintf(f, "%u (%u) | ", r->isa_outer, r->loads_outer);
+        else fprintf(f, "%s | ", r->has_isa ? "no loop" : "-");
+        if (r->has_isa && r->isa_inner) fprintf(f, "%u (%u) |\n", r->isa_inner, r->loads_inner);
+        else fprintf(f, "- |\n");
     }
     if (left_out) fprintf(f, "\n--quick: %d more rows left out (every pipeline is made; one compiled)\n", left_out);
     fprintf(f, "\n");
 }
 
+/* The rows as tab-separated values for the benchmark's estimate (bench/main.c
+   reads them: no weight is typed there): gpu, pipeline, instructions,
+   VGPRs, waves per SIMD, loop body, inner loop, loads in each. */
+static int gs_write_weights(const char *path, const char *gpu)
+{
+    FILE *f = fopen(path, "a");
+    int i;
+    if (!f) return 1;
+    for (i = 0; i < gs_row_count; ++i) {
+        const gs_row *r = &gs_rows[i];
+        if (r->why[0] || r->left_out || !r->has_isa) continue;
+        fprintf(f, "%s\t%s\t%llu\t%llu\t%llu\t%u\t%u\t%u\t%u\n", gpu, r->name, r->v[GS_INSTR], r->v[GS_VGPR],
+                r->v[GS_WAVES], r->isa_outer, r->isa_inner, r->loads_outer, r->loads_inner);
+    }
+    return fclose(f) != 0;
+}
+
 /* In a child process: the environment names the chip. */
+static const char *gs_weights_path; /* --weights FILE */
+
 static int gs_one_gpu(const char *gpu, const char *arch, const char *icd, const char *out_path)
 {
     gs_vk g;
@@ -823,6 +987,20 @@ static int gs_one_gpu(const char *gpu, const char *arch, const char *icd, const 
     }
     for (i = 0; i < gs_row_count; ++i)
         if (strncmp(gs_rows[i].name, "linear_rt", 9) == 0 && gs_rows[i].why[0] && !gs_rows[i].left_out) rc = 1;
+    /* every pipeline made is compiled: the peers too (ray-query ones where the device has ray queries) */
+    for (i = 0; i < gs_row_count; ++i)
+        if (!gs_rows[i].left_out && gs_rows[i].why[0] && strcmp(gs_rows[i].why, "no ray queries on this device") != 0) {
+            fprintf(stderr, "gpu_stats: %s: %s not compiled: %s\n", gpu, gs_rows[i].name, gs_rows[i].why);
+            rc = 1;
+        }
+    if (gs_rows_lost) {
+        fprintf(stderr, "gpu_stats: %s: %d pipelines past the table's %d rows\n", gpu, gs_rows_lost, GS_MAX_ROWS);
+        rc = 1;
+    }
+    if (gs_weights_path && gs_write_weights(gs_weights_path, gpu)) {
+        fprintf(stderr, "gpu_stats: cannot write %s\n", gs_weights_path);
+        rc = 1;
+    }
     return rc;
 }
 
@@ -847,8 +1025,10 @@ int main(int argc, char **argv)
         else if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) out_path = argv[++i];
         else if (strcmp(argv[i], "--all") == 0) gs_all = 1;
         else if (strcmp(argv[i], "--quick") == 0) gs_quick = 1;
+        else if (strcmp(argv[i], "--weights") == 0 && i + 1 < argc) gs_weights_path = argv[++i];
         else {
-            fprintf(stderr, "usage: %s [--gpu navi31|navi21|vega10|...]... [--out FILE] [--all] [--quick]\n", argv[0]);
+            fprintf(stderr, "usage: %s [--gpu navi31|navi21|vega10|...]... [--out FILE] [--weights FILE] [--all] [--quick]\n",
+                    argv[0]);
             return 2;
         }
     }
@@ -871,6 +1051,15 @@ int main(int argc, char **argv)
                "wave 128). Waves per SIMD: RADV's \"Subgroups per SIMD\", the occupancy the registers allow. "
                "build/gpu_stats --all lists every statistic (latency, VALU/SALU counts...).\n\n");
     fclose(f);
+    if (gs_weights_path) {
+        if (!(f = fopen(gs_weights_path, "w"))) {
+            fprintf(stderr, "gpu_stats: cannot write %s\n", gs_weights_path);
+            return 1;
+        }
+        fprintf(f, "# tools/gpu_stats.c --weights: gpu pipeline instructions vgprs waves_per_simd loop_body inner_loop "
+                   "loop_loads inner_loads (static counts of the compiled code; loops from its branches)\n");
+        fclose(f);
+    }
     fflush(stdout);
     for (i = 0; i < ngpu; ++i) {
         int status = 0, rc;
