@@ -154,5 +154,11 @@ int bench_wave_linear_rt(const bench_scene *scene, const bench_rays *rays, uint3
 int bench_wave_cells(const bench_scene *scene, const bench_rays *rays, uint32_t node_bits, uint32_t *steps, double *texels);
 int bench_wave_march(const bench_scene *scene, const bench_rays *rays, int which, uint32_t *steps);
 void bench_wave_stats(const uint32_t *steps, size_t n, uint32_t wave, double *mean, double *wave_mean);
+/* bench_wave_march_blocks: of the 64-step march's steps (bench_wave_march,
+   which 0, and the rays' answers), the mean over groups of `wave` rays of
+   the group's loop trips (samples, bisections aside) and of the number of
+   distinct trips in which some lane of the group hit and refined: a wave
+   runs the kernel's refinement block once for each of those. */
+void bench_wave_march_blocks(const uint32_t *steps, size_t n, uint32_t wave, double *trips, double *refine_trips);
 
 #endif

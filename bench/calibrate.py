@@ -10,17 +10,23 @@ The peers' kernels have not changed since that run, so their compiled
 weights (make gpu-stats --weights) and counted steps (build/bench
 --only-counts --size 1024 --weights W: DIR/waves.tsv) are what ran there.
 
-Models, each "time per ray = k x wave steps x (...)", k fitted (a scale):
-  instr      x instructions per step (today's estimate)
-  instr+mem  x (instructions + c x loads) per step, c fitted: a load's cost in
-             instructions (the H200's memory, at its 345 MHz idle SM clock,
-             was fast against its SM: c is what that ratio comes to)
+Models, each "time per ray = k x ...", k fitted (a scale):
+  instr      wave steps x instructions per step (today's estimate)
+  instr+mem  wave steps x (instructions + c x loads) per step, c fitted: a
+             load's cost in instructions (the H200's memory, at its 345 MHz
+             idle SM clock, was fast against its SM: c is what that ratio
+             comes to)
+  blocks     as the wave executes the march's loop: every trip its blocks
+             that always run, and its refinement block (what a wave skips
+             when no lane enters it: gpu_stats' loop_skippable) once for
+             each trip in which some lane of the wave hit (bench counts
+             them: refine_trips32); the other kernels as instr (wave32)
 Both for wave32 (an NVIDIA warp) and wave64 steps. Fitted on the 60
 secondary points (5 scenes x reflection, ao, shadow, segments x march64,
 dda, hiz64), least squares in log time; then per set the order of the
 three peers (60 pairs) and march64 against hiz64 (20).
 
-    python3 bench/calibrate.py WAVES.tsv [H200.tsv]
+    python3 bench/calibrate.py WAVES.tsv WEIGHTS.tsv [H200.tsv]
 """
 import math
 import sys
@@ -38,12 +44,20 @@ def read_tsv(path):
     return rows
 
 
-def main(waves_path, h200_path):
+def main(waves_path, weights_path, h200_path):
     waves = {}
     for r in read_tsv(waves_path):
         scene, rays, method = r[0], r[1], r[2]
         waves[(scene, rays, method)] = dict(mean=float(r[3]), w32=float(r[4]), w64=float(r[5]),
-                                            instr=float(r[7]), loads=float(r[8]))
+                                            instr=float(r[7]), loads=float(r[8]),
+                                            trips=float(r[9]) if len(r) > 9 else 0.0,
+                                            refine=float(r[10]) if len(r) > 10 else 0.0)
+    body = skip = None
+    for r in read_tsv(weights_path):
+        if r[0] == 'navi31' and r[1] == 'bench march64' and len(r) > 9:
+            body, skip = float(r[5]), float(r[9])
+    if body is None:
+        sys.exit('calibrate: %s has no loop_skippable of bench march64 (make gpu-stats --weights)' % weights_path)
     header = None
     for line in open(h200_path):
         if line.startswith('# scene'):
@@ -60,10 +74,15 @@ def main(waves_path, h200_path):
         if w is None or w['instr'] <= 0 or mrays <= 0:
             continue
         points.append((scene, rays, method, 1e3 / mrays, w))
+    march_rows = {id(w): w for (_, _, m, _, w) in points if m == 'march64 vulkan'}
     if len(points) < 10:
         sys.exit('calibrate: %d points: need waves.tsv with weights (bench --weights) and h200.tsv' % len(points))
 
     def per_ray(w, lanes, c):
+        if lanes == 'blocks':
+            if w is march_rows.get(id(w)):
+                return w['trips'] * (body - skip) + w['refine'] * skip
+            lanes, c = 32, 0.0
         # a step's instructions and loads, from the estimate's (wave32 steps x per step)
         steps = w['w32'] if w['w32'] > 0 else 1.0
         instr, loads = w['instr'] / steps, w['loads'] / steps
@@ -97,9 +116,9 @@ def main(waves_path, h200_path):
                         mh += 1
                         mh_right += ok
         rms = math.sqrt(err / len(points))
-        print('| %s | wave%d | %s | %.3g | %d of %d | %d of %d | %d of %d | %.2fx |' % (
-            name, lanes, '%.0f' % c if c is not None else '-', math.exp(logk), right, pairs, mh_right, mh,
-            within, len(points), math.exp(rms)))
+        print('| %s | %s | %s | %.3g | %d of %d | %d of %d | %d of %d | %.2fx |' % (
+            name, 'wave%d' % lanes if lanes != 'blocks' else 'wave32, blocks', '%.0f' % c if c else '-',
+            math.exp(logk), right, pairs, mh_right, mh, within, len(points), math.exp(rms)))
         return pred, truth
 
     print('Fitted on %d H200 points (the peers on the secondary sets):\n' % len(points))
@@ -111,11 +130,9 @@ def main(waves_path, h200_path):
         evaluate('instructions', lanes, 0.0)
         cs = [x * 0.5 for x in range(0, 4001)]
         c = min(cs, key=lambda x: fit(lanes, x)[1])
-        pred, truth = evaluate('instructions + c x loads', lanes, c)
-        if lanes == 32:
-            best = (pred, truth, c)
-    pred, truth, c = best
-    print('\nPer point, instructions + c x loads on wave32 (c = %.0f): predicted / measured time per ray\n' % c)
+        evaluate('instructions + c x loads', lanes, c)
+    pred, truth = evaluate('blocks', 'blocks', 0.0)
+    print('\nPer point, the blocks model: predicted / measured time per ray\n')
     print('| scene | rays | march64 | dda | hiz64 |\n|---|---|--:|--:|--:|')
     for s, r in sorted(set((s, r) for (s, r, m) in truth)):
         cells = []
@@ -126,6 +143,6 @@ def main(waves_path, h200_path):
 
 
 if __name__ == '__main__':
-    if len(sys.argv) not in (2, 3):
+    if len(sys.argv) not in (3, 4):
         sys.exit(__doc__)
-    main(sys.argv[1], sys.argv[2] if len(sys.argv) == 3 else 'bench/h200.tsv')
+    main(sys.argv[1], sys.argv[2], sys.argv[3] if len(sys.argv) == 4 else 'bench/h200.tsv')

@@ -600,6 +600,7 @@ static int load_weights(const char *path, const char *gpu)
 typedef struct wave_row {
     const char *scene, *set, *method;
     double mean, wave, wave64, texels, estimate; /* texels: linear_rt's texel tests per node test */
+    double trips, refine_trips;                  /* the march: a wave32's loop trips, and trips that refined */
     double loads;                                /* loads a wave issues per ray (wave32 steps x a step's loads) */
 } wave_row;
 #define MAX_WAVES 512
@@ -657,6 +658,7 @@ static void budget_waves(const scene *sc, const bench_rays *rs, const uint32_t *
         w->texels = texels;
         w->estimate = wave_estimate(ww, w->wave, w->texels);
         w->loads = wave_loads(ww, w->wave, w->texels);
+        w->trips = w->wave, w->refine_trips = 0.0;
     }
     free(capped);
 }
@@ -688,6 +690,8 @@ static void count_waves(const scene *sc, const ray_set *sets, int nsets)
             w->texels = w->mean > 0.0 ? texels / ((double)rs->count * w->mean) : 0.0;
             w->estimate = wave_estimate(ww, w->wave, w->texels);
             w->loads = wave_loads(ww, w->wave, w->texels);
+            w->trips = w->wave, w->refine_trips = 0.0;
+            if (k == 2) bench_wave_march_blocks(steps, rs->count, WAVE_LANES, &w->trips, &w->refine_trips);
             ++g_nwaves;
             if (k == 0) { /* the budgets cut the 8-child walk */
                 double mean, wave, tex8 = 0.0;
@@ -818,11 +822,12 @@ static void write_waves_tsv(const char *dir)
     int i;
     snprintf(path, sizeof path, "%s/waves.tsv", dir);
     if (!g_nwaves || !(f = fopen(path, "w"))) return;
-    fprintf(f, "# scene\tset\tmethod\tmean\twave32\twave64\ttexels_per_step\tinstructions\tloads\n");
+    fprintf(f, "# scene\tset\tmethod\tmean\twave32\twave64\ttexels_per_step\tinstructions\tloads\ttrips32\t"
+               "refine_trips32\n");
     for (i = 0; i < g_nwaves; ++i) {
         const wave_row *w = &g_waves[i];
-        fprintf(f, "%s\t%s\t%s\t%.4f\t%.4f\t%.4f\t%.4f\t%.1f\t%.2f\n", w->scene, w->set, w->method, w->mean, w->wave,
-                w->wave64, w->texels, w->estimate, w->loads);
+        fprintf(f, "%s\t%s\t%s\t%.4f\t%.4f\t%.4f\t%.4f\t%.1f\t%.2f\t%.4f\t%.4f\n", w->scene, w->set, w->method, w->mean,
+                w->wave, w->wave64, w->texels, w->estimate, w->loads, w->trips, w->refine_trips);
     }
     fclose(f);
 }

@@ -68,3 +68,34 @@ void bench_wave_stats(const uint32_t *steps, size_t n, uint32_t wave, double *me
     *mean = n ? sum / (double)n : 0.0;
     *wave_mean = groups ? wsum / (double)groups : 0.0;
 }
+
+/* The march counts each sample and each of its MARCH_BISECTIONS bisection
+   steps. Its 65 samples lie on the clipped segment, so a miss takes 65; a
+   hit at sample 0 takes 1; a hit at sample k >= 1 refines, k + 1 +
+   MARCH_BISECTIONS. So a count of MARCH_BISECTIONS + 2 or more other than
+   65 is a refinement (one at k = 56 also counts 65: taken as a miss). */
+void bench_wave_march_blocks(const uint32_t *steps, size_t n, uint32_t wave, double *trips, double *refine_trips)
+{
+    size_t i, groups = 0;
+    double tsum = 0.0, rsum = 0.0;
+    for (i = 0; i < n; i += wave) {
+        size_t j, end = i + wave < n ? i + wave : n;
+        uint32_t most = 0, seen[3] = {0, 0, 0}; /* a bit per sample index 0..65+ */
+        int distinct = 0;
+        for (j = i; j < end; ++j) {
+            const int refined = steps[j] >= MARCH_BISECTIONS + 2u && steps[j] != 65u;
+            const uint32_t samples = refined ? steps[j] - MARCH_BISECTIONS : steps[j];
+            most = samples > most ? samples : most;
+            if (refined && samples < 96u && !(seen[samples / 32u] & (1u << (samples % 32u)))) {
+                seen[samples / 32u] |= 1u << (samples % 32u);
+                ++distinct;
+            }
+        }
+        tsum += most;
+        rsum += distinct;
+        ++groups;
+    }
+    *trips = groups ? tsum / (double)groups : 0.0;
+    *refine_trips = groups ? rsum / (double)groups : 0.0;
+}
+

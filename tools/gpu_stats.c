@@ -83,6 +83,8 @@ typedef struct gs_row {
        in the inner loop */
     int has_isa;
     unsigned isa_total, isa_outer, isa_inner, loads_outer, loads_inner;
+    unsigned isa_skippable; /* of the outer loop's body: what a wave skips when no lane needs it (the blocks
+                               s_cbranch_execz jumps over, outermost ones, the inner loop's aside) */
 } gs_row;
 
 enum { GS_MAX_ROWS = 64 };
@@ -201,7 +203,29 @@ static void gs_loops(const char *text, gs_row *row)
         if (h != outer && heads_a[h] > heads_a[outer] && heads_b[h] < heads_b[outer] &&
             (inner < 0 || heads_b[h] - heads_a[h] > heads_b[inner] - heads_a[inner]))
             inner = h;
-    row->isa_total = row->isa_outer = row->isa_inner = row->loads_outer = row->loads_inner = 0;
+    row->isa_total = row->isa_outer = row->isa_inner = row->loads_outer = row->loads_inner = row->isa_skippable = 0;
+    if (outer >= 0) { /* forward s_cbranch_execz inside the outer loop body: the blocks it skips */
+        int skip_to = -1;
+        for (k = (size_t)heads_a[outer]; (int)k <= heads_b[outer]; ++k) {
+            const char *b;
+            int blank = 1;
+            size_t q;
+            for (q = 0; q < len[k]; ++q)
+                if (line[k][q] != ' ' && line[k][q] != '\t' && line[k][q] != '\r') blank = 0;
+            if ((int)k < skip_to) {
+                if (!blank && !gs_is_label(line[k], len[k]) &&
+                    !(inner >= 0 && (int)k >= heads_a[inner] && (int)k <= heads_b[inner]))
+                    ++row->isa_skippable;
+                continue;
+            }
+            if (len[k] < 16 || !memchr(line[k], 'e', len[k]) || !(b = strstr(line[k], "s_cbranch_execz"))) continue;
+            if ((size_t)(b - line[k]) > len[k] || !(b = strstr(b, "BB")) || (size_t)(b - line[k]) > len[k]) continue;
+            {
+                const int id = atoi(b + 2), a = id >= 0 && id < 4096 ? label_line[id] : -1;
+                if (a > (int)k && a <= heads_b[outer]) skip_to = a;
+            }
+        }
+    }
     for (k = 0; k < n; ++k) {
         int blank = 1, in_outer, in_inner;
         size_t q;
@@ -929,8 +953,8 @@ static int gs_write_weights(const char *path, const char *gpu)
     for (i = 0; i < gs_row_count; ++i) {
         const gs_row *r = &gs_rows[i];
         if (r->why[0] || r->left_out || !r->has_isa) continue;
-        fprintf(f, "%s\t%s\t%llu\t%llu\t%llu\t%u\t%u\t%u\t%u\n", gpu, r->name, r->v[GS_INSTR], r->v[GS_VGPR],
-                r->v[GS_WAVES], r->isa_outer, r->isa_inner, r->loads_outer, r->loads_inner);
+        fprintf(f, "%s\t%s\t%llu\t%llu\t%llu\t%u\t%u\t%u\t%u\t%u\n", gpu, r->name, r->v[GS_INSTR], r->v[GS_VGPR],
+                r->v[GS_WAVES], r->isa_outer, r->isa_inner, r->loads_outer, r->loads_inner, r->isa_skippable);
     }
     return fclose(f) != 0;
 }
@@ -1057,7 +1081,8 @@ int main(int argc, char **argv)
             return 1;
         }
         fprintf(f, "# tools/gpu_stats.c --weights: gpu pipeline instructions vgprs waves_per_simd loop_body inner_loop "
-                   "loop_loads inner_loads (static counts of the compiled code; loops from its branches)\n");
+                   "loop_loads inner_loads loop_skippable (static counts of the compiled code; loops from its branches; "
+                   "skippable: the loop body's blocks a wave jumps over when no lane enters them)\n");
         fclose(f);
     }
     fflush(stdout);
