@@ -66,6 +66,7 @@ int main(void)
                         range, the rare set-up, the common one, the start node
      walk            6. the walk: node and texel tests, the walk itself
      batch-avx2         eight rays at once (AVX2), and the trace loop
+     trace              the CPU entry points: lrt_trace, lrt_trace_range, lrt_cpu_path
      camera        7. rays from a camera
      vulkan        8. Vulkan: the kernels' host side (SPIR-V in shaders_spv.h)
      walk-avx2     9. setup, walk and batch-avx2 compiled again for AVX2
@@ -4705,6 +4706,11 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
 #endif
 
 #ifndef LRT__AVX2_PASS
+/* ================================================================= >>trace
+   The CPU entry points of section api: lrt_cpu_path, lrt_trace_range and
+   lrt_trace check their arguments, pick the walk (this pass's, or the AVX2
+   pass's where the CPU has it) and hand it the batch. Compiled once.
+   ========================================================================== */
 /* The AVX2 walk, compiled at the end of this file (section walk-avx2),
    picked by lrt__cpu_has_avx2 (section impl). */
 #if LRT__AVX_AT_RUN_TIME

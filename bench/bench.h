@@ -160,5 +160,11 @@ void bench_wave_stats(const uint32_t *steps, size_t n, uint32_t wave, double *me
    distinct trips in which some lane of the group hit and refined: a wave
    runs the kernel's refinement block once for each of those. */
 void bench_wave_march_blocks(const uint32_t *steps, size_t n, uint32_t wave, double *trips, double *refine_trips);
+/* bench_wave_exits: for a loop whose lanes leave it from inside (storing
+   their answer) at their last step unless they reach the cap, the mean over
+   groups of `wave` rays of the group's most steps and of the number of
+   distinct steps at which some lane of the group left: a wave runs the
+   kernel's exit blocks once for each. */
+void bench_wave_exits(const uint32_t *steps, size_t n, uint32_t wave, uint32_t cap, double *trips, double *exit_trips);
 
 #endif

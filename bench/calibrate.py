@@ -16,11 +16,11 @@ Models, each "time per ray = k x ...", k fitted (a scale):
              load's cost in instructions (the H200's memory, at its 345 MHz
              idle SM clock, was fast against its SM: c is what that ratio
              comes to)
-  blocks     as the wave executes the march's loop: every trip its blocks
-             that always run, and its refinement block (what a wave skips
-             when no lane enters it: gpu_stats' loop_skippable) once for
-             each trip in which some lane of the wave hit (bench counts
-             them: refine_trips32); the other kernels as instr (wave32)
+  blocks     as a wave executes each loop: every trip (the wave's most)
+             the body but its exit blocks, and the exit blocks (those that
+             store a lane's answer, gpu_stats' loop_exits) once for each
+             trip in which some lane of the wave left (bench counts them:
+             trips32, exit_trips32; the march leaves by its refinement)
 Both for wave32 (an NVIDIA warp) and wave64 steps. Fitted on the 60
 secondary points (5 scenes x reflection, ao, shadow, segments x march64,
 dda, hiz64), least squares in log time; then per set the order of the
@@ -48,16 +48,18 @@ def main(waves_path, weights_path, h200_path):
     waves = {}
     for r in read_tsv(waves_path):
         scene, rays, method = r[0], r[1], r[2]
-        waves[(scene, rays, method)] = dict(mean=float(r[3]), w32=float(r[4]), w64=float(r[5]),
+        waves[(scene, rays, method)] = dict(method=method, mean=float(r[3]), w32=float(r[4]), w64=float(r[5]),
                                             instr=float(r[7]), loads=float(r[8]),
                                             trips=float(r[9]) if len(r) > 9 else 0.0,
                                             refine=float(r[10]) if len(r) > 10 else 0.0)
-    body = skip = None
+    pipeline = {"march64 vulkan": "bench march64", "dda vulkan": "bench dda", "hiz64 vulkan": "bench hiz64"}
+    loops = {}
     for r in read_tsv(weights_path):
-        if r[0] == 'navi31' and r[1] == 'bench march64' and len(r) > 9:
-            body, skip = float(r[5]), float(r[9])
-    if body is None:
-        sys.exit('calibrate: %s has no loop_skippable of bench march64 (make gpu-stats --weights)' % weights_path)
+        if r[0] == 'navi31' and len(r) > 10:
+            loops[r[1]] = (float(r[5]), float(r[10]))
+    for m in PEERS:
+        if pipeline[m] not in loops:
+            sys.exit('calibrate: %s has no loop_exits of %s (make gpu-stats --weights)' % (weights_path, pipeline[m]))
     header = None
     for line in open(h200_path):
         if line.startswith('# scene'):
@@ -74,15 +76,13 @@ def main(waves_path, weights_path, h200_path):
         if w is None or w['instr'] <= 0 or mrays <= 0:
             continue
         points.append((scene, rays, method, 1e3 / mrays, w))
-    march_rows = {id(w): w for (_, _, m, _, w) in points if m == 'march64 vulkan'}
     if len(points) < 10:
         sys.exit('calibrate: %d points: need waves.tsv with weights (bench --weights) and h200.tsv' % len(points))
 
     def per_ray(w, lanes, c):
         if lanes == 'blocks':
-            if w is march_rows.get(id(w)):
-                return w['trips'] * (body - skip) + w['refine'] * skip
-            lanes, c = 32, 0.0
+            body, exits = loops[pipeline[w['method']]]
+            return w['trips'] * (body - exits) + w['refine'] * exits
         # a step's instructions and loads, from the estimate's (wave32 steps x per step)
         steps = w['w32'] if w['w32'] > 0 else 1.0
         instr, loads = w['instr'] / steps, w['loads'] / steps

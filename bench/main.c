@@ -520,7 +520,8 @@ typedef struct wave_weight {
     double per_loop;      /* steps one trip round the loop takes (the march: a sample, 8 bisection steps) */
     /* read from the weights file: instructions and loads per step, and per texel test */
     double node, texel, node_loads, texel_loads;
-    int waves; /* waves per SIMD the registers allow */
+    double loop, exits; /* the loop body's instructions, and of them its exit blocks (a lane's last trip) */
+    int waves;          /* waves per SIMD the registers allow */
     int read;
 } wave_weight;
 /* Which compiled loop weighs which method's step. Every figure comes from
@@ -536,17 +537,20 @@ typedef struct wave_weight {
    (bench/shaders/vkp_march64.comp): a ninth of it a step. DDA: a column;
    Hi-Z: an iteration. Static counts of a body: a wave whose lanes take
    different branches issues them all, one that agrees issues fewer, so
-   this weighs divergent waves. */
+   this weighs divergent waves; but a kernel whose lanes leave the loop
+   from inside (gpu_stats' loop_exits: the blocks that store an answer)
+   runs those blocks once per trip in which some lane leaves
+   (bench_wave_exits, bench_wave_march_blocks), which the estimate counts. */
 static wave_weight wave_weights[] = {
-    {"linear_rt vulkan 16", "linear_rt trace buffer", 0, 1.0, 0, 0, 0, 0, 0, 0},
-    {"linear_rt vulkan 8", "linear_rt trace buffer", 0, 1.0, 0, 0, 0, 0, 0, 0},
-    {"linear_rt vulkan 16 back", "linear_rt trace buffer, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0},
-    {"linear_rt vulkan 8 back", "linear_rt trace buffer, back 8-bit", 1, 1.0, 0, 0, 0, 0, 0, 0},
-    {"linear_rt vulkan 16 budget", "linear_rt trace buffer, budgeted", 1, 1.0, 0, 0, 0, 0, 0, 0},
-    {"linear_rt vulkan 16 budget back", "linear_rt trace buffer, budgeted, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0},
-    {"march64 vulkan", "bench march64", 0, 9.0, 0, 0, 0, 0, 0, 0},
-    {"dda vulkan", "bench dda", 0, 1.0, 0, 0, 0, 0, 0, 0},
-    {"hiz64 vulkan", "bench hiz64", 0, 1.0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16", "linear_rt trace buffer", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 8", "linear_rt trace buffer", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16 back", "linear_rt trace buffer, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 8 back", "linear_rt trace buffer, back 8-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16 budget", "linear_rt trace buffer, budgeted", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16 budget back", "linear_rt trace buffer, budgeted, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"march64 vulkan", "bench march64", 0, 9.0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"dda vulkan", "bench dda", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"hiz64 vulkan", "bench hiz64", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
 };
 #define WAVE_WEIGHTS ((int)(sizeof wave_weights / sizeof wave_weights[0]))
 static int g_have_weights;
@@ -562,7 +566,7 @@ static int load_weights(const char *path, const char *gpu)
     while (fgets(line, sizeof line, f)) {
         char g[32], name[128];
         unsigned long long instr, vgprs, waves;
-        unsigned body, inner, loads, inner_loads;
+        unsigned body, inner, loads, inner_loads, skippable = 0, exits = 0;
         char *tab = strchr(line, '\t'), *tab2;
         if (line[0] == '#' || !tab || (size_t)(tab - line) >= sizeof g) continue;
         memcpy(g, line, (size_t)(tab - line));
@@ -571,7 +575,8 @@ static int load_weights(const char *path, const char *gpu)
         if (!tab2 || (size_t)(tab2 - tab - 1) >= sizeof name || strcmp(g, gpu)) continue;
         memcpy(name, tab + 1, (size_t)(tab2 - tab - 1));
         name[tab2 - tab - 1] = 0;
-        if (sscanf(tab2 + 1, "%llu %llu %llu %u %u %u %u", &instr, &vgprs, &waves, &body, &inner, &loads, &inner_loads) != 7)
+        if (sscanf(tab2 + 1, "%llu %llu %llu %u %u %u %u %u %u", &instr, &vgprs, &waves, &body, &inner, &loads, &inner_loads,
+                   &skippable, &exits) < 7)
             continue;
         for (k = 0; k < WAVE_WEIGHTS; ++k) {
             wave_weight *w = &wave_weights[k];
@@ -580,6 +585,8 @@ static int load_weights(const char *path, const char *gpu)
             w->texel = w->split ? (double)inner : 0.0;
             w->node_loads = (double)(w->split ? loads - inner_loads : loads) / w->per_loop;
             w->texel_loads = w->split ? (double)inner_loads : 0.0;
+            w->loop = (double)body;
+            w->exits = w->split ? 0.0 : (double)exits;
             w->waves = (int)waves;
             w->read = body > 0;
         }
@@ -600,7 +607,7 @@ static int load_weights(const char *path, const char *gpu)
 typedef struct wave_row {
     const char *scene, *set, *method;
     double mean, wave, wave64, texels, estimate; /* texels: linear_rt's texel tests per node test */
-    double trips, refine_trips;                  /* the march: a wave32's loop trips, and trips that refined */
+    double trips, refine_trips; /* a wave32's loop trips, and trips in which a lane left (the march: refined) */
     double loads;                                /* loads a wave issues per ray (wave32 steps x a step's loads) */
 } wave_row;
 #define MAX_WAVES 512
@@ -692,6 +699,13 @@ static void count_waves(const scene *sc, const ray_set *sets, int nsets)
             w->loads = wave_loads(ww, w->wave, w->texels);
             w->trips = w->wave, w->refine_trips = 0.0;
             if (k == 2) bench_wave_march_blocks(steps, rs->count, WAVE_LANES, &w->trips, &w->refine_trips);
+            /* the DDA's cap is the larger side (bench/shaders/vkp_dda.comp), Hi-Z's 64 iterations */
+            if (k == 3) bench_wave_exits(steps, rs->count, WAVE_LANES, sc->s.width > sc->s.height ? sc->s.width : sc->s.height,
+                                         &w->trips, &w->refine_trips);
+            if (k == 4) bench_wave_exits(steps, rs->count, WAVE_LANES, 64u, &w->trips, &w->refine_trips);
+            if (k >= 2 && ww->exits > 0.0 && g_have_weights) /* the wave runs its exit blocks once a trip some lane leaves */
+                w->estimate = (w->trips * (ww->loop - ww->exits) + w->refine_trips * ww->exits) *
+                              (ww->waves < WAVE_FULL ? (double)WAVE_FULL / (double)ww->waves : 1.0);
             ++g_nwaves;
             if (k == 0) { /* the budgets cut the 8-child walk */
                 double mean, wave, tex8 = 0.0;
@@ -781,8 +795,10 @@ static void write_waves(FILE *f)
                "these kernels to. The ray-query peers are not counted (the hardware's traversal). Estimate: wave32 "
                "steps x the kernel's instructions per step (RDNA3, RADV: the static instructions of its loop body, "
                "read by make gpu-stats from the compiled code; the 8-child walk's texel tests added at their own "
-               "weight per node test) x %d / waves per SIMD below %d: instructions a wave issues per ray, not a "
-               "time.%s\n\n",
+               "weight per node test; a loop whose lanes leave it from inside, storing their answer (the peers: "
+               "the march by its refinement), runs those exit blocks once for each trip in which some lane of the "
+               "wave left, not every trip) x %d / waves per SIMD below %d: instructions a wave issues per ray "
+               "(bench/calibrate.py checks it against the H200's peers).%s\n\n",
             WAVE_LANES, WAVE_LANES, WAVE_LANES_WIDE, WAVE_FULL, WAVE_FULL,
             g_have_weights ? "" : " No weights were given (bench --weights FILE, make gpu-stats): no estimate.");
     fprintf(f, "| scene | rays | method | steps per ray | wave steps (%u) | wave / mean | wave steps (%u) | wave / mean "

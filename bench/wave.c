@@ -99,3 +99,26 @@ void bench_wave_march_blocks(const uint32_t *steps, size_t n, uint32_t wave, dou
     *refine_trips = groups ? rsum / (double)groups : 0.0;
 }
 
+void bench_wave_exits(const uint32_t *steps, size_t n, uint32_t wave, uint32_t cap, double *trips, double *exit_trips)
+{
+    size_t i, groups = 0;
+    double tsum = 0.0, esum = 0.0;
+    for (i = 0; i < n; i += wave) {
+        size_t j, k, end = i + wave < n ? i + wave : n;
+        uint32_t most = 0;
+        int distinct = 0;
+        for (j = i; j < end; ++j) {
+            int seen = 0;
+            most = steps[j] > most ? steps[j] : most;
+            if (steps[j] >= cap || steps[j] == 0) continue; /* left after the loop, or never entered it */
+            for (k = i; k < j && !seen; ++k) seen = steps[k] == steps[j];
+            distinct += !seen;
+        }
+        tsum += most;
+        esum += distinct;
+        ++groups;
+    }
+    *trips = groups ? tsum / (double)groups : 0.0;
+    *exit_trips = groups ? esum / (double)groups : 0.0;
+}
+

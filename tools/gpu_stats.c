@@ -85,6 +85,8 @@ typedef struct gs_row {
     unsigned isa_total, isa_outer, isa_inner, loads_outer, loads_inner;
     unsigned isa_skippable; /* of the outer loop's body: what a wave skips when no lane needs it (the blocks
                                s_cbranch_execz jumps over, outermost ones, the inner loop's aside) */
+    unsigned isa_exit;      /* of those, the blocks that store a result (the innermost skipped block around
+                               each store): a lane runs them once, as it leaves */
 } gs_row;
 
 enum { GS_MAX_ROWS = 64 };
@@ -204,6 +206,37 @@ static void gs_loops(const char *text, gs_row *row)
             (inner < 0 || heads_b[h] - heads_a[h] > heads_b[inner] - heads_a[inner]))
             inner = h;
     row->isa_total = row->isa_outer = row->isa_inner = row->loads_outer = row->loads_inner = row->isa_skippable = 0;
+    row->isa_exit = 0;
+    if (outer >= 0) { /* the exits: the innermost execz-skipped block around each store in the loop */
+        int ra[256], rb[256], nr = 0, used[256], r2;
+        for (k = (size_t)heads_a[outer]; (int)k <= heads_b[outer]; ++k) {
+            const char *b = strstr(line[k], "s_cbranch_execz");
+            if (!b || (size_t)(b - line[k]) > len[k] || !(b = strstr(b, "BB")) || nr == 256) continue;
+            {
+                const int id = atoi(b + 2), a = id >= 0 && id < 4096 ? label_line[id] : -1;
+                if (a > (int)k && a <= heads_b[outer]) ra[nr] = (int)k, rb[nr] = a, used[nr++] = 0;
+            }
+        }
+        for (k = (size_t)heads_a[outer]; (int)k <= heads_b[outer]; ++k) {
+            const char *st = strstr(line[k], "_store");
+            int best = -1;
+            if (!st || (size_t)(st - line[k]) > len[k]) continue;
+            for (r2 = 0; r2 < nr; ++r2)
+                if (ra[r2] < (int)k && (int)k < rb[r2] && (best < 0 || rb[r2] - ra[r2] < rb[best] - ra[best])) best = r2;
+            if (best >= 0) used[best] = 1;
+        }
+        for (r2 = 0; r2 < nr; ++r2) {
+            size_t q2;
+            if (!used[r2]) continue;
+            for (q2 = (size_t)ra[r2] + 1; (int)q2 < rb[r2]; ++q2) {
+                int blank = 1;
+                size_t q;
+                for (q = 0; q < len[q2]; ++q)
+                    if (line[q2][q] != ' ' && line[q2][q] != '\t' && line[q2][q] != '\r') blank = 0;
+                if (!blank && !gs_is_label(line[q2], len[q2])) ++row->isa_exit;
+            }
+        }
+    }
     if (outer >= 0) { /* forward s_cbranch_execz inside the outer loop body: the blocks it skips */
         int skip_to = -1;
         for (k = (size_t)heads_a[outer]; (int)k <= heads_b[outer]; ++k) {
@@ -953,8 +986,8 @@ static int gs_write_weights(const char *path, const char *gpu)
     for (i = 0; i < gs_row_count; ++i) {
         const gs_row *r = &gs_rows[i];
         if (r->why[0] || r->left_out || !r->has_isa) continue;
-        fprintf(f, "%s\t%s\t%llu\t%llu\t%llu\t%u\t%u\t%u\t%u\t%u\n", gpu, r->name, r->v[GS_INSTR], r->v[GS_VGPR],
-                r->v[GS_WAVES], r->isa_outer, r->isa_inner, r->loads_outer, r->loads_inner, r->isa_skippable);
+        fprintf(f, "%s\t%s\t%llu\t%llu\t%llu\t%u\t%u\t%u\t%u\t%u\t%u\n", gpu, r->name, r->v[GS_INSTR], r->v[GS_VGPR],
+                r->v[GS_WAVES], r->isa_outer, r->isa_inner, r->loads_outer, r->loads_inner, r->isa_skippable, r->isa_exit);
     }
     return fclose(f) != 0;
 }
@@ -1081,8 +1114,9 @@ int main(int argc, char **argv)
             return 1;
         }
         fprintf(f, "# tools/gpu_stats.c --weights: gpu pipeline instructions vgprs waves_per_simd loop_body inner_loop "
-                   "loop_loads inner_loads loop_skippable (static counts of the compiled code; loops from its branches; "
-                   "skippable: the loop body's blocks a wave jumps over when no lane enters them)\n");
+                   "loop_loads inner_loads loop_skippable loop_exits (static counts of the compiled code; loops from its "
+                   "branches; skippable: the loop body's blocks a wave jumps over when no lane enters them; exits: "
+                   "those that store a result, run once by a lane as it leaves)\n");
         fclose(f);
     }
     fflush(stdout);
