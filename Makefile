@@ -10,6 +10,7 @@
 #   make spv     compile shaders/*.comp and regenerate shaders_spv.h (needs glslang)
 #   make gpu-stats  the kernels' weight on AMD GPUs (RDNA3, RDNA2, GCN): Mesa's
 #                RADV compiler on null hardware, tables in build/gpu-stats.md
+#   make calibrate  the wave estimate against the H200's measured times
 #   make clean
 CC ?= cc
 CFLAGS ?= -O2 -g
@@ -69,7 +70,7 @@ include tests/threads.mk
 include tests/fuzz/fuzz.mk
 include examples/vulkan_inline/vulkan_inline.mk
 
-.PHONY: FORCE all demo examples pictures check test test-all test-programs deps clean spv spv-check bench bench-deps bench-publish bench-plain-vs-native gpu-stats $(TESTS) test-sanitize
+.PHONY: FORCE all demo examples pictures check test test-all test-programs deps clean spv spv-check bench bench-deps bench-publish bench-plain-vs-native gpu-stats calibrate $(TESTS) test-sanitize
 
 all: $(B)/demo $(B)/test_reference $(B)/test_core
 
@@ -464,6 +465,16 @@ bench: bench-deps
 	@if [ -f $(B)/bench-results/gpu-stats.md ] && [ -f $(B)/bench-results/results.md ]; then \
 	  { echo; cat $(B)/bench-results/gpu-stats.md; } >> $(B)/bench-results/results.md; \
 	  echo "bench: the kernels' weight on AMD GPUs appended to $(B)/bench-results/results.md"; fi
+
+# make calibrate: is the benchmark's wave estimate a model of GPU time? The
+# H200's measured peers (bench/h200.tsv) against the estimate of the same sets,
+# and linear_rt's kernel as the H200 ran it (bench/h200_kernel.sh weighs that
+# commit's SPIR-V): bench/calibrate.py's tables in build/h200/calibration.md
+# (about 3 min; needs RADV and the git history)
+calibrate: $(B)/gpu_stats $(B)/bench
+	bench/h200_kernel.sh a46c342 $(B)/h200
+	$(B)/bench --only-counts --size 1024 --weights $(B)/h200/gpu-weights.tsv --out $(B)/h200
+	python3 bench/calibrate.py $(B)/h200/waves.tsv $(B)/h200/gpu-weights.tsv bench/h200.tsv | tee $(B)/h200/calibration.md
 
 # The plain build's run-time walk against a -march=native build of the
 # library, in one run: build/bench-twin holds both (bench/m_linear_rt.c a

@@ -26,6 +26,13 @@ secondary points (5 scenes x reflection, ao, shadow, segments x march64,
 dda, hiz64), least squares in log time; then per set the order of the
 three peers (60 pairs) and march64 against hiz64 (20).
 
+Then the check: linear_rt as the H200 ran it, its one-pass kernel of that
+run (the SPIR-V of its commit, weighed by gpu_stats --spv under the name
+"h200 linear_rt trace" in WEIGHTS.tsv) on the 8-child walk's counted steps
+(waves.tsv's "linear_rt vulkan 16, 8-child walk"), with the scale fitted on
+the peers: its predicted / measured time per set, and the order of all four
+methods.
+
     python3 bench/calibrate.py WAVES.tsv WEIGHTS.tsv [H200.tsv]
 """
 import math
@@ -50,13 +57,18 @@ def main(waves_path, weights_path, h200_path):
         scene, rays, method = r[0], r[1], r[2]
         waves[(scene, rays, method)] = dict(method=method, mean=float(r[3]), w32=float(r[4]), w64=float(r[5]),
                                             instr=float(r[7]), loads=float(r[8]),
+                                            texels=float(r[6]),
                                             trips=float(r[9]) if len(r) > 9 else 0.0,
                                             refine=float(r[10]) if len(r) > 10 else 0.0)
     pipeline = {"march64 vulkan": "bench march64", "dda vulkan": "bench dda", "hiz64 vulkan": "bench hiz64"}
     loops = {}
+    inner, loads = {}, {}
     for r in read_tsv(weights_path):
         if r[0] == 'navi31' and len(r) > 10:
             loops[r[1]] = (float(r[5]), float(r[10]))
+            inner[r[1]] = float(r[6])
+            loads[r[1]] = float(r[7])
+    per_loop = {"march64 vulkan": 9.0, "dda vulkan": 1.0, "hiz64 vulkan": 1.0}  # the march: a sample, 8 bisections
     for m in PEERS:
         if pipeline[m] not in loops:
             sys.exit('calibrate: %s has no loop_exits of %s (make gpu-stats --weights)' % (weights_path, pipeline[m]))
@@ -80,13 +92,13 @@ def main(waves_path, weights_path, h200_path):
         sys.exit('calibrate: %d points: need waves.tsv with weights (bench --weights) and h200.tsv' % len(points))
 
     def per_ray(w, lanes, c):
+        name = pipeline[w['method']]
+        body, exits = loops[name]
         if lanes == 'blocks':
-            body, exits = loops[pipeline[w['method']]]
             return w['trips'] * (body - exits) + w['refine'] * exits
-        # a step's instructions and loads, from the estimate's (wave32 steps x per step)
-        steps = w['w32'] if w['w32'] > 0 else 1.0
-        instr, loads = w['instr'] / steps, w['loads'] / steps
-        return (w['w32'] if lanes == 32 else w['w64']) * (instr + c * loads)
+        # a step: the loop body's instructions and loads (the march's: a ninth of its trip)
+        step, step_loads = body / per_loop[w['method']], loads[name] / per_loop[w['method']]
+        return (w['w32'] if lanes == 32 else w['w64']) * (step + c * step_loads)
 
     def fit(lanes, c):
         res = [math.log(t) - math.log(per_ray(w, lanes, c)) for (_, _, _, t, w) in points]
@@ -132,6 +144,7 @@ def main(waves_path, weights_path, h200_path):
         c = min(cs, key=lambda x: fit(lanes, x)[1])
         evaluate('instructions + c x loads', lanes, c)
     pred, truth = evaluate('blocks', 'blocks', 0.0)
+    logk = fit('blocks', 0.0)[0]
     print('\nPer point, the blocks model: predicted / measured time per ray\n')
     print('| scene | rays | march64 | dda | hiz64 |\n|---|---|--:|--:|--:|')
     for s, r in sorted(set((s, r) for (s, r, m) in truth)):
@@ -140,6 +153,50 @@ def main(waves_path, weights_path, h200_path):
             k = (s, r, m)
             cells.append('%.2f' % (pred[k] / truth[k]) if k in truth else '-')
         print('| %s | %s | %s |' % (s, r, ' | '.join(cells)))
+
+    olds = ['h200 linear_rt trace', 'h200 linear_rt trace, back 16-bit']
+    if any(o not in loops for o in olds):
+        print('\nNo "%s" in %s: the check on linear_rt is not made (bench/h200_kernel.sh)' % (olds, weights_path))
+        return
+    lrt = {}
+    for (s, r, m), w in waves.items():
+        key = (s, r, 'linear_rt vulkan 16')
+        old = olds[1] if s == 'yard back' else olds[0]  # the yard back is a thickness tree
+        body, texel = loops[old][0] - inner[old], inner[old]
+        if m == 'linear_rt vulkan 16, 8-child walk' and r in SECONDARY and key in meas:
+            lrt[key] = (math.exp(logk) * w['w32'] * (body + texel * w['texels']), 1e3 / meas[key])
+    if not lrt:
+        print('\nNo 8-child walk rows in %s: the check on linear_rt is not made' % waves_path)
+        return
+    within = sum(1 for p, t in lrt.values() if max(p / t, t / p) <= 1.5)
+    print('\nThe check: linear_rt vulkan 16 as the H200 ran it (its kernel, infinite tree: %d instructions a node '
+          'test, %d a texel test; thickness tree %d and %d), predicted / measured time per ray, %d of %d sets within '
+          '1.5x:\n' % (loops[olds[0]][0] - inner[olds[0]], inner[olds[0]], loops[olds[1]][0] - inner[olds[1]],
+                        inner[olds[1]], within, len(lrt)))
+    print('| scene | rays | predicted / measured |\n|---|---|--:|')
+    for k, (p, t) in sorted(lrt.items()):
+        print('| %s | %s | %.2f |' % (k[0], k[1], p / t))
+    allp = dict(pred)
+    allt = dict(truth)
+    for k, (p, t) in lrt.items():
+        allp[k], allt[k] = p, t
+    methods = PEERS + ['linear_rt vulkan 16']
+    pairs = right = 0
+    for s, r in sorted(set((k[0], k[1]) for k in allt)):
+        for a in range(len(methods)):
+            for b in range(a + 1, len(methods)):
+                ka, kb = (s, r, methods[a]), (s, r, methods[b])
+                if ka in allt and kb in allt:
+                    pairs += 1
+                    right += (allp[ka] < allp[kb]) == (allt[ka] < allt[kb])
+    ratio_ok = 0
+    for s, r in sorted(set((k[0], k[1]) for k in lrt)):
+        kl, kh = (s, r, 'linear_rt vulkan 16'), (s, r, 'hiz64 vulkan')
+        if kh in allt:
+            pr, mr = allp[kl] / allp[kh], allt[kl] / allt[kh]
+            ratio_ok += max(pr / mr, mr / pr) <= 1.5
+    print('\nAll four methods: %d of %d pairs ordered right; linear_rt 16 / hiz64 within 1.5x of the H200\'s ratio on '
+          '%d of %d sets' % (right, pairs, ratio_ok, len(lrt)))
 
 
 if __name__ == '__main__':

@@ -708,10 +708,24 @@ static void count_waves(const scene *sc, const ray_set *sets, int nsets)
                               (ww->waves < WAVE_FULL ? (double)WAVE_FULL / (double)ww->waves : 1.0);
             ++g_nwaves;
             if (k == 0) { /* the budgets cut the 8-child walk */
+                const wave_weight *ww8 = weight_of("linear_rt vulkan 16 budget", sc->s.back != NULL);
                 double mean, wave, tex8 = 0.0;
                 if (bench_wave_linear_rt(&sc->s, rs, 16u, steps, &tex8) == 0) {
                     bench_wave_stats(steps, rs->count, WAVE_LANES, &mean, &wave);
                     budget_waves(sc, rs, steps, mean > 0.0 ? tex8 / ((double)rs->count * mean) : 0.0);
+                    if (g_nwaves < MAX_WAVES) { /* the 8-child walk uncut (the one-pass kernel's, which the H200 ran) */
+                        wave_row *e = &g_waves[g_nwaves++];
+                        e->scene = sc->s.name;
+                        e->set = rs->name;
+                        e->method = "linear_rt vulkan 16, 8-child walk";
+                        e->mean = mean;
+                        e->wave = wave;
+                        bench_wave_stats(steps, rs->count, WAVE_LANES_WIDE, &mean, &e->wave64);
+                        e->texels = e->mean > 0.0 ? tex8 / ((double)rs->count * e->mean) : 0.0;
+                        e->estimate = wave_estimate(ww8, e->wave, e->texels);
+                        e->loads = wave_loads(ww8, e->wave, e->texels);
+                        e->trips = e->wave, e->refine_trips = 0.0;
+                    }
                 }
             }
         }

@@ -199,10 +199,18 @@ static void gs_loops(const char *text, gs_row *row)
             else if (h < nheads && heads_b[h] < (int)k) heads_b[h] = (int)k;
         }
     }
+    /* a walk reads memory every step: the outer loop is the largest that loads (a
+       loop without, such as the rare set-up's rescaling, is not a walk), the inner
+       the largest loading loop inside it */
+    for (h = 0; h < nheads; ++h) {
+        int loads = 0;
+        for (k = (size_t)heads_a[h]; (int)k <= heads_b[h] && !loads; ++k) loads = gs_is_load(line[k], len[k]);
+        if (!loads) heads_b[h] = heads_a[h] - 1; /* out of the running */
+    }
     for (h = 0; h < nheads; ++h)
-        if (outer < 0 || heads_b[h] - heads_a[h] > heads_b[outer] - heads_a[outer]) outer = h;
+        if (heads_b[h] >= heads_a[h] && (outer < 0 || heads_b[h] - heads_a[h] > heads_b[outer] - heads_a[outer])) outer = h;
     for (h = 0; outer >= 0 && h < nheads; ++h)
-        if (h != outer && heads_a[h] > heads_a[outer] && heads_b[h] < heads_b[outer] &&
+        if (h != outer && heads_b[h] >= heads_a[h] && heads_a[h] > heads_a[outer] && heads_b[h] < heads_b[outer] &&
             (inner < 0 || heads_b[h] - heads_a[h] > heads_b[inner] - heads_a[inner]))
             inner = h;
     row->isa_total = row->isa_outer = row->isa_inner = row->loads_outer = row->loads_inner = row->isa_skippable = 0;
@@ -815,12 +823,22 @@ static int gs_library(const gs_vk *g, uint32_t *modes, int *texels, char *why, s
 
 /* ---- the benchmark's peers, as bench/m_vk_peers.c makes them -------------------- */
 
+/* --spv NAME=FILE:MASK[:C0,C1,...]: a SPIR-V module of another commit (an
+   old kernel, to weigh what a GPU ran then), its bindings the bits of MASK,
+   all storage buffers, 128 bytes of push constants, its specialization
+   constants 0, 1, ... the numbers given (uint32) */
+static const char *gs_extra[8];
+static int gs_extra_count;
+
 typedef struct gs_peer {
     const char *name;
     const uint32_t *code;
     size_t size;
     uint32_t bindings; /* m_vk_peers.c's vkp_bindings of the kind: 0 depth .. 5 TLAS */
     int ray_query;
+    int plain; /* --spv: every binding a storage buffer, 128 bytes of push constants */
+    uint32_t consts[4]; /* --spv: specialization constants 0..nconsts-1 (uint32: a bool is 0 or 1) */
+    uint32_t nconsts;
 } gs_peer;
 
 /* one row; the pipeline layout as m_vk_peers.c's: its kind's bindings, 96
@@ -833,7 +851,9 @@ static void gs_peer_row(const gs_vk *g, VkDevice dev, const gs_peer *peer)
     GS_D(vkDestroyPipelineLayout) GS_D(vkCreateShaderModule) GS_D(vkDestroyShaderModule)
     GS_D(vkCreateComputePipelines) GS_D(vkDestroyPipeline)
 #undef GS_D
-    VkDescriptorSetLayoutBinding b[6];
+    VkDescriptorSetLayoutBinding b[9];
+    VkSpecializationMapEntry entries[4];
+    VkSpecializationInfo spec;
     VkDescriptorSetLayoutCreateInfo li;
     VkPushConstantRange pr;
     VkPipelineLayoutCreateInfo pli;
@@ -848,10 +868,11 @@ static void gs_peer_row(const gs_vk *g, VkDevice dev, const gs_peer *peer)
     gs_row *row = gs_new_row(peer->name);
     if (!row) return;
     memset(b, 0, sizeof b);
-    for (k = 0; k < 6; ++k) {
+    for (k = 0; k < 9; ++k) {
         if (!((peer->bindings >> k) & 1u)) continue;
         b[nb].binding = k;
-        b[nb].descriptorType = k == 5 ? VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        b[nb].descriptorType = k == 5 && !peer->plain ? VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR
+                                                      : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         b[nb].descriptorCount = 1;
         b[nb].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
         ++nb;
@@ -862,7 +883,7 @@ static void gs_peer_row(const gs_vk *g, VkDevice dev, const gs_peer *peer)
     li.pBindings = b;
     memset(&pr, 0, sizeof pr);
     pr.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-    pr.size = 96; /* vkp_push: 8 + 16 uint32_t */
+    pr.size = peer->plain ? 128 : 96; /* vkp_push: 8 + 16 uint32_t */
     memset(&pli, 0, sizeof pli);
     pli.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
     pli.setLayoutCount = 1;
@@ -889,6 +910,18 @@ static void gs_peer_row(const gs_vk *g, VkDevice dev, const gs_peer *peer)
         ci.stage.pName = "main";
         ci.layout = layout;
         ci.basePipelineIndex = -1;
+        if (peer->nconsts) {
+            for (k = 0; k < peer->nconsts; ++k) {
+                entries[k].constantID = k;
+                entries[k].offset = 4u * k;
+                entries[k].size = 4;
+            }
+            spec.mapEntryCount = peer->nconsts;
+            spec.pMapEntries = entries;
+            spec.dataSize = 4u * peer->nconsts;
+            spec.pData = peer->consts;
+            ci.stage.pSpecializationInfo = &spec;
+        }
         if ((r = vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &ci, NULL, &pipe)) != VK_SUCCESS) {
             pipe = VK_NULL_HANDLE;
             snprintf(row->why, sizeof row->why, "vkCreateComputePipelines: %s", gs_vk_result(r));
@@ -906,13 +939,13 @@ static void gs_peers(const gs_vk *g)
 {
 #ifdef GPU_STATS_HAVE_PEERS
     static const gs_peer peers[] = {
-        {"bench march64", vkp_spv_march64, vkp_spv_march64_SIZE, 0x07u, 0},
-        {"bench dda", vkp_spv_dda, vkp_spv_dda_SIZE, 0x07u, 0},
-        {"bench hiz64", vkp_spv_hiz, vkp_spv_hiz_SIZE, 0x17u, 0},
-        {"bench hiz64 mip build", vkp_spv_hiz_mip, vkp_spv_hiz_mip_SIZE, 0x17u, 0},
-        {"bench rq aabb", vkp_spv_rq_aabb, vkp_spv_rq_aabb_SIZE, 0x3fu, 1},
-        {"bench rq aabb, AABB build", vkp_spv_aabb_gen, vkp_spv_aabb_gen_SIZE, 0x3fu, 1},
-        {"bench rq triangles", vkp_spv_rq_tri, vkp_spv_rq_tri_SIZE, 0x2fu, 1}};
+        {"bench march64", vkp_spv_march64, vkp_spv_march64_SIZE, 0x07u, 0, 0, {0, 0, 0, 0}, 0},
+        {"bench dda", vkp_spv_dda, vkp_spv_dda_SIZE, 0x07u, 0, 0, {0, 0, 0, 0}, 0},
+        {"bench hiz64", vkp_spv_hiz, vkp_spv_hiz_SIZE, 0x17u, 0, 0, {0, 0, 0, 0}, 0},
+        {"bench hiz64 mip build", vkp_spv_hiz_mip, vkp_spv_hiz_mip_SIZE, 0x17u, 0, 0, {0, 0, 0, 0}, 0},
+        {"bench rq aabb", vkp_spv_rq_aabb, vkp_spv_rq_aabb_SIZE, 0x3fu, 1, 0, {0, 0, 0, 0}, 0},
+        {"bench rq aabb, AABB build", vkp_spv_aabb_gen, vkp_spv_aabb_gen_SIZE, 0x3fu, 1, 0, {0, 0, 0, 0}, 0},
+        {"bench rq triangles", vkp_spv_rq_tri, vkp_spv_rq_tri_SIZE, 0x2fu, 1, 0, {0, 0, 0, 0}, 0}};
     int kind;
     for (kind = GS_DEVICE_PEERS; kind <= GS_DEVICE_RAY_QUERY; ++kind) {
         VkDevice dev = VK_NULL_HANDLE;
@@ -934,6 +967,64 @@ static void gs_peers(const gs_vk *g)
     (void)g;
     if (row) snprintf(row->why, sizeof row->why, "not built: no glslang when this was compiled (make bench's kernels)");
 #endif
+}
+
+/* --spv modules, on the peers' plain device */
+static void gs_extras(const gs_vk *g)
+{
+    int i;
+    for (i = 0; i < gs_extra_count; ++i) {
+        char name[64], path[400];
+        const char *eq = strchr(gs_extra[i], '='), *colon = eq ? strchr(eq, ':') : NULL;
+        unsigned long mask;
+        FILE *f;
+        long bytes;
+        uint32_t *code = NULL;
+        gs_peer peer;
+        VkDevice dev = VK_NULL_HANDLE;
+        char why[200] = "";
+        gs_row *row;
+        if (!eq || !colon || colon < eq || (size_t)(eq - gs_extra[i]) >= sizeof name ||
+            (size_t)(colon - eq - 1) >= sizeof path) {
+            if ((row = gs_new_row(gs_extra[i])) != NULL) snprintf(row->why, sizeof row->why, "--spv NAME=FILE:MASK");
+            continue;
+        }
+        memcpy(name, gs_extra[i], (size_t)(eq - gs_extra[i]));
+        name[eq - gs_extra[i]] = 0;
+        memcpy(path, eq + 1, (size_t)(colon - eq - 1));
+        path[colon - eq - 1] = 0;
+        {
+            char *end;
+            mask = strtoul(colon + 1, &end, 0);
+            peer.nconsts = 0;
+            while (*end == ':' || *end == ',') {
+                if (peer.nconsts == 4) break;
+                peer.consts[peer.nconsts++] = (uint32_t)strtoul(end + 1, &end, 0);
+            }
+        }
+        if (!(f = fopen(path, "rb")) || fseek(f, 0, SEEK_END) || (bytes = ftell(f)) <= 0 || bytes % 4 ||
+            fseek(f, 0, SEEK_SET) || !(code = (uint32_t *)malloc((size_t)bytes)) ||
+            fread(code, 1, (size_t)bytes, f) != (size_t)bytes) {
+            if ((row = gs_new_row(name)) != NULL) snprintf(row->why, sizeof row->why, "cannot read %.150s", path);
+            if (f) fclose(f);
+            free(code);
+            continue;
+        }
+        fclose(f);
+        if (gs_device(g, GS_DEVICE_PEERS, &dev, why, sizeof why) != VK_SUCCESS) {
+            if ((row = gs_new_row(name)) != NULL) snprintf(row->why, sizeof row->why, "%s", why);
+        } else {
+            peer.name = name;
+            peer.code = code;
+            peer.size = (size_t)bytes;
+            peer.bindings = (uint32_t)mask;
+            peer.ray_query = 0;
+            peer.plain = 1;
+            gs_peer_row(g, dev, &peer);
+            gs_destroy_device(g, dev);
+        }
+        free(code);
+    }
 }
 
 /* ---- one GPU ------------------------------------------------------------------ */
@@ -1023,6 +1114,7 @@ static int gs_one_gpu(const char *gpu, const char *arch, const char *icd, const 
         }
     } else
         gs_peers(&g);
+    gs_extras(&g);
     gs_print_table(stdout, gpu, arch, &g, modes, texels);
     fflush(stdout);
     if ((f = fopen(out_path, "a")) != NULL) {
@@ -1083,8 +1175,9 @@ int main(int argc, char **argv)
         else if (strcmp(argv[i], "--all") == 0) gs_all = 1;
         else if (strcmp(argv[i], "--quick") == 0) gs_quick = 1;
         else if (strcmp(argv[i], "--weights") == 0 && i + 1 < argc) gs_weights_path = argv[++i];
+        else if (strcmp(argv[i], "--spv") == 0 && i + 1 < argc && gs_extra_count < 8) gs_extra[gs_extra_count++] = argv[++i];
         else {
-            fprintf(stderr, "usage: %s [--gpu navi31|navi21|vega10|...]... [--out FILE] [--weights FILE] [--all] [--quick]\n",
+            fprintf(stderr, "usage: %s [--gpu navi31|navi21|vega10|...]... [--out FILE] [--weights FILE] [--spv NAME=FILE:MASK]... [--all] [--quick]\n",
                     argv[0]);
             return 2;
         }
