@@ -122,13 +122,16 @@ int main(void)
    The library never owns a queue, submits, waits or allocates per frame;
    the recording functions only read the context and the BVH (but build,
    which marks its tree built), so several threads may record with one
-   context at once (a tree's build before anything else records with it). The GPU tree is the CPU's
-   node array byte for byte (lrt_vk_bvh.layout is an lrt_layout), and the
-   kernels answer what the CPU answers (docs/MODEL.md: same kind and texel, t
-   within float rounding): the CPU and the kernels run one walk, with no
-   stack (lrt__walk_origin and lrt_walk_origin, section walk), which finds the
-   first texel hit in visiting order: the kernels start it at each ray's
-   origin, the CPU there or at the lowest node holding the segment.
+   context at once (a tree's build before anything else records with it).
+   The GPU tree is the CPU's node array byte for byte (lrt_vk_bvh.layout is
+   an lrt_layout), and the kernels answer what the CPU answers (docs/MODEL.md:
+   same kind and texel, t within float rounding). Every walk finds the first
+   texel hit in one visiting order, with no stack: the CPU's 8-child walk
+   (lrt__walk_origin, section walk; from the ray's origin or the lowest node
+   holding the segment), its GLSL twin (lrt_walk_origin: budgets, thickness
+   trees, one pass) and, in a GPU's ordinary pass of an infinite tree, the
+   cell walk (lrt_walk_cells, one cell a step; its C twin lrt__walk_cells,
+   which the tests hold to lrt_trace).
    Host-side helper for tools, tests and examples (not for engines, which
    have a device): #define LINEAR_RT_VULKAN_DEVICE_HELPER as well and
    lrt_vk_device_create loads the Vulkan loader at run time (dlopen: link
@@ -1095,6 +1098,11 @@ static int lrt__cpu_has_avx2(void)
 #define LRT__FORCE_INLINE static inline __attribute__((always_inline)) /* specialised on a constant argument */
 #else
 #define LRT__FORCE_INLINE static inline
+#endif
+#if defined(__GNUC__) || defined(__clang__)
+#define LRT__UNUSED __attribute__((unused)) /* for the tools and tests, not the trace */
+#else
+#define LRT__UNUSED
 #endif
 
 #ifdef __cplusplus
@@ -4387,6 +4395,164 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
                                : lrt__walk_up(w, ray, hit, s, t_scale, lv, nx, ny, px, py)))
         hit->kind = (uint16_t)kind;
 }
+
+#ifndef LRT__AVX2_PASS
+/* ---- the GPU's cell walk, in C ------------------------------------------------
+   The kernels' exact ordinary pass of an infinite tree walks one cell a
+   step (shaders/linear_rt.glsl, lrt_walk_cells, which says why its answer
+   is the walk above's: the first texel hit in the same visiting order).
+   This is that walk step for step, its floats the kernels' (a cell's code
+   plane lrt__kernel_cull_setup's, a texel's test lrt__test_texel), for the
+   benchmark's count of what a GPU wave pays (bench/visits.c) and the
+   tests, which hold its hits to lrt_trace's. The CPU trace never calls it:
+   its 8-child node test is cheap in SIMD lanes. C names ~ GLSL names:
+   lrt__split_level ~ lrt_split_level_x / _y, lrt__cross_texel ~
+   lrt_cross_texel, lrt__cell_axis ~ lrt_cell_axis, lrt__walk_cells ~
+   lrt_walk_cells. */
+/* lrt_split_level_x (rows 0) and lrt_split_level_y (rows 1) */
+LRT__UNUSED static int lrt__split_level(int a, int b, int rows)
+{
+    uint32_t d = (uint32_t)(a ^ b);
+    int m = 31;
+    if (!d) return -1;
+    while (!(d >> m)) --m;
+    return (2 * m + rows) / 3;
+}
+
+/* lrt_cross_texel */
+LRT__UNUSED static int lrt__cross_texel(float o, float v, float iv, uint32_t neg, float t, int lo, int hi, int cur)
+{
+    float q, e;
+    int c, b;
+    if (v == 0.0f) return cur;
+    q = o + t * v;
+    q = q < (float)lo ? (float)lo : q > (float)hi ? (float)hi : q;
+    c = (int)floorf(q);
+    b = neg ? c + 1 : c - 1;
+    e = ((float)(neg ? c + 1 : c) - o) * iv;
+    return (b >= lo && b <= hi && t <= lrt__widen(e)) ? b : c;
+}
+
+/* lrt_cell_axis */
+LRT__UNUSED static void lrt__cell_axis(int a, int n, float o, float v, float iv, uint32_t neg, float *en, float *ex, float *leave,
+                           int *past, int *last)
+{
+    float ta = ((float)a - o) * iv, tb = ((float)(a + n) - o) * iv;
+    LRT__ROUNDED(ta);
+    LRT__ROUNDED(tb);
+    lrt__slab((float)a, (float)(a + n), o, iv, neg, en, ex);
+    *leave = v == 0.0f ? INFINITY : neg ? ta : tb;
+    *past = neg ? a - 1 : a + n;
+    *last = neg ? a : a + n - 1;
+}
+
+/* lrt_walk_cells of a set-up thin ray: its steps (cells and texels tested),
+   *texels the texels among them, *hit 1 with its texel (hx, hy) */
+LRT__UNUSED static uint32_t lrt__walk_cells(const lrt__walk *w, const lrt__ray_setup *s, size_t *texels, int *hit, uint32_t *hx, uint32_t *hy)
+{
+    const lrt_layout *L = w->L;
+    lrt__kernel_cull c;
+    int x, y, lv = 0, pend = 0;
+    uint32_t steps = 0;
+    lrt__kernel_cull_setup(w, s, &c);
+    x = lrt__cross_texel(s->o[0], s->v[0], s->iv[0], s->neg_x, s->t_lo, 0, (int)L->width - 1, (int)s->o[0]);
+    y = lrt__cross_texel(s->o[1], s->v[1], s->iv[1], s->neg_y, s->t_lo, 0, (int)L->height - 1, (int)s->o[1]);
+    *hit = 0;
+    for (;;) {
+        const int sw = lv + ((lv + 1) >> 1), sh = lv + (lv >> 1);
+        const int cx = x >> sw, cy = y >> sh; /* x, y >= 0: a move to -1 ends the walk */
+        float en = s->t_lo, ex = s->t_hi, lx, ly;
+        int px, py, lastx, lasty, met = 0, to = lv - 1;
+        lrt__cell_axis(cx << sw, 1 << sw, s->o[0], s->v[0], s->iv[0], s->neg_x, &en, &ex, &lx, &px, &lastx);
+        lrt__cell_axis(cy << sh, 1 << sh, s->o[1], s->v[1], s->iv[1], s->neg_y, &en, &ex, &ly, &py, &lasty);
+        ++steps;
+        if (lv == 0) {
+            const int on = (uint32_t)x < L->width && (uint32_t)y < L->height;
+            const uint32_t slot = (((uint32_t)y & 1u) << 2) | ((uint32_t)x & 3u);
+            const uint32_t code =
+                on && w->exact_codes ? *lrt__codes(w, lrt__node_slot(w, 1, (uint32_t)x >> 2, (uint32_t)y >> 1) + slot) : 0u;
+            float t, planes[2];
+            ++*texels;
+            if (lrt__test_texel(w, s, (uint32_t)x, (uint32_t)y, en, ex, code, &t, planes)) {
+                *hit = 1;
+                *hx = (uint32_t)x;
+                *hy = (uint32_t)y;
+                return steps;
+            }
+        } else if ((uint32_t)x < L->width && (uint32_t)y < L->height) {
+            const uint32_t bw = ((uint32_t)lv & 1u) ? 1u : 2u, bh = 3u - bw;
+            const size_t code = lrt__node_slot(w, (uint32_t)lv + 1u, (uint32_t)cx >> bw, (uint32_t)cy >> bh) +
+                                ((((uint32_t)cy & ((1u << bh) - 1u)) << bw) | ((uint32_t)cx & ((1u << bw) - 1u)));
+            float tz = (float)*lrt__codes(w, code) * c.za, e0 = en, x0 = lrt__widen(ex);
+            LRT__ROUNDED(tz);
+            tz += c.zb;
+            if (s->neg_z) x0 = tz < x0 ? tz : x0;
+            else e0 = tz > e0 ? tz : e0;
+            if (w->back_codes) {
+                float tb = (float)*lrt__codes(w, w->back_codes + code) * c.ba;
+                LRT__ROUNDED(tb);
+                tb += c.bb;
+                if (s->neg_z) e0 = tb > e0 ? tb : e0;
+                else x0 = tb < x0 ? tb : x0;
+            }
+            met = e0 <= x0;
+        }
+        if (!met) {
+            const int bx = lrt__split_level(lastx, px, 0), by = lrt__split_level(lasty, py, 1);
+            const float lt = lx < ly ? lx : ly;
+            if (pend) {
+                x += (pend & 1) == (int)s->neg_x ? 1 : -1;
+                y += (pend & 1) == (int)s->neg_y ? -1 : 1;
+                to = pend >> 2;
+                pend = 0;
+            } else if (!(lt <= lrt__widen(s->t_hi))) {
+                return steps;
+            } else if ((lx > ly ? lx : ly) <= lrt__widen(lt)) {
+                const int a_first = bx <= by;
+                x = a_first ? px : lastx;
+                y = a_first ? lasty : py;
+                to = a_first ? bx : by;
+                pend = ((bx > by ? bx : by) << 2) | 2 | a_first;
+            } else if (lx < ly) {
+                y = lrt__cross_texel(s->o[1], s->v[1], s->iv[1], s->neg_y, lx, cy << sh, ((cy + 1) << sh) - 1, y);
+                x = px;
+                to = bx;
+            } else {
+                x = lrt__cross_texel(s->o[0], s->v[0], s->iv[0], s->neg_x, ly, cx << sw, ((cx + 1) << sw) - 1, x);
+                y = py;
+                to = by;
+            }
+            if (to >= (int)L->level_count) return steps;
+        }
+        lv = to;
+    }
+}
+
+
+/* One ray through the cell walk, for code after this file (where the walk's
+   names may stand for their AVX2 pass): 0 where the kernels' ordinary pass
+   would not take it to the cell walk (a rare ray, one in a plane of the
+   texel grid, or nothing to walk), else 1 with *steps, *texels added to,
+   *hit and its texel. */
+LRT__UNUSED static int lrt__walk_cells_ray(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *ray, uint32_t *steps,
+                                           size_t *texels, int *hit, uint32_t *hx, uint32_t *hy)
+{
+    lrt__walk w;
+    lrt__ray_setup s;
+    size_t stride = 0;
+    float t_scale;
+    uint32_t kind;
+    *hit = 0;
+    if (lrt__check_depth(depth, &stride) != LRT_SUCCESS) return 0;
+    if ((lrt__rare_bits(ray) || lrt__far_origin(ray->origin, depth->width, depth->height)) &&
+        !lrt__huge_direction(ray, depth->width, depth->height))
+        return 0;
+    if (!lrt__setup_ray(ray, depth->width, depth->height, &s, &t_scale, &kind) || lrt__in_grid_plane(&s)) return 0;
+    lrt__walk_init(&w, bvh, depth, stride);
+    *steps = lrt__walk_cells(&w, &s, texels, hit, hx, hy);
+    return 1;
+}
+#endif /* !LRT__AVX2_PASS: the cell walk */
 
 LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
 {

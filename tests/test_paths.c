@@ -290,6 +290,64 @@ static void test_bench_scenes(void)
     free(rays);
 }
 
+/* linear_rt.h's C twin of the GPU's cell walk (lrt__walk_cells): on every
+   ray its ordinary pass takes, the same answer as lrt_trace's (hit or not,
+   the same texel), as test_vulkan holds the kernels' own */
+static size_t g_cell_rays;
+static void cells_match(const char *what, const test_map *m, uint32_t node_bits, const lrt_ray *rays, size_t n)
+{
+    const lrt_depth *depth = test_map_depth(m);
+    lrt_build_options opt = m->model;
+    lrt_bvh bvh = {0};
+    size_t i, differ = 0, texels = 0;
+    opt.node_bits = node_bits;
+    if (lrt_bvh_build(&bvh, depth, &opt, NULL) != LRT_SUCCESS) {
+        CHECK(0, "%s: build failed", what);
+        return;
+    }
+    for (i = 0; i < n; ++i) {
+        uint32_t steps = 0, hx = 0, hy = 0;
+        int hit = 0;
+        lrt_hit h;
+        if (!lrt__walk_cells_ray(&bvh, depth, &rays[i], &steps, &texels, &hit, &hx, &hy)) continue;
+        if (lrt_trace(&bvh, depth, &rays[i], &h, 1, 0) != LRT_SUCCESS) h.kind = 0xffffu;
+        if ((h.kind == LRT_HIT) != hit || (hit && (h.x != hx || h.y != hy))) {
+            if (!differ)
+                printf("  %s: ray %zu: lrt_trace kind %u (%u,%u), the cell walk %s (%u,%u)\n", what, i, h.kind, h.x, h.y,
+                       hit ? "a hit" : "no hit", hx, hy);
+            ++differ;
+        }
+        ++g_cell_rays;
+    }
+    CHECK(differ == 0, "%s: the cell walk differs from lrt_trace on %zu rays", what, differ);
+    lrt_bvh_destroy(&bvh);
+}
+
+static void test_cell_walk(void)
+{
+    static const int sizes[][2] = {{1, 1}, {3, 5}, {8, 8}, {33, 20}, {257, 129}, {640, 360}};
+    size_t s, i;
+    int shape, f;
+    for (s = 0; s < sizeof sizes / sizeof sizes[0]; ++s)
+        for (shape = 0; shape < SHAPE_COUNT; ++shape)
+            for (f = 1; f <= 3; ++f) {
+                test_map m;
+                const size_t n = 4000;
+                lrt_ray *rays = (lrt_ray *)malloc(sizeof(lrt_ray) * n);
+                char what[128];
+                if (shape == SHAPE_WILD && f != 3) continue;
+                make_map(&m, sizes[s][0], sizes[s][1], shape, (lrt_format)f, (int)(s & 1), (int)(s & 2));
+                if (!rays) exit(2);
+                for (i = 0; i < n; ++i) rays[i] = make_ray(&m, (int)(i % RAY_KIND_COUNT));
+                snprintf(what, sizeof what, "cell walk %dx%d %s fmt=%d", sizes[s][0], sizes[s][1], m.name, f);
+                cells_match(what, &m, (s % 2) ? 8u : 16u, rays, n);
+                free_map(&m);
+                free(rays);
+            }
+    printf("%zu rays through the cell walk, each lrt_trace's answer\n", g_cell_rays);
+    CHECK(g_cell_rays > 100000, "only %zu rays took the cell walk", g_cell_rays);
+}
+
 /* the fuzzer's rays, the rare set-up among them */
 static void test_found_cases(void)
 {
@@ -317,6 +375,7 @@ int main(int argc, char **argv)
     RUN_TEST(test_large);
     RUN_TEST(test_thickness);
     RUN_TEST(test_bench_scenes);
+    RUN_TEST(test_cell_walk);
     RUN_TEST(test_found_cases);
     printf("%zu rays compared across the paths\n", g_rays);
     return check_summary();
