@@ -659,7 +659,7 @@ LINEAR_RT_API float lrt_surface_lift(float step_x, float step_y);
    that reaches the far plane without leaving its texel (at the horizon) is
    lifted whole and ends with LRT_MISS_TMAX. Returns as lrt_camera_segment.
    Not every stair is cleared: where a curved surface turns away or two
-   surfaces touch, a few rays in 10^5 still meet their own surface
+   surfaces touch, up to 1 ray in 10^4 still meets its own surface
    (tests/test_lift.c counts them). */
 LINEAR_RT_API int lrt_camera_surface_ray(const lrt_camera *camera, const float from[3], const float to[3], float lift,
                                          lrt_ray *ray);

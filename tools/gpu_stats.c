@@ -1153,6 +1153,17 @@ static int gs_one_gpu(const char *gpu, const char *arch, const char *icd, const 
     return rc;
 }
 
+/* A new file holding `text`; 1 (said on stderr) when it cannot be written */
+static int gs_start_file(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    if (!f || fputs(text, f) < 0 || fclose(f) != 0) {
+        fprintf(stderr, "gpu_stats: cannot write %s\n", path);
+        return 1;
+    }
+    return 0;
+}
+
 static const char *gs_arch(const char *gpu)
 {
     int i;
@@ -1168,7 +1179,6 @@ int main(int argc, char **argv)
     const char *ci = getenv("CI");
     const int under_ci = ci && strcmp(ci, "true") == 0;
     int ngpu = 0, i, skipped = 0, failed = 0;
-    FILE *f;
     for (i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--gpu") == 0 && i + 1 < argc && ngpu < 16) gpus[ngpu++] = argv[++i];
         else if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) out_path = argv[++i];
@@ -1190,28 +1200,20 @@ int main(int argc, char **argv)
                icd);
         return under_ci ? 1 : GS_SKIP;
     }
-    if (!(f = fopen(out_path, "w"))) {
-        fprintf(stderr, "gpu_stats: cannot write %s\n", out_path);
+    if (gs_start_file(out_path, "## The kernels' weight on AMD GPUs\n\n"
+                                "Compiled by Mesa's RADV (ACO) on null hardware (RADV_FORCE_FAMILY), read through "
+                                "VK_KHR_pipeline_executable_properties (tools/gpu_stats.c, make gpu-stats). "
+                                "Instructions: ACO's count; code bytes: the binary's size. SGPRs: as allocated (RDNA "
+                                "gives every wave 128). Waves per SIMD: RADV's \"Subgroups per SIMD\", the occupancy the "
+                                "registers allow. Loops: from the disassembly (a walk: the largest loop that loads). "
+                                "build/gpu_stats --all lists every statistic (latency, VALU/SALU counts...).\n\n") ||
+        (gs_weights_path &&
+         gs_start_file(gs_weights_path,
+                       "# tools/gpu_stats.c --weights: gpu pipeline instructions vgprs waves_per_simd loop_body inner_loop "
+                       "loop_loads inner_loads loop_skippable loop_exits (static counts of the compiled code; loops from "
+                       "its branches; skippable: the loop body's blocks a wave jumps over when no lane enters them; "
+                       "exits: those that store a result, run once by a lane as it leaves)\n")))
         return 1;
-    }
-    fprintf(f, "## The kernels' weight on AMD GPUs\n\n"
-               "Compiled by Mesa's RADV (ACO) on null hardware (RADV_FORCE_FAMILY), read through "
-               "VK_KHR_pipeline_executable_properties (tools/gpu_stats.c, make gpu-stats). "
-               "Instructions: ACO's count; code bytes: the binary's size. SGPRs: as allocated (RDNA gives every "
-               "wave 128). Waves per SIMD: RADV's \"Subgroups per SIMD\", the occupancy the registers allow. "
-               "build/gpu_stats --all lists every statistic (latency, VALU/SALU counts...).\n\n");
-    fclose(f);
-    if (gs_weights_path) {
-        if (!(f = fopen(gs_weights_path, "w"))) {
-            fprintf(stderr, "gpu_stats: cannot write %s\n", gs_weights_path);
-            return 1;
-        }
-        fprintf(f, "# tools/gpu_stats.c --weights: gpu pipeline instructions vgprs waves_per_simd loop_body inner_loop "
-                   "loop_loads inner_loads loop_skippable loop_exits (static counts of the compiled code; loops from its "
-                   "branches; skippable: the loop body's blocks a wave jumps over when no lane enters them; exits: "
-                   "those that store a result, run once by a lane as it leaves)\n");
-        fclose(f);
-    }
     fflush(stdout);
     for (i = 0; i < ngpu; ++i) {
         int status = 0, rc;
