@@ -478,7 +478,7 @@ calibrate: $(B)/gpu_stats $(B)/bench
 
 # The plain build's run-time walk against a -march=native build of the
 # library, in one run: build/bench-twin holds both (bench/m_linear_rt.c a
-# second time, with -march=native), tools/plain_vs_native.sh compares them.
+# second time, with -march=native), bench/plain_vs_native.sh compares them.
 # make bench-plain-vs-native [RUNS=N] (N runs, each row's best; default 1)
 # TWIN_CFLAGS (default -march=native) and PLAIN_CFLAGS build the two copies
 # otherwise, for any A/B of the CPU walk in one run: e.g. TWIN_CFLAGS=
@@ -496,7 +496,7 @@ $(B)/bench-twin: $(BENCH_SRC) $(BENCH_HDR) $(BENCH_DEPS) $(B)/config.stamp $(B)/
 
 bench-plain-vs-native: bench-deps
 	@$(MAKE) --no-print-directory $(B)/bench-twin
-	tools/plain_vs_native.sh $(RUNS)
+	bench/plain_vs_native.sh $(RUNS)
 
 BENCH_PUBLISHED := results.csv results.md speed_vs_accuracy.png
 bench-publish:
@@ -509,13 +509,13 @@ bench-publish:
 test-bench: $(B)/bench
 	$(B)/bench --quick --out $(B)
 
-# tools/walk_rays.c, the workload of tools/walk_ab.sh (which builds its own
+# bench/walk_rays.c, the workload of bench/walk_ab.sh (which builds its own
 # copies against two headers): built here so that it keeps compiling
-$(B)/walk_rays: tools/walk_rays.c $(LIB) $(SCENE) | deps $(B)
+$(B)/walk_rays: bench/walk_rays.c $(LIB) $(SCENE) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) -O3 $< -o $@ $(LDLIBS)
 
 # ---- the kernels' weight on AMD GPUs ------------------------------------------
-# tools/gpu_stats.c: every pipeline of lrt_vk_context_create, and the
+# bench/gpu_stats.c: every pipeline of lrt_vk_context_create, and the
 # benchmark's Vulkan peers (their kernels as make bench compiles them), built
 # by Mesa's RADV on null hardware for RDNA3, RDNA2 and GCN (RADV_FORCE_FAMILY:
 # no AMD GPU needed, nothing dispatched); instructions, registers, spills,
@@ -534,7 +534,7 @@ ifeq ($(HAVE_GLSLANG),1)
 GPU_STATS_FLAGS += -DGPU_STATS_HAVE_PEERS -I$(B)
 GPU_STATS_DEPS += $(B)/bench_vk_spv.h
 endif
-$(B)/gpu_stats: tools/gpu_stats.c $(GPU_STATS_DEPS) $(B)/config.stamp | deps $(B)
+$(B)/gpu_stats: bench/gpu_stats.c $(GPU_STATS_DEPS) $(B)/config.stamp | deps $(B)
 	$(CC) $(STD) $(STRICT) $(CFLAGS) $(GPU_STATS_FLAGS) $< -o $@ -lm $(VK_LIBS)
 
 gpu-stats: $(B)/gpu_stats

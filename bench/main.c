@@ -525,7 +525,7 @@ typedef struct wave_weight {
     int read;
 } wave_weight;
 /* Which compiled loop weighs which method's step. Every figure comes from
-   make gpu-stats --weights (tools/gpu_stats.c: RADV's ACO for RDNA3, the
+   make gpu-stats --weights (bench/gpu_stats.c: RADV's ACO for RDNA3, the
    static instructions and loads of each kernel's outermost loop body and of
    the largest loop inside it; bench --weights FILE). linear_rt's exact
    ordinary pass of an infinite tree is the cell walk: a step tests one cell

@@ -1,5 +1,5 @@
 #!/bin/sh
-# tools/bench_ab.sh OLD NEW [RUNS [BENCH ARGS...]]
+# bench/bench_ab.sh OLD NEW [RUNS [BENCH ARGS...]]
 #
 # Before/after speed of two builds of the benchmark (OLD and NEW: paths to
 # build/bench binaries, e.g. one built in a `git worktree` of the commit

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# tools/gpu_check.sh [OUT] - the device check for a lent GPU, in one command
+# bench/gpu_check.sh [OUT] - the device check for a lent GPU, in one command
 # (under 8 minutes on an H200): test_vulkan, the demo and `bench --only
 # vulkan`, with the GPU at its working clock, and nvidia-smi's SM clock
 # logged beside them. Two files go into OUT (default $OUT, else
@@ -13,7 +13,7 @@
 #   make build/test_vulkan build/demo build/bench
 #   (once) the loader's .deb files into .gl/, as the device tool's README says
 #   device run: carry [".gl", "build/test_vulkan", "build/demo", "build/bench"]
-#     command: tools/gpu_check.sh        (timeout_s 540)
+#     command: bench/gpu_check.sh        (timeout_s 540)
 # Sizes: GPU_CHECK_SIZE (the bench's, default 1024), GPU_CHECK_DEMO_SIZE (1024),
 # GPU_CHECK_RUNS (default 5). Without nvidia-smi (lavapipe, say) the
 # clock is not logged and the warm-up is skipped: the rest runs the same.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# tools/plain_vs_native.sh [RUNS] [BENCH OPTIONS...] - is the walk a plain
+# bench/plain_vs_native.sh [RUNS] [BENCH OPTIONS...] - is the walk a plain
 # build chooses at run time as fast as a -march=native build's?
 #
 # `make bench-plain-vs-native` builds build/bench-twin and calls this. That
@@ -19,7 +19,7 @@ B=${B:-build}
 runs=${1:-1}
 shift || true
 case $runs in '' | *[!0-9]* | 0)
-    echo "usage: tools/plain_vs_native.sh [RUNS >= 1] [bench options...]" >&2
+    echo "usage: bench/plain_vs_native.sh [RUNS >= 1] [bench options...]" >&2
     exit 2
     ;;
 esac

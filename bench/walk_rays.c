@@ -1,4 +1,4 @@
-/* tools/walk_rays.c - the CPU walk on the demo's rays, for tools/walk_ab.sh.
+/* bench/walk_rays.c - the CPU walk on the demo's rays, for bench/walk_ab.sh.
 
    The demo's workload (examples/demo.c): the embedded scene at --size
    (float depth, 16-bit nodes), one primary ray per texel and one random

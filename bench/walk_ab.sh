@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# tools/walk_ab.sh OLD [NEW] [RUNS] [-- walk_rays args]
+# bench/walk_ab.sh OLD [NEW] [RUNS] [-- walk_rays args]
 #
 # The CPU walk of two versions of linear_rt.h on the demo's rays (primary
-# rays and random segments, tools/walk_rays.c), alternated: RUNS rounds
+# rays and random segments, bench/walk_rays.c), alternated: RUNS rounds
 # (default 6), each running both builds, the first of a round swapping from
 # round to round, so that this machine's slow and fast phases fall on both.
 # OLD and NEW are commits (or a path to a header); NEW defaults to the
@@ -11,8 +11,8 @@
 # NATIVE= for a plain x86-64 build with the AVX2 walk chosen at run time).
 # walk_rays args default to --size 512 --threads 2 --runs 5.
 #
-#   tools/walk_ab.sh c12ebe8                  # the demo's segments then and now
-#   tools/walk_ab.sh c12ebe8 HEAD 8 -- --size 1024
+#   bench/walk_ab.sh c12ebe8                  # the demo's segments then and now
+#   bench/walk_ab.sh c12ebe8 HEAD 8 -- --size 1024
 set -eu
 top=$(cd "$(dirname "$0")/.." && pwd)
 if [ $# -lt 1 ]; then sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 2; fi
@@ -35,7 +35,7 @@ header "$new" "$dir/new.h"
 for v in old new; do
     # shellcheck disable=SC2086
     ${CC:-cc} -std=c99 -O3 $native -w -DLRT_HEADER="\"$dir/$v.h\"" -DLINEAR_RT_SELF="\"$dir/$v.h\"" \
-        "$top/tools/walk_rays.c" -o "$dir/$v" -lm -lpthread
+        "$top/bench/walk_rays.c" -o "$dir/$v" -lm -lpthread
 done
 i=1
 while [ "$i" -le "$runs" ]; do

@@ -1,4 +1,4 @@
-/* tools/gpu_stats.c - what the GPU kernels weigh on AMD GPUs, without one.
+/* bench/gpu_stats.c - what the GPU kernels weigh on AMD GPUs, without one.
 
    Lavapipe (the CPU driver the tests run on) cannot show what makes a GPU
    kernel slow. Mesa's RADV driver, told RADV_FORCE_FAMILY=<chip>, makes a
@@ -1202,14 +1202,14 @@ int main(int argc, char **argv)
     }
     if (gs_start_file(out_path, "## The kernels' weight on AMD GPUs\n\n"
                                 "Compiled by Mesa's RADV (ACO) on null hardware (RADV_FORCE_FAMILY), read through "
-                                "VK_KHR_pipeline_executable_properties (tools/gpu_stats.c, make gpu-stats). "
+                                "VK_KHR_pipeline_executable_properties (bench/gpu_stats.c, make gpu-stats). "
                                 "Instructions: ACO's count; code bytes: the binary's size. SGPRs: as allocated (RDNA "
                                 "gives every wave 128). Waves per SIMD: RADV's \"Subgroups per SIMD\", the occupancy the "
                                 "registers allow. Loops: from the disassembly (a walk: the largest loop that loads). "
                                 "build/gpu_stats --all lists every statistic (latency, VALU/SALU counts...).\n\n") ||
         (gs_weights_path &&
          gs_start_file(gs_weights_path,
-                       "# tools/gpu_stats.c --weights: gpu pipeline instructions vgprs waves_per_simd loop_body inner_loop "
+                       "# bench/gpu_stats.c --weights: gpu pipeline instructions vgprs waves_per_simd loop_body inner_loop "
                        "loop_loads inner_loads loop_skippable loop_exits (static counts of the compiled code; loops from "
                        "its branches; skippable: the loop body's blocks a wave jumps over when no lane enters them; "
                        "exits: those that store a result, run once by a lane as it leaves)\n")))
