@@ -217,17 +217,6 @@ static int scene_load(scene *sc, const options *o)
 }
 
 /* ---- ray sets ----------------------------------------------------------------- */
-/* a ray as the reference takes it */
-static ref_ray to_ref(const lrt_ray *r)
-{
-    ref_ray q;
-    memcpy(q.o, r->origin, sizeof q.o);
-    memcpy(q.v, r->dir, sizeof q.v);
-    q.tmin = r->tmin;
-    q.tmax = r->tmax;
-    return q;
-}
-
 typedef struct ray_set {
     bench_rays r;
     lrt_ray *rays;
@@ -391,7 +380,7 @@ static void make_set(ray_set *rs, const scene *sc, int kind, size_t sample)
     rs->sample_count = (count + rs->sample_stride - 1) / rs->sample_stride;
     rs->ref = (ref_result *)malloc(sizeof(ref_result) * rs->sample_count);
     for (q = 0; q < rs->sample_count; ++q) {
-        ref_ray rr = to_ref(&rs->rays[q * rs->sample_stride]);
+        ref_ray rr = ref_ray_of(&rs->rays[q * rs->sample_stride]);
         rs->ref[q] = ref_trace_ray(&sc->ref, &rr);
     }
 }
@@ -425,7 +414,7 @@ static void score_set(const scene *sc, const ray_set *rs, const lrt_hit *hits, i
         if (exact == 2 && a->kind == LRT_MISS_BUDGET) {
             ok = 0;
         } else if (exact) { /* docs/MODEL.md's rule, perturbations and all */
-            ref_ray rr = to_ref(r);
+            ref_ray rr = ref_ray_of(r);
             ref_answer an;
             an.kind = (int)a->kind;
             an.t = a->t;
@@ -1019,7 +1008,7 @@ static void stab_rays(stab_case *c, size_t n, void (*gen)(const scene *, lrt_ray
     rs->sample_count = n;
     rs->ref = (ref_result *)malloc(sizeof(ref_result) * n);
     for (q = 0; q < n; ++q) {
-        ref_ray rr = to_ref(&rs->rays[q]);
+        ref_ray rr = ref_ray_of(&rs->rays[q]);
         rs->ref[q] = ref_trace_ray(&c->sc.ref, &rr);
     }
 }

@@ -22,15 +22,6 @@
 #include <string.h>
 #include <time.h>
 
-static uint64_t g_rng = 0x2545f4914f6cdd1dull; /* the demo's xorshift64 and seed */
-static float rnd01(void)
-{
-    g_rng ^= g_rng << 13;
-    g_rng ^= g_rng >> 7;
-    g_rng ^= g_rng << 17;
-    return (float)(g_rng >> 40) * (1.0f / 16777216.0f);
-}
-
 static double now_ms(void)
 {
     struct timespec ts;
@@ -87,7 +78,7 @@ static double trace(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *r
 int main(int argc, char **argv)
 {
     int size = 512, threads = 2, runs = 5, only = -1, a, r;
-    size_t n, i, j;
+    size_t n, i;
     float *depth_f;
     lrt_ray *prim, *seg;
     lrt_hit *hits;
@@ -117,35 +108,9 @@ int main(int argc, char **argv)
     depth.data = depth_f;
     depth.width = depth.height = (uint32_t)size;
     depth.format = LRT_FORMAT_FLOAT32;
-    for (j = 0; j < (size_t)size; ++j)
-        for (i = 0; i < (size_t)size; ++i) {
-            lrt_ray *p = &prim[j * (size_t)size + i];
-            p->origin[0] = (float)i + 0.5f;
-            p->origin[1] = (float)j + 0.5f;
-            p->origin[2] = 0.0f;
-            p->dir[0] = p->dir[1] = 0.0f;
-            p->dir[2] = 1.0f;
-            p->tmin = 0.0f;
-            p->tmax = 1.0f;
-        }
-    for (i = 0; i < n; ++i) { /* the demo's segments, draw for draw */
-        uint32_t tx = (uint32_t)(rnd01() * (float)size), ty = (uint32_t)(rnd01() * (float)size);
-        float d, end[3];
-        lrt_ray *s = &seg[i];
-        if (tx >= (uint32_t)size) tx = (uint32_t)size - 1;
-        if (ty >= (uint32_t)size) ty = (uint32_t)size - 1;
-        d = depth_f[(size_t)ty * (size_t)size + tx];
-        s->origin[0] = (float)tx + rnd01();
-        s->origin[1] = (float)ty + rnd01();
-        s->origin[2] = d * rnd01();
-        end[0] = rnd01() * (float)size;
-        end[1] = rnd01() * (float)size;
-        end[2] = d + 0.05f * rnd01();
-        s->dir[0] = end[0] - s->origin[0];
-        s->dir[1] = end[1] - s->origin[1];
-        s->dir[2] = end[2] - s->origin[2];
-        s->tmin = 0.0f;
-        s->tmax = 1.0f;
+    { /* the demo's rays, draw for draw (examples/scene.h) */
+        uint64_t rng = SCENE_DEMO_SEED;
+        scene_demo_rays(size, depth_f, prim, seg, n, &rng);
     }
     memset(&bvh, 0, sizeof bvh);
     if (lrt_bvh_build(&bvh, &depth, NULL, NULL) != LRT_SUCCESS) return 1;

@@ -81,16 +81,6 @@ static double median(double *v, int n)
     return (n & 1) ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-/* ---- deterministic random numbers (xorshift64, fixed seed) ---------------- */
-static uint64_t g_rng = 0x2545f4914f6cdd1dull;
-static float rnd01(void) /* uniform in [0, 1) */
-{
-    g_rng ^= g_rng << 13;
-    g_rng ^= g_rng >> 7;
-    g_rng ^= g_rng << 17;
-    return (float)(g_rng >> 40) * (1.0f / 16777216.0f);
-}
-
 /* ---- tracing on 1 or 2 threads ------------------------------------------- */
 typedef struct job {
     const lrt_bvh *bvh;
@@ -545,7 +535,7 @@ int main(int argc, char **argv)
     const char *dump_path = NULL;
     example_options opt;
     gpu_run gpu;
-    size_t n, i, j;
+    size_t n;
     float *depth_f;
     lrt_depth depth;
     lrt_bvh bvh = {0};
@@ -600,38 +590,10 @@ int main(int argc, char **argv)
     depth.width = depth.height = (uint32_t)size;
     depth.format = LRT_FORMAT_FLOAT32;
 
-    /* rays: primary, then one random segment per texel */
-    for (j = 0; j < (size_t)size; ++j) {
-        for (i = 0; i < (size_t)size; ++i) {
-            lrt_ray *r = &prim[j * (size_t)size + i];
-            r->origin[0] = (float)i + 0.5f;
-            r->origin[1] = (float)j + 0.5f;
-            r->origin[2] = 0.0f;
-            r->dir[0] = 0.0f;
-            r->dir[1] = 0.0f;
-            r->dir[2] = 1.0f;
-            r->tmin = 0.0f;
-            r->tmax = 1.0f;
-        }
-    }
-    for (i = 0; i < n; ++i) {
-        uint32_t tx = (uint32_t)(rnd01() * (float)size), ty = (uint32_t)(rnd01() * (float)size);
-        float d, end[3];
-        lrt_ray *r = &seg[i];
-        if (tx >= (uint32_t)size) tx = (uint32_t)size - 1;
-        if (ty >= (uint32_t)size) ty = (uint32_t)size - 1;
-        d = depth_f[(size_t)ty * (size_t)size + tx];
-        r->origin[0] = (float)tx + rnd01();
-        r->origin[1] = (float)ty + rnd01();
-        r->origin[2] = d * rnd01();
-        end[0] = rnd01() * (float)size;
-        end[1] = rnd01() * (float)size;
-        end[2] = d + 0.05f * rnd01();
-        r->dir[0] = end[0] - r->origin[0];
-        r->dir[1] = end[1] - r->origin[1];
-        r->dir[2] = end[2] - r->origin[2];
-        r->tmin = 0.0f;
-        r->tmax = 1.0f;
+    /* rays: primary, then one random segment per texel (examples/scene.h) */
+    {
+        uint64_t rng = SCENE_DEMO_SEED;
+        scene_demo_rays(size, depth_f, prim, seg, n, &rng);
     }
 
     /* BVH: 8-bit nodes first (measured, then freed), then the float default

@@ -313,4 +313,59 @@ static inline void scene_render_normals(int w, int h, const scene_camera *cam, f
     }
 }
 
+
+#endif
+
+/* The demo's workload (examples/demo.c; bench/walk_rays.c times it): one
+   primary ray per texel of a size x size float depth map (row by row, into
+   prim), then n random segments (into seg), each from a point in front of a
+   random texel's surface to a point a little behind another's, drawn from
+   the xorshift64 state *rng, one draw after another. Compiled where linear_rt.h was
+   included first (outside the include guard above, so that a second
+   include after linear_rt.h brings it). */
+#if defined(LINEAR_RT_H) && !defined(LRT_SCENE_DEMO_RAYS)
+#define LRT_SCENE_DEMO_RAYS
+#define SCENE_DEMO_SEED 0x2545f4914f6cdd1dull
+static inline float scene_rnd01(uint64_t *rng) /* uniform in [0, 1) */
+{
+    *rng ^= *rng << 13;
+    *rng ^= *rng >> 7;
+    *rng ^= *rng << 17;
+    return (float)(*rng >> 40) * (1.0f / 16777216.0f);
+}
+
+static inline void scene_demo_rays(int size, const float *depth, lrt_ray *prim, lrt_ray *seg, size_t n, uint64_t *rng)
+{
+    size_t i, j;
+    for (j = 0; j < (size_t)size; ++j)
+        for (i = 0; i < (size_t)size; ++i) {
+            lrt_ray *r = &prim[j * (size_t)size + i];
+            r->origin[0] = (float)i + 0.5f;
+            r->origin[1] = (float)j + 0.5f;
+            r->origin[2] = 0.0f;
+            r->dir[0] = r->dir[1] = 0.0f;
+            r->dir[2] = 1.0f;
+            r->tmin = 0.0f;
+            r->tmax = 1.0f;
+        }
+    for (i = 0; i < n; ++i) {
+        uint32_t tx = (uint32_t)(scene_rnd01(rng) * (float)size), ty = (uint32_t)(scene_rnd01(rng) * (float)size);
+        float d, end[3];
+        lrt_ray *r = &seg[i];
+        if (tx >= (uint32_t)size) tx = (uint32_t)size - 1;
+        if (ty >= (uint32_t)size) ty = (uint32_t)size - 1;
+        d = depth[(size_t)ty * (size_t)size + tx];
+        r->origin[0] = (float)tx + scene_rnd01(rng);
+        r->origin[1] = (float)ty + scene_rnd01(rng);
+        r->origin[2] = d * scene_rnd01(rng);
+        end[0] = scene_rnd01(rng) * (float)size;
+        end[1] = scene_rnd01(rng) * (float)size;
+        end[2] = d + 0.05f * scene_rnd01(rng);
+        r->dir[0] = end[0] - r->origin[0];
+        r->dir[1] = end[1] - r->origin[1];
+        r->dir[2] = end[2] - r->origin[2];
+        r->tmin = 0.0f;
+        r->tmax = 1.0f;
+    }
+}
 #endif

@@ -391,7 +391,7 @@ static void frame(world *wd, unsigned long f)
     /* a sample against the exact reference */
     for (k = 0; k < REF_SAMPLE && n; ++k) {
         const size_t q = (size_t)rnd() % n;
-        ref_ray rr = to_ref(&wd->rays[q]);
+        ref_ray rr = ref_ray_of(&wd->rays[q]);
         ref_answer a = to_answer(&wd->hits[q]);
         char why[256], what[420];
         if (!ref_check(&m->ref, &rr, &a, 0 /* closest hit */, why, sizeof why)) {

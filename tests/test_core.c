@@ -30,7 +30,7 @@ static void trace_and_judge(const char *what, const lrt_bvh *bvh, const test_map
     lrt_result r = lrt_trace(bvh, test_map_depth(m), rays, hits, n, flags);
     CHECK(r == LRT_SUCCESS, "%s: trace returned %s", what, lrt_result_string(r));
     for (i = 0; i < n && r == LRT_SUCCESS; ++i) {
-        ref_ray q = to_ref(&rays[i]);
+        ref_ray q = ref_ray_of(&rays[i]);
         ref_answer a = to_answer(&hits[i]);
         char why[256];
         if (!ref_check(&m->ref, &q, &a, 0 /* closest hit */, why, sizeof why)) {
@@ -238,7 +238,7 @@ static void test_thickness_found(void)
               "thickness find %d: kind %u (%u,%u) face %u", k, h.kind, h.x, h.y, h.face);
         ref_map_from_raw(&m, depth, cases[k].w, cases[k].h, 0, REF_FORMAT_UNORM16, 0);
         ref_map_set_back_from_raw(&m, back, 0, REF_FORMAT_UNORM16, 0);
-        q = to_ref(&r);
+        q = ref_ray_of(&r);
         a = to_answer(&h);
         CHECK(ref_check(&m, &q, &a, 0, why, sizeof why), "thickness find %d: %s", k, why);
         ref_map_free(&m);
@@ -260,7 +260,7 @@ static lrt_hit trace1(const lrt_bvh *bvh, const test_map *m, float ox, float oy,
     r.tmin = tmin; r.tmax = tmax;
     memset(&h, 0xff, sizeof h);
     CHECK(lrt_trace(bvh, &m->depth, &r, &h, 1, 0) == LRT_SUCCESS, "trace1 failed");
-    q = to_ref(&r);
+    q = ref_ray_of(&r);
     a = to_answer(&h);
     CHECK(ref_check(&m->ref, &q, &a, 0, why, sizeof why), "named case disagrees with the reference: %s", why);
     return h;
@@ -346,7 +346,7 @@ static void test_found_cases(void)
         char why[256];
         CHECK(lrt_bvh_build(&bvh, &m.depth, NULL, NULL) == LRT_SUCCESS, "found case %d: build", k);
         CHECK(lrt_trace(&bvh, &m.depth, &r, &h, 1, 0) == LRT_SUCCESS, "found case %d: trace", k);
-        q = to_ref(&r);
+        q = ref_ray_of(&r);
         a = to_answer(&h);
         CHECK(ref_check(&m.ref, &q, &a, 0, why, sizeof why), "found case %d: %s", k, why);
         lrt_bvh_destroy(&bvh);
@@ -398,7 +398,7 @@ static void test_huge_directions(void)
     }
     CHECK(lrt_trace(&bvh, &m.depth, rays, all, n, 0) == LRT_SUCCESS, "huge directions: trace");
     for (i = 0; i < n; ++i) {
-        ref_ray q = to_ref(&rays[i]);
+        ref_ray q = ref_ray_of(&rays[i]);
         ref_answer a = to_answer(&all[i]);
         char why[256];
         CHECK(lrt_trace(&bvh, &m.depth, &rays[i], &one, 1, 0) == LRT_SUCCESS, "huge directions: trace one");

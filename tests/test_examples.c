@@ -22,16 +22,6 @@
 #define SIZE 96u
 #define DIR "build/examples_test"
 
-static ref_ray to_ref_ray(const lrt_ray *r)
-{
-    ref_ray q;
-    memcpy(q.o, r->origin, sizeof q.o);
-    memcpy(q.v, r->dir, sizeof q.v);
-    q.tmin = r->tmin;
-    q.tmax = r->tmax;
-    return q;
-}
-
 /* Every ray of a batch against the reference; returns the disagreements. */
 static size_t judge(const example_frame *f, const lrt_ray *rays, const lrt_hit *hits, size_t n, int any_hit,
                     const char *what)
@@ -48,7 +38,7 @@ static size_t judge(const example_frame *f, const lrt_ray *rays, const lrt_hit *
         return n;
     }
     for (k = 0; k < n; ++k) {
-        ref_ray q = to_ref_ray(&rays[k]);
+        ref_ray q = ref_ray_of(&rays[k]);
         ref_answer a;
         char why[256];
         a.kind = (int)hits[k].kind;

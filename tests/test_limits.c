@@ -271,7 +271,7 @@ static void judge_rays(const char *what, const lrt_bvh *bvh, const test_map *m, 
     r = lrt_trace(bvh, &m->depth, rays, hits, n, 0);
     CHECK(r == LRT_SUCCESS, "%s: trace returned %s", what, lrt_result_string(r));
     for (i = 0; i < n && r == LRT_SUCCESS; ++i) {
-        ref_ray q = to_ref(&rays[i]);
+        ref_ray q = ref_ray_of(&rays[i]);
         ref_answer a = to_answer(&hits[i]);
         char why[256];
         if (!ref_check(&m->ref, &q, &a, 0, why, sizeof why)) {

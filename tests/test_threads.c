@@ -263,7 +263,7 @@ static size_t judge_sample(const ref_map *ref, const lrt_ray *rays, const lrt_hi
 {
     size_t i, wrong = 0;
     for (i = offset % SAMPLE_STEP; i < n; i += SAMPLE_STEP) {
-        ref_ray q = to_ref(&rays[i]);
+        ref_ray q = ref_ray_of(&rays[i]);
         ref_answer a = to_answer(&hits[i]);
         char why[256];
         if (!ref_check(ref, &q, &a, flags != 0, why, sizeof why)) {

@@ -259,7 +259,7 @@ static void judge(const char *what, const test_map *m, const lrt_ray *rays, cons
         if (!any_hit && same_answer(&gpu[i], &cpu[i])) continue;
         g_trace_total.kind_differ[kinds[i]] += !any_hit;
         ++differ;
-        q = to_ref(&rays[i]);
+        q = ref_ray_of(&rays[i]);
         a = to_answer(&gpu[i]);
         if (!ref_check(&m->ref, &q, &a, any_hit, why, sizeof why)) {
             if (wrong < 5)

@@ -425,16 +425,6 @@ static lrt_ray make_ray(const test_map *m, int kind)
     return r;
 }
 
-RAYS_MAYBE_UNUSED static ref_ray to_ref(const lrt_ray *r)
-{
-    ref_ray q;
-    memcpy(q.o, r->origin, sizeof q.o);
-    memcpy(q.v, r->dir, sizeof q.v);
-    q.tmin = r->tmin;
-    q.tmax = r->tmax;
-    return q;
-}
-
 RAYS_MAYBE_UNUSED static ref_answer to_answer(const lrt_hit *h)
 {
     ref_answer a;

@@ -1293,4 +1293,20 @@ REF_FUNC int ref_check(const ref_map *m, const ref_ray *caller_ray, const ref_an
     return 0;
 }
 
+/* An lrt_ray as the reference takes it, for a file that includes linear_rt.h
+   first (the one converter of the tests, the examples' tests and the
+   benchmark). */
+#if defined(LINEAR_RT_H) && !defined(LINEAR_RT_TESTS_REF_RAY_OF)
+#define LINEAR_RT_TESTS_REF_RAY_OF
+REF_FUNC ref_ray ref_ray_of(const lrt_ray *r)
+{
+    ref_ray q;
+    memcpy(q.o, r->origin, sizeof q.o);
+    memcpy(q.v, r->dir, sizeof q.v);
+    q.tmin = r->tmin;
+    q.tmax = r->tmax;
+    return q;
+}
+#endif
+
 #endif /* LINEAR_RT_TESTS_REFERENCE_H */
