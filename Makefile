@@ -61,7 +61,7 @@ SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl) linear_rt.h # the kerne
 SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 
 # what `make test` runs, one count each in its summary line
-TESTS := test-programs-build test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-vulkan-trace test-demo test-examples test-lift test-bench test-gpu-stats
+TESTS := test-programs-build test-walk-twins test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-vulkan-trace test-demo test-examples test-lift test-bench test-gpu-stats
 
 # hardening (sanitizers with clang, valgrind, static checks, limits) and the
 # fuzzers: their own makefiles, which add their tests to TESTS
@@ -159,6 +159,9 @@ $(B)/test_core_san_sse2: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps
 
 test-reference: $(B)/test_reference
 	$(B)/test_reference
+
+test-walk-twins:
+	tests/walk_twins.sh
 
 test-core: $(B)/test_core
 	$(B)/test_core
@@ -391,7 +394,9 @@ endif
 
 # make check: the quick loop while working, well under a minute on a 2-core
 # machine: the reference's and the core CPU tests, the traversal paths bit
-# for bit, and (where there is a Vulkan device) one Vulkan smoke test with
+# for bit, the walks' C and GLSL twins (tests/walk_twins.sh: every pair of
+# linear_rt.h's TWINS table defined on both sides), and (where there is a
+# Vulkan device) one Vulkan smoke test with
 # validation on. Any test program runs one test by name, e.g.
 # build/test_core test_update.
 CHECK_VK := $(if $(filter 1,$(HAVE_VULKAN)),$(B)/test_vulkan)
@@ -400,6 +405,7 @@ check: | deps $(B)
 	$(B)/test_reference
 	$(B)/test_core
 	$(B)/test_paths
+	tests/walk_twins.sh
 	$(if $(CHECK_VK),$(B)/test_vulkan test_smoke,@echo "check: no Vulkan headers here: the Vulkan smoke test is skipped")
 
 # The demo at 128x128 (its own checks: 2 threads == 1, GPU == CPU bit for

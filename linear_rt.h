@@ -3302,6 +3302,34 @@ LRT__FORCE_INLINE __m128i lrt__load_codes(const uint16_t *codes)
 #define LRT__WALK_TUNED
 #endif
 /* ================================================================== >>walk
+   WALKS: which pass runs which walk, and where.
+     pass                                entry (C | GLSL)                  walk
+     CPU trace                           lrt__trace_walk                   lrt__walk_origin (8 children a step)
+     GPU ordinary, infinite tree         lrt_trace_ray_ordinary            lrt_walk_cells (one cell a step)
+     GPU ordinary, thickness tree        lrt_trace_ray_ordinary            lrt_walk_origin
+     GPU ordinary with a step budget     lrt_trace_ray_ordinary_budget     lrt_walk_origin
+     GPU rare pass, one pass             lrt_trace_ray                     lrt_walk_origin
+     counts of a GPU wave (bench)        lrt__walk_cells_ray               lrt__walk_cells
+   TWINS: each C helper of the walks and its GLSL twin (same parameters, the
+   same floats); make check fails when a name below is defined on one side
+   only (tests/walk_twins.sh).
+   -- twins --
+     lrt__walk_origin ~ lrt_walk_origin      lrt__walk_cells ~ lrt_walk_cells
+     lrt__cell_axis ~ lrt_cell_axis          lrt__cross_texel ~ lrt_cross_texel
+     lrt__split_level ~ lrt_split_level_x    lrt__in_grid_plane ~ lrt_in_grid_plane
+     lrt__test_texel ~ lrt_test_texel        lrt__kernel_first_texel ~ lrt_first_texel
+     lrt__report_hit ~ lrt_report_hit        lrt__report_budget ~ lrt_budget_t
+     lrt__kernel_cull_setup ~ lrt_cull_setup lrt__kernel_cull_children ~ lrt_cull_children
+     lrt__kernel_cull_slab ~ lrt_cull_slab   lrt__cull_axis ~ lrt_cull_axis
+     lrt__start_node ~ lrt_start_node        lrt__setup_ray ~ lrt_setup_ray
+     lrt__setup_rare ~ lrt_setup_rare        lrt__far_origin ~ lrt_far_origin
+     lrt__child ~ lrt_child                  lrt__child_slot ~ lrt_child_slot
+     lrt__face ~ lrt_face                    lrt__clip ~ lrt_clip
+     lrt__slab ~ lrt_slab                    lrt__widen ~ lrt_widen
+     lrt__depth_plane ~ lrt_depth_plane      lrt__back_plane ~ lrt_back_plane
+     lrt__plane_t ~ lrt_plane_t              lrt__ray_t ~ lrt_ray_t
+     lrt__point_in ~ lrt_point_in            lrt__entered_later ~ lrt_entered_later
+   -- end twins --
    6. The walk (RayQuery.Proceed of the design), specialised for this tree:
       no triangles, no instances, no stored boxes. A node's children form a
       4x2 or 2x4 grid, so their x/y slabs come from 5+3 shared planes; the
