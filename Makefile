@@ -428,7 +428,7 @@ test-demo: $(B)/demo $(B)/test_demo
 # peers glslang (their kernels are compiled here into build/, never committed).
 HAVE_EMBREE := $(shell test -f /usr/include/embree3/rtcore.h && echo 1)
 HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
-BENCH_SRC := bench/main.c bench/m_linear_rt.c bench/visits.c bench/wave.c bench/m_embree.c bench/march_cpu.c bench/m_vk_peers.c
+BENCH_SRC := bench/main.c bench/clock.c bench/m_linear_rt.c bench/visits.c bench/wave.c bench/m_embree.c bench/march_cpu.c bench/m_vk_peers.c
 BENCH_HDR := bench/bench.h bench/scenes.h bench/march_common.h examples/march.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
 BENCH_FLAGS := $(STD) $(WARN) $(CFLAGS) -O3 $(NATIVE)
 BENCH_LIBS := $(LDLIBS)

@@ -85,7 +85,7 @@ int bench_add_embree(bench_method *out, int max);
 int bench_add_march_cpu(bench_method *out, int max);
 int bench_add_vulkan_peers(bench_method *out, int max); /* ray-query AABB / triangle BVHs, marches on Vulkan */
 
-double bench_now_ms(void);   /* CLOCK_MONOTONIC in ms */
+double bench_now_ms(void);   /* CLOCK_MONOTONIC in ms (bench/clock.c) */
 
 /* GPU traces are timed as batches of back-to-back dispatches of the same
    rays in one submission, about BENCH_GPU_BATCH_MS of GPU time a batch

@@ -38,13 +38,6 @@
 #include <time.h>
 #include <unistd.h>
 
-double bench_now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
-
 /* ---- options ----------------------------------------------------------------- */
 typedef struct options {
     uint32_t size;       /* embedded scenes: size x size */
