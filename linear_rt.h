@@ -986,6 +986,7 @@ LINEAR_RT_API void lrt_vk_device_destroy(lrt_vk_device *device);
 #error "linear_rt.h: this clang cannot undo -ffast-math / -ffinite-math-only for the implementation: build the file that defines LINEAR_RT_IMPLEMENTATION without them (clang 12 or newer can)"
 #endif
 #pragma STDC FP_CONTRACT OFF
+#define LRT__FP_CONTRACT_ONLY /* no push: DEFAULT again at the end */
 #elif defined(__clang__)
 #pragma float_control(precise, on, push) /* no reassociation or reciprocals; NaN, inf, -0 kept */
 #pragma clang fp contract(off)
@@ -4433,10 +4434,8 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
    plane lrt__kernel_cull_setup's, a texel's test lrt__test_texel), for the
    benchmark's count of what a GPU wave pays (bench/visits.c) and the
    tests, which hold its hits to lrt_trace's. The CPU trace never calls it:
-   its 8-child node test is cheap in SIMD lanes. C names ~ GLSL names:
-   lrt__split_level ~ lrt_split_level_x / _y, lrt__cross_texel ~
-   lrt_cross_texel, lrt__cell_axis ~ lrt_cell_axis, lrt__walk_cells ~
-   lrt_walk_cells. */
+   its 8-child node test is cheap in SIMD lanes. Its GLSL twins: the TWINS
+   table at the top of this section. */
 /* lrt_split_level_x (rows 0) and lrt_split_level_y (rows 1) */
 LRT__UNUSED static int lrt__split_level(int a, int b, int rows)
 {
@@ -4462,8 +4461,8 @@ LRT__UNUSED static int lrt__cross_texel(float o, float v, float iv, uint32_t neg
 }
 
 /* lrt_cell_axis */
-LRT__UNUSED static void lrt__cell_axis(int a, int n, float o, float v, float iv, uint32_t neg, float *en, float *ex, float *leave,
-                           int *past, int *last)
+LRT__UNUSED static void lrt__cell_axis(int a, int n, float o, float v, float iv, uint32_t neg, float *en, float *ex,
+                                       float *leave, int *past, int *last)
 {
     float ta = ((float)a - o) * iv, tb = ((float)(a + n) - o) * iv;
     LRT__ROUNDED(ta);
@@ -4476,7 +4475,8 @@ LRT__UNUSED static void lrt__cell_axis(int a, int n, float o, float v, float iv,
 
 /* lrt_walk_cells of a set-up thin ray: its steps (cells and texels tested),
    *texels the texels among them, *hit 1 with its texel (hx, hy) */
-LRT__UNUSED static uint32_t lrt__walk_cells(const lrt__walk *w, const lrt__ray_setup *s, size_t *texels, int *hit, uint32_t *hx, uint32_t *hy)
+LRT__UNUSED static uint32_t lrt__walk_cells(const lrt__walk *w, const lrt__ray_setup *s, size_t *texels, int *hit,
+                                            uint32_t *hx, uint32_t *hy)
 {
     const lrt_layout *L = w->L;
     lrt__kernel_cull c;
@@ -6796,6 +6796,10 @@ LINEAR_RT_DEF void lrt_vk_device_destroy(lrt_vk_device *device)
 #define LRT__AVX LRT__AVX_BUILT
 #undef LRT__AVX2_PASS
 #endif /* the AVX2 pass */
+#if defined(LRT__FP_CONTRACT_ONLY) && !defined(LRT__AVX2_PASS)
+#undef LRT__FP_CONTRACT_ONLY
+#pragma STDC FP_CONTRACT DEFAULT
+#endif
 #if defined(LRT__FP_RULES_PUSHED) && !defined(LRT__AVX2_PASS) /* the includer's floating-point rules again */
 #undef LRT__FP_RULES_PUSHED
 #if defined(__clang__)

@@ -162,6 +162,25 @@ static int gs_is_load(const char *line, size_t len)
     return 0;
 }
 
+/* an instruction: neither blank nor a label */
+static int gs_is_instruction(const char *line, size_t len)
+{
+    size_t q;
+    for (q = 0; q < len; ++q)
+        if (line[q] != ' ' && line[q] != '\t' && line[q] != '\r') return !gs_is_label(line, len);
+    return 0;
+}
+
+/* the line of the label an s_cbranch_execz on this line jumps to, or -1 */
+static int gs_execz_target(const char *line, size_t len, const int *label_line)
+{
+    const char *b = strstr(line, "s_cbranch_execz");
+    int id;
+    if (!b || (size_t)(b - line) > len || !(b = strstr(b, "BB")) || (size_t)(b - line) > len) return -1;
+    id = atoi(b + 2);
+    return id >= 0 && id < 4096 ? label_line[id] : -1;
+}
+
 static void gs_loops(const char *text, gs_row *row)
 {
     enum { MAX_LINES = 20000 };
@@ -217,13 +236,9 @@ static void gs_loops(const char *text, gs_row *row)
     row->isa_exit = 0;
     if (outer >= 0) { /* the exits: the innermost execz-skipped block around each store in the loop */
         int ra[256], rb[256], nr = 0, used[256], r2;
-        for (k = (size_t)heads_a[outer]; (int)k <= heads_b[outer]; ++k) {
-            const char *b = strstr(line[k], "s_cbranch_execz");
-            if (!b || (size_t)(b - line[k]) > len[k] || !(b = strstr(b, "BB")) || nr == 256) continue;
-            {
-                const int id = atoi(b + 2), a = id >= 0 && id < 4096 ? label_line[id] : -1;
-                if (a > (int)k && a <= heads_b[outer]) ra[nr] = (int)k, rb[nr] = a, used[nr++] = 0;
-            }
+        for (k = (size_t)heads_a[outer]; (int)k <= heads_b[outer] && nr < 256; ++k) {
+            const int a = gs_execz_target(line[k], len[k], label_line);
+            if (a > (int)k && a <= heads_b[outer]) ra[nr] = (int)k, rb[nr] = a, used[nr++] = 0;
         }
         for (k = (size_t)heads_a[outer]; (int)k <= heads_b[outer]; ++k) {
             const char *st = strstr(line[k], "_store");
@@ -236,43 +251,25 @@ static void gs_loops(const char *text, gs_row *row)
         for (r2 = 0; r2 < nr; ++r2) {
             size_t q2;
             if (!used[r2]) continue;
-            for (q2 = (size_t)ra[r2] + 1; (int)q2 < rb[r2]; ++q2) {
-                int blank = 1;
-                size_t q;
-                for (q = 0; q < len[q2]; ++q)
-                    if (line[q2][q] != ' ' && line[q2][q] != '\t' && line[q2][q] != '\r') blank = 0;
-                if (!blank && !gs_is_label(line[q2], len[q2])) ++row->isa_exit;
-            }
+            for (q2 = (size_t)ra[r2] + 1; (int)q2 < rb[r2]; ++q2) row->isa_exit += (unsigned)gs_is_instruction(line[q2], len[q2]);
         }
     }
     if (outer >= 0) { /* forward s_cbranch_execz inside the outer loop body: the blocks it skips */
         int skip_to = -1;
         for (k = (size_t)heads_a[outer]; (int)k <= heads_b[outer]; ++k) {
-            const char *b;
-            int blank = 1;
-            size_t q;
-            for (q = 0; q < len[k]; ++q)
-                if (line[k][q] != ' ' && line[k][q] != '\t' && line[k][q] != '\r') blank = 0;
+            int a;
             if ((int)k < skip_to) {
-                if (!blank && !gs_is_label(line[k], len[k]) &&
-                    !(inner >= 0 && (int)k >= heads_a[inner] && (int)k <= heads_b[inner]))
+                if (gs_is_instruction(line[k], len[k]) && !(inner >= 0 && (int)k >= heads_a[inner] && (int)k <= heads_b[inner]))
                     ++row->isa_skippable;
                 continue;
             }
-            if (len[k] < 16 || !memchr(line[k], 'e', len[k]) || !(b = strstr(line[k], "s_cbranch_execz"))) continue;
-            if ((size_t)(b - line[k]) > len[k] || !(b = strstr(b, "BB")) || (size_t)(b - line[k]) > len[k]) continue;
-            {
-                const int id = atoi(b + 2), a = id >= 0 && id < 4096 ? label_line[id] : -1;
-                if (a > (int)k && a <= heads_b[outer]) skip_to = a;
-            }
+            a = gs_execz_target(line[k], len[k], label_line);
+            if (a > (int)k && a <= heads_b[outer]) skip_to = a;
         }
     }
     for (k = 0; k < n; ++k) {
-        int blank = 1, in_outer, in_inner;
-        size_t q;
-        for (q = 0; q < len[k]; ++q)
-            if (line[k][q] != ' ' && line[k][q] != '\t' && line[k][q] != '\r') blank = 0;
-        if (blank || gs_is_label(line[k], len[k])) continue;
+        int in_outer, in_inner;
+        if (!gs_is_instruction(line[k], len[k])) continue;
         in_outer = outer >= 0 && (int)k >= heads_a[outer] && (int)k <= heads_b[outer];
         in_inner = inner >= 0 && (int)k >= heads_a[inner] && (int)k <= heads_b[inner];
         ++row->isa_total;

@@ -606,21 +606,21 @@ static const wave_weight *weight_of(const char *method, int back)
     return NULL;
 }
 
-/* The estimate, per ray: wave steps x instructions per step (linear_rt's a
-   node test's, and its texel tests' per node test), x WAVE_FULL / waves
-   below WAVE_FULL waves per SIMD. In instructions a wave issues per ray it
-   holds, over its lanes: comparable between methods, not a time. */
-static double wave_estimate(const wave_weight *w, double wave, double texels_per_node)
+/* The estimate of a counted row, per ray: wave steps x instructions per
+   step (linear_rt's a node test's, and its texel tests' per node test); a
+   loop with exit blocks, its trips x the rest of its body and its exit trips
+   x those blocks; x WAVE_FULL / waves below WAVE_FULL waves per SIMD. In
+   instructions a wave issues per ray it holds, over its lanes: comparable
+   between methods. Also the loads a wave issues per ray. */
+static void wave_estimate(const wave_weight *ww, wave_row *w)
 {
-    const double per_step = w->node + w->texel * texels_per_node;
-    if (!g_have_weights || !w->read) return 0.0;
-    return wave * per_step * (w->waves < WAVE_FULL ? (double)WAVE_FULL / (double)w->waves : 1.0);
-}
-
-/* a wave's loads per ray: wave steps x a step's loads */
-static double wave_loads(const wave_weight *w, double wave, double texels_per_node)
-{
-    return g_have_weights && w->read ? wave * (w->node_loads + w->texel_loads * texels_per_node) : 0.0;
+    const double occupancy = ww->waves < WAVE_FULL ? (double)WAVE_FULL / (double)ww->waves : 1.0;
+    w->estimate = w->loads = 0.0;
+    if (!g_have_weights || !ww->read) return;
+    w->estimate = ww->exits > 0.0 ? w->trips * (ww->loop - ww->exits) + w->refine_trips * ww->exits
+                                  : w->wave * (ww->node + ww->texel * w->texels);
+    w->estimate *= occupancy;
+    w->loads = w->wave * (ww->node_loads + ww->texel_loads * w->texels);
 }
 
 /* linear_rt vulkan 16 at each step budget of the benchmark: the budgeted
@@ -645,9 +645,8 @@ static void budget_waves(const scene *sc, const bench_rays *rs, const uint32_t *
         bench_wave_stats(capped, rs->count, WAVE_LANES, &w->mean, &w->wave);
         bench_wave_stats(capped, rs->count, WAVE_LANES_WIDE, &w->mean, &w->wave64);
         w->texels = texels;
-        w->estimate = wave_estimate(ww, w->wave, w->texels);
-        w->loads = wave_loads(ww, w->wave, w->texels);
         w->trips = w->wave, w->refine_trips = 0.0;
+        wave_estimate(ww, w);
     }
     free(capped);
 }
@@ -677,17 +676,13 @@ static void count_waves(const scene *sc, const ray_set *sets, int nsets)
             bench_wave_stats(steps, rs->count, WAVE_LANES, &w->mean, &w->wave);
             bench_wave_stats(steps, rs->count, WAVE_LANES_WIDE, &w->mean, &w->wave64);
             w->texels = w->mean > 0.0 ? texels / ((double)rs->count * w->mean) : 0.0;
-            w->estimate = wave_estimate(ww, w->wave, w->texels);
-            w->loads = wave_loads(ww, w->wave, w->texels);
             w->trips = w->wave, w->refine_trips = 0.0;
             if (k == 2) bench_wave_march_blocks(steps, rs->count, WAVE_LANES, &w->trips, &w->refine_trips);
             /* the DDA's cap is the larger side (bench/shaders/vkp_dda.comp), Hi-Z's 64 iterations */
             if (k == 3) bench_wave_exits(steps, rs->count, WAVE_LANES, sc->s.width > sc->s.height ? sc->s.width : sc->s.height,
                                          &w->trips, &w->refine_trips);
             if (k == 4) bench_wave_exits(steps, rs->count, WAVE_LANES, 64u, &w->trips, &w->refine_trips);
-            if (k >= 2 && ww->exits > 0.0 && g_have_weights) /* the wave runs its exit blocks once a trip some lane leaves */
-                w->estimate = (w->trips * (ww->loop - ww->exits) + w->refine_trips * ww->exits) *
-                              (ww->waves < WAVE_FULL ? (double)WAVE_FULL / (double)ww->waves : 1.0);
+            wave_estimate(ww, w);
             ++g_nwaves;
             if (k == 0) { /* the budgets cut the 8-child walk */
                 const wave_weight *ww8 = weight_of("linear_rt vulkan 16 budget", sc->s.back != NULL);
@@ -704,9 +699,8 @@ static void count_waves(const scene *sc, const ray_set *sets, int nsets)
                         e->wave = wave;
                         bench_wave_stats(steps, rs->count, WAVE_LANES_WIDE, &mean, &e->wave64);
                         e->texels = e->mean > 0.0 ? tex8 / ((double)rs->count * e->mean) : 0.0;
-                        e->estimate = wave_estimate(ww8, e->wave, e->texels);
-                        e->loads = wave_loads(ww8, e->wave, e->texels);
                         e->trips = e->wave, e->refine_trips = 0.0;
+                        wave_estimate(ww8, e);
                     }
                 }
             }

@@ -69,37 +69,12 @@ void bench_wave_stats(const uint32_t *steps, size_t n, uint32_t wave, double *me
     *wave_mean = groups ? wsum / (double)groups : 0.0;
 }
 
-/* The march counts each sample and each of its MARCH_BISECTIONS bisection
-   steps. Its 65 samples lie on the clipped segment, so a miss takes 65; a
-   hit at sample 0 takes 1; a hit at sample k >= 1 refines, k + 1 +
-   MARCH_BISECTIONS. So a count of MARCH_BISECTIONS + 2 or more other than
-   65 is a refinement (one at k = 56 also counts 65: taken as a miss). */
-void bench_wave_march_blocks(const uint32_t *steps, size_t n, uint32_t wave, double *trips, double *refine_trips)
-{
-    size_t i, groups = 0;
-    double tsum = 0.0, rsum = 0.0;
-    for (i = 0; i < n; i += wave) {
-        size_t j, end = i + wave < n ? i + wave : n;
-        uint32_t most = 0, seen[3] = {0, 0, 0}; /* a bit per sample index 0..65+ */
-        int distinct = 0;
-        for (j = i; j < end; ++j) {
-            const int refined = steps[j] >= MARCH_BISECTIONS + 2u && steps[j] != 65u;
-            const uint32_t samples = refined ? steps[j] - MARCH_BISECTIONS : steps[j];
-            most = samples > most ? samples : most;
-            if (refined && samples < 96u && !(seen[samples / 32u] & (1u << (samples % 32u)))) {
-                seen[samples / 32u] |= 1u << (samples % 32u);
-                ++distinct;
-            }
-        }
-        tsum += most;
-        rsum += distinct;
-        ++groups;
-    }
-    *trips = groups ? tsum / (double)groups : 0.0;
-    *refine_trips = groups ? rsum / (double)groups : 0.0;
-}
-
-void bench_wave_exits(const uint32_t *steps, size_t n, uint32_t wave, uint32_t cap, double *trips, double *exit_trips)
+/* The mean over groups of `wave` rays of the group's most trips, and of the
+   number of distinct trips at which some lane of the group left the loop
+   (exit_at[j]: the trip at which ray j left from inside, 0 for none): a
+   wave runs a loop's exit blocks once for each of those. */
+static void wave_trips(const uint32_t *trips, const uint32_t *exit_at, size_t n, uint32_t wave, double *trips_mean,
+                       double *exits_mean)
 {
     size_t i, groups = 0;
     double tsum = 0.0, esum = 0.0;
@@ -109,16 +84,50 @@ void bench_wave_exits(const uint32_t *steps, size_t n, uint32_t wave, uint32_t c
         int distinct = 0;
         for (j = i; j < end; ++j) {
             int seen = 0;
-            most = steps[j] > most ? steps[j] : most;
-            if (steps[j] >= cap || steps[j] == 0) continue; /* left after the loop, or never entered it */
-            for (k = i; k < j && !seen; ++k) seen = steps[k] == steps[j];
+            most = trips[j] > most ? trips[j] : most;
+            if (!exit_at[j]) continue;
+            for (k = i; k < j && !seen; ++k) seen = exit_at[k] == exit_at[j];
             distinct += !seen;
         }
         tsum += most;
         esum += distinct;
         ++groups;
     }
-    *trips = groups ? tsum / (double)groups : 0.0;
-    *exit_trips = groups ? esum / (double)groups : 0.0;
+    *trips_mean = groups ? tsum / (double)groups : 0.0;
+    *exits_mean = groups ? esum / (double)groups : 0.0;
 }
 
+/* The march counts each sample and each of its MARCH_BISECTIONS bisection
+   steps. Its 65 samples lie on the clipped segment, so a miss takes 65; a
+   hit at sample 0 takes 1; a hit at sample k >= 1 refines, k + 1 +
+   MARCH_BISECTIONS. So a count of MARCH_BISECTIONS + 2 or more other than
+   65 is a refinement (one at k = 56 also counts 65: taken as a miss): its
+   trips are its samples, and it leaves by the refinement at the last. */
+void bench_wave_march_blocks(const uint32_t *steps, size_t n, uint32_t wave, double *trips, double *refine_trips)
+{
+    uint32_t *samples = (uint32_t *)malloc(sizeof(uint32_t) * (n ? n : 1)), *exit_at = (uint32_t *)malloc(sizeof(uint32_t) * (n ? n : 1));
+    size_t j;
+    *trips = *refine_trips = 0.0;
+    if (samples && exit_at) {
+        for (j = 0; j < n; ++j) {
+            const int refined = steps[j] >= MARCH_BISECTIONS + 2u && steps[j] != 65u;
+            samples[j] = refined ? steps[j] - MARCH_BISECTIONS : steps[j];
+            exit_at[j] = refined ? samples[j] : 0u;
+        }
+        wave_trips(samples, exit_at, n, wave, trips, refine_trips);
+    }
+    free(samples);
+    free(exit_at);
+}
+
+void bench_wave_exits(const uint32_t *steps, size_t n, uint32_t wave, uint32_t cap, double *trips, double *exit_trips)
+{
+    uint32_t *exit_at = (uint32_t *)malloc(sizeof(uint32_t) * (n ? n : 1));
+    size_t j;
+    *trips = *exit_trips = 0.0;
+    if (exit_at) {
+        for (j = 0; j < n; ++j) exit_at[j] = steps[j] < cap ? steps[j] : 0u; /* at the cap: after the loop */
+        wave_trips(steps, exit_at, n, wave, trips, exit_trips);
+    }
+    free(exit_at);
+}

@@ -152,20 +152,22 @@ static inline void scene_view_from_world(const scene_camera *cam, float m[9])
     m[6] = 0.0f; m[7] = sp;   m[8] = cp;
 }
 
-/* Pixel (x, y)'s view ray from the eye o, in world space (the camera
-   pitched down about x), and the cosine factor that turns its t into a
-   distance along the camera's forward axis: scene_render's own, which
-   keeps its code as it was (gcc contracts products differently in another
-   shape of the same code, and every committed picture and benchmark figure
-   of the yard comes from that depth, bit for bit). */
-static inline void scene__pixel_ray(int w, int h, const scene_camera *cam, int x, int y, float o[3], float d[3], float *forward)
+/* The view ray through screen point (fx, fy) (texels, row 0 at the top) from
+   the eye o, in world space (the camera pitched down about x), and the
+   cosine factor that turns its t into a distance along the camera's forward
+   axis: scene_render's own arithmetic, which keeps its code as it was (gcc
+   contracts products differently in another shape of the same code, and
+   every committed picture and benchmark figure of the yard comes from that
+   depth, bit for bit). */
+static inline void scene_view_ray(int w, int h, const scene_camera *cam, float fx, float fy, float o[3], float d[3],
+                                  float *forward)
 {
     const float pi = 3.14159265358979f;
     float th = tanf(cam->fov_y_deg * pi / 360.0f), aspect = (float)w / (float)h;
     float cp = cosf(cam->pitch_deg * pi / 180.0f), sp = sinf(cam->pitch_deg * pi / 180.0f);
     /* view direction in camera space (x right, y up, -z forward), pitched down */
-    float cx = (2.0f * ((float)x + 0.5f) / (float)w - 1.0f) * th * aspect;
-    float cy = (1.0f - 2.0f * ((float)y + 0.5f) / (float)h) * th;
+    float cx = (2.0f * fx / (float)w - 1.0f) * th * aspect;
+    float cy = (1.0f - 2.0f * fy / (float)h) * th;
     const float dc[3] = {cx, cy, -1.0f};
     /* rotated about x so that the forward axis is (0, -sin p, -cos p) */
     d[0] = dc[0];
@@ -175,6 +177,12 @@ static inline void scene__pixel_ray(int w, int h, const scene_camera *cam, int x
     o[1] = cam->height;
     o[2] = 0.0f;
     *forward = -d[1] * sp - d[2] * cp;
+}
+
+/* Pixel (x, y)'s view ray: through its centre */
+static inline void scene__pixel_ray(int w, int h, const scene_camera *cam, int x, int y, float o[3], float d[3], float *forward)
+{
+    scene_view_ray(w, h, cam, (float)x + 0.5f, (float)y + 0.5f, o, d, forward);
 }
 
 /* The perspective depth of a point t along a pixel's ray (1: nothing there) */

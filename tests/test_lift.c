@@ -54,17 +54,11 @@ typedef struct counts {
 static float surface_depth_at(int id, float x, float y, uint32_t w, uint32_t h)
 {
     const scene_camera cam = scene_default_camera();
-    const float pi = 3.14159265358979f;
-    float th = tanf(cam.fov_y_deg * pi / 360.0f), aspect = (float)w / (float)h;
-    float cp = cosf(cam.pitch_deg * pi / 180.0f), sp = sinf(cam.pitch_deg * pi / 180.0f);
-    float cx = (2.0f * x / (float)w - 1.0f) * th * aspect, cy = (1.0f - 2.0f * y / (float)h) * th, t;
-    float o[3] = {0.0f, cam.height, 0.0f}, d[3];
-    d[0] = cx;
-    d[1] = cy * cp - sp;
-    d[2] = -cy * sp - cp;
+    float o[3], d[3], forward, t;
+    scene_view_ray((int)w, (int)h, &cam, x, y, o, d, &forward);
     if (id == 0) t = d[1] < 0.0f ? -o[1] / d[1] : -1.0f;
     else t = scene__hit(&scene__prims[id - 1], o, d);
-    return t > 0.0f ? scene__depth(&cam, t, -d[1] * sp - d[2] * cp) : 2.0f;
+    return t > 0.0f ? scene__depth(&cam, t, forward) : 2.0f;
 }
 
 static void frame_rays(const example_frame *f, const int *id, const float *normals, counts *c)
