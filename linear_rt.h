@@ -643,26 +643,34 @@ LINEAR_RT_API int lrt_camera_segment(const lrt_camera *camera, const float from[
    (move it towards the eye) by lrt_surface_lift(step_x, step_y), where
    step_x and step_y are the depth steps from the texel to its neighbours on
    its own surface, one on each axis (of the two, the one whose line through
-   the next texel meets the texel's depth; the larger step where both do:
-   examples/surface.h does it), and start at tmin = 0. lrt_surface_lift =
-   0.5 * (|step_x| + |step_y|) * 1.01 + 1e-7: half the slope, 1% and a hair
-   for rounding. Steps of 0 (no neighbour, or a normal not from depth and no
-   steps taken) leave the stairs around the texel uncleared. */
+   the next texel meets the texel's depth; the larger where both do), each
+   plus its change to the next texel (at most the step itself: a curved
+   surface's tops stand out more further along; examples/surface.h does it),
+   give lrt_camera_surface_ray the normal, and start at tmin = 0.
+   lrt_surface_lift = 0.5 * (|step_x| + |step_y|) * 1.01 + 1e-7: half the
+   slope, 1% and a hair for rounding. Steps of 0 (no neighbour) leave the
+   stairs around the texel uncleared. */
 LINEAR_RT_API float lrt_surface_lift(float step_x, float step_y);
-/* lrt_camera_segment(from, to), its origin then lifted by `lift`
+/* lrt_camera_segment(from, to), its origin then lifted by at least `lift`
    (lrt_surface_lift): the screen ray of a reflection, AO or shadow ray
-   from the view-space surface point `from`. It lifts more where the ray
-   itself would sink into its own texel's top before leaving the texel (a
-   normal that tilts it away from the eye). A ray whose end lies on the far
-   plane keeps its end there (its dir z grows by the lift), so that a ray to
-   the sky hits the sky texel's top at depth 1, as the model has it; one
-   that reaches the far plane without leaving its texel (at the horizon) is
-   lifted whole and ends with LRT_MISS_TMAX. Returns as lrt_camera_segment.
-   Not every stair is cleared: where a curved surface turns away or two
-   surfaces touch, up to 1 ray in 10^4 still meets its own surface
-   (tests/test_lift.c counts them). */
-LINEAR_RT_API int lrt_camera_surface_ray(const lrt_camera *camera, const float from[3], const float to[3], float lift,
-                                         lrt_ray *ray);
+   from the view-space surface point `from` with the view-space normal
+   `normal` (NULL for none). It lifts more where
+   - the normal's tangent plane is steeper on screen than the steps say (a
+     curved surface turning away, a silhouette): by lrt_surface_lift of that
+     plane's depth steps, at most 8 times `lift` (at a silhouette the slope
+     grows without bound);
+   - the ray itself would sink into its own texel's top before it leaves the
+     texel (a normal that tilts it away from the eye).
+   A ray whose end lies on the far plane is lengthened along its own line
+   until, lifted, it reaches the far plane again, so that a ray to the sky
+   hits the sky texel's top at depth 1, as the model has it. Returns as
+   lrt_camera_segment. A ray that leaves the true surface (above its
+   tangent plane) then never meets that surface on a convex object or a
+   plane (tests/test_lift.c, every normal source); one that a wrong normal
+   sends into it (depth normals at an edge, a quantised normal at a grazing
+   angle) meets it, as it should. */
+LINEAR_RT_API int lrt_camera_surface_ray(const lrt_camera *camera, const float from[3], const float normal[3],
+                                         const float to[3], float lift, lrt_ray *ray);
 /* The near and far plane distances of a perspective camera (far: INFINITY
    for an infinite far plane), for lrt_build_options' constant and relative
    thickness. Returns 0 (and leaves them alone) for an orthographic or
@@ -5156,34 +5164,69 @@ LINEAR_RT_DEF float lrt_surface_lift(float step_x, float step_y)
     return 0.5f * (fabsf(step_x) + fabsf(step_y)) * 1.01f + 1e-7f;
 }
 
-/* The ray starts at its texel's centre, on the texel's flat top. Lifted by
-   `lift`, it must still clear that top until it leaves the texel: a ray that
-   goes away from the eye (dir z > 0) sinks by dir z * t_out there, t_out the
-   t where it crosses the texel's first side; so the lift is at least that
-   (the normal's slope, whatever gave the normal), 1% and a hair more. A ray
-   whose end is on the far plane keeps its end there, so that it still
-   reaches the sky (depth 1): its dir z grows by the lift, which the bound
-   takes into account (lift >= dir z * t_out / (1 - t_out)). */
-LINEAR_RT_DEF int lrt_camera_surface_ray(const lrt_camera *camera, const float from[3], const float to[3], float lift,
-                                         lrt_ray *ray)
+/* The screen depth where the line of sight through screen point (sx, sy)
+   meets the plane through `point` with normal `normal`; 0 when it does not
+   (parallel, or a point the camera cannot unproject). */
+static int lrt__plane_depth(const lrt_camera *camera, const float point[3], const float normal[3], float sx, float sy,
+                            double *depth)
 {
-    double t_out = 1.0, need;
+    const float s0[3] = {sx, sy, 0.25f}, s1[3] = {sx, sy, 0.75f};
+    float a[3], b[3], q[3], out[3];
+    double nd = 0.0, nq = 0.0, t;
+    int k;
+    if (!lrt_camera_unproject(camera, s0, a) || !lrt_camera_unproject(camera, s1, b)) return 0;
+    for (k = 0; k < 3; ++k) {
+        nd += (double)normal[k] * ((double)b[k] - a[k]);
+        nq += (double)normal[k] * ((double)point[k] - a[k]);
+    }
+    if (nd == 0.0) return 0;
+    t = nq / nd;
+    for (k = 0; k < 3; ++k) q[k] = (float)(a[k] + t * ((double)b[k] - a[k]));
+    if (!lrt_camera_project(camera, q, out)) return 0;
+    *depth = out[2];
+    return 1;
+}
+
+/* The ray starts at its texel's centre, on the texel's flat top. The
+   texel tops around stand at most half the true surface's slope above it
+   where the surface is convex or flat, and the ray stays above the tangent
+   plane of a true normal: so the slope of that plane lifts too, when the
+   steps (secants) say less, as at a curved surface's edge. Lifted by
+   `lift`, the ray must still clear its own top until it leaves the texel:
+   one that goes away from the eye (dir z > 0) sinks by dir z * t_out there,
+   t_out the t where it crosses the texel's first side; so the lift is at
+   least that, 1% and a hair more. A ray whose end is on the far plane is
+   lengthened along its line to reach it again: it is lifted by the same
+   amount all along, and still ends at depth 1. */
+LINEAR_RT_DEF int lrt_camera_surface_ray(const lrt_camera *camera, const float from[3], const float normal[3],
+                                         const float to[3], float lift, lrt_ray *ray)
+{
+    double t_out = INFINITY, need, d[4];
     int k, to_far;
     if (!lrt_camera_segment(camera, from, to, ray)) return 0;
+    if (normal && lift > 0.0f && lrt__plane_depth(camera, from, normal, ray->origin[0] + 0.5f, ray->origin[1], &d[0]) &&
+        lrt__plane_depth(camera, from, normal, ray->origin[0] - 0.5f, ray->origin[1], &d[1]) &&
+        lrt__plane_depth(camera, from, normal, ray->origin[0], ray->origin[1] + 0.5f, &d[2]) &&
+        lrt__plane_depth(camera, from, normal, ray->origin[0], ray->origin[1] - 0.5f, &d[3])) {
+        need = 0.5 * (fabs(d[0] - d[1]) + fabs(d[2] - d[3])) * 1.01 + 1e-7;
+        if (need > 8.0 * lift) need = 8.0 * lift;
+        if (need > (double)lift) lift = (float)need;
+    }
     for (k = 0; k < 2; ++k) { /* where the ray leaves the origin's texel */
         const double o = ray->origin[k], v = ray->dir[k], cell = floor(o);
-        const double t = v > 0.0 ? (cell + 1.0 - o) / v : v < 0.0 ? (cell - o) / v : 1.0;
+        const double t = v > 0.0 ? (cell + 1.0 - o) / v : v < 0.0 ? (cell - o) / v : INFINITY;
         if (t < t_out) t_out = t;
     }
-    /* (a ray that reaches the far plane over its own texel, at the horizon, is shortened as the rest) */
-    to_far = ray->origin[2] + ray->dir[2] >= 1.0f && t_out < 1.0;
-    if (ray->dir[2] > 0.0f && t_out < 1.0) {
-        need = (double)ray->dir[2] * t_out / (to_far ? 1.0 - t_out : 1.0);
-        need = need * 1.01 + 1e-7;
+    to_far = ray->origin[2] + ray->dir[2] >= 1.0f && ray->dir[2] > 0.0f;
+    if (ray->dir[2] > 0.0f && (t_out < 1.0 || (to_far && t_out < INFINITY))) {
+        need = (double)ray->dir[2] * t_out * 1.01 + 1e-7;
         if (need > (double)lift) lift = (float)need;
     }
     ray->origin[2] -= lift;
-    if (to_far) ray->dir[2] += lift;
+    if (to_far) { /* the same line, lengthened to reach the far plane again */
+        const float s = 1.0f + lift / ray->dir[2];
+        for (k = 0; k < 3; ++k) ray->dir[k] *= s;
+    }
     return 1;
 }
 

@@ -296,7 +296,7 @@ static int camera_ray(const scene *sc, int kind, size_t k, lrt_ray *ray)
         if (surface_dot(n, l) <= 0.0f) return 0; /* shadowed by itself */
         for (c = 0; c < 3; ++c) to[c] = p[c] + CAMERA_SHADOW_LENGTH * l[c];
     }
-    return lrt_camera_surface_ray(&sc->camera, p, to, sc->lift[k], ray);
+    return lrt_camera_surface_ray(&sc->camera, p, n, to, sc->lift[k], ray);
 }
 
 static void make_set(ray_set *rs, const scene *sc, int kind, size_t sample)

@@ -66,7 +66,7 @@ static void ao__rays_row(void *ctx, uint32_t j)
             float to[3];
             int c;
             for (c = 0; c < 3; ++c) to[c] = p[c] + job->radius * (d[0] * t[c] + d[1] * b[c] + d[2] * n[c]);
-            lrt_camera_surface_ray(&f->camera, p, to, f->lift[k], &rays[s]);
+            lrt_camera_surface_ray(&f->camera, p, n, to, f->lift[k], &rays[s]);
         }
     }
 }

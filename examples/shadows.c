@@ -48,7 +48,7 @@ static void shadows__rays_row(void *ctx, uint32_t j)
         to[0] = p[0] + job->length * l[0];
         to[1] = p[1] + job->length * l[1];
         to[2] = p[2] + job->length * l[2];
-        lrt_camera_surface_ray(&f->camera, p, to, f->lift[k], &job->rays[k]);
+        lrt_camera_surface_ray(&f->camera, p, n, to, f->lift[k], &job->rays[k]);
     }
 }
 

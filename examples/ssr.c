@@ -73,7 +73,7 @@ static void ssr__rays_row(void *ctx, uint32_t j)
         to[0] = p[0] + r[0] * 1e4f;
         to[1] = p[1] + r[1] * 1e4f;
         to[2] = p[2] + r[2] * 1e4f;
-        lrt_camera_surface_ray(&f->camera, p, to, f->lift[k], ray);
+        lrt_camera_surface_ray(&f->camera, p, &f->nrm[3 * k], to, f->lift[k], ray);
     }
 }
 

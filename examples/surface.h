@@ -39,6 +39,13 @@ static inline void surface_positions_row(const lrt_camera *cam, const float *dep
     }
 }
 
+/* The depth step to take into THE LIFT on one side: the step to the
+   neighbour and how much it changes to the next one (the second
+   difference, at most the step itself): on a curved surface the texel
+   tops further along stand out more than the first step says, on a plane
+   it adds nothing. */
+static inline float surface__lift_step(float step, float change) { return step + (change < step ? change : step); }
+
 /* One axis of texel k (stride: 1 for x, w for y; at: the texel's index on
    that axis, of n): which neighbour lies on the texel's own surface (-1,
    +1, or 0 for none: sky or the edge) and, in *lift_step, the depth step to
@@ -47,8 +54,8 @@ static inline void surface_positions_row(const lrt_camera *cam, const float *dep
    the ground, its base a hair behind) the smaller step would take the other
    surface, and a ray would leave along the wrong normal. Where both
    neighbours lie on the surface (each line passes within a tenth of its own
-   step, curved or flat), the lift takes the larger step: a curved surface's
-   flat texel tops stand out more on its steeper side. */
+   step, curved or flat), the lift takes the larger side's: a curved
+   surface's flat texel tops stand out more on its steeper side. */
 static inline int surface__side(const float *depth, size_t k, size_t stride, uint32_t at, uint32_t n, float *lift_step)
 {
     const float d = depth[k];
@@ -64,14 +71,15 @@ static inline int surface__side(const float *depth, size_t k, size_t stride, uin
         ep = at + 2 < n && depth[k + 2 * stride] < 1.0f ? fabsf(2.0f * depth[k + stride] - depth[k + 2 * stride] - d) : sp;
     }
     if (minus && plus && em <= 0.1f * sm + 1e-7f && ep <= 0.1f * sp + 1e-7f) {
-        *lift_step = sm > sp ? sm : sp;
+        const float lm = surface__lift_step(sm, em), lp = surface__lift_step(sp, ep);
+        *lift_step = lm > lp ? lm : lp;
         return em <= ep ? -1 : 1;
     }
     if (minus && (!plus || em < ep || (em == ep && sm <= sp))) {
-        *lift_step = sm;
+        *lift_step = surface__lift_step(sm, em);
         return -1;
     }
-    if (plus) *lift_step = sp;
+    if (plus) *lift_step = surface__lift_step(sp, ep);
     return plus;
 }
 

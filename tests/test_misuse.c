@@ -305,15 +305,29 @@ static void test_lift(void)
     CHECK(lrt_perspective(m, 1.0f, 1.0f, 0.1f, 100.0f, 0) == LRT_SUCCESS &&
               lrt_camera_init(&cam, m, 64, 64, 0) == LRT_SUCCESS,
           "camera");
-    CHECK(lrt_camera_segment(&cam, from, to, &plain) == 1 && lrt_camera_surface_ray(&cam, from, to, lift, &lifted) == 1,
+    CHECK(lrt_camera_segment(&cam, from, to, &plain) == 1 &&
+              lrt_camera_surface_ray(&cam, from, NULL, to, lift, &lifted) == 1,
           "both rays");
     CHECK(lifted.origin[0] == plain.origin[0] && lifted.origin[1] == plain.origin[1] &&
               lifted.origin[2] == plain.origin[2] - lift && memcmp(lifted.dir, plain.dir, sizeof plain.dir) == 0 &&
               lifted.tmin == 0.0f && lifted.tmax == 1.0f,
           "the surface ray is the segment, lifted");
+    { /* a normal facing the eye adds nothing; one turned away (a tangent plane steep on screen) lifts more, at
+         most 8 times the lift */
+        const float facing[3] = {0.0f, 0.0f, 1.0f}, turned[3] = {0.9950372f, 0.0f, 0.0995037f};
+        CHECK(lrt_camera_surface_ray(&cam, from, facing, to, lift, &lifted) == 1 &&
+                  lifted.origin[2] == plain.origin[2] - lift,
+              "a facing normal: the lift as given");
+        const float small = lrt_surface_lift(1e-6f, 0.0f);
+        CHECK(lrt_camera_surface_ray(&cam, from, turned, to, small, &lifted) == 1 &&
+                  lifted.origin[2] < plain.origin[2] - 2.0f * small &&
+                  lifted.origin[2] >= plain.origin[2] - 8.0f * small * 1.0001f,
+              "a turned normal: its plane's slope, at most 8 lifts (%g lifts)",
+              (plain.origin[2] - lifted.origin[2]) / small);
+    }
     from[2] = 5.0f; /* behind the eye, and to it too: no ray */
     to[2] = 6.0f;
-    CHECK(lrt_camera_surface_ray(&cam, from, to, lift, &lifted) == 0 && lifted.origin[0] != lifted.origin[0],
+    CHECK(lrt_camera_surface_ray(&cam, from, NULL, to, lift, &lifted) == 0 && lifted.origin[0] != lifted.origin[0],
           "no part in front: an invalid ray");
 }
 
