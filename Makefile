@@ -61,7 +61,7 @@ SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl) linear_rt.h # the kerne
 SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 
 # what `make test` runs, one count each in its summary line
-TESTS := test-programs-build test-walk-twins test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-vulkan-trace test-demo test-examples test-lift test-bench test-gpu-stats
+TESTS := test-programs-build test-walk-twins test-reference test-core test-misuse test-core-paths test-sanitize-reference test-sanitize-core test-header test-spv test-vulkan test-vulkan-hlsl test-vulkan-trace test-demo test-examples test-lift test-bench test-gpu-stats
 
 # hardening (sanitizers with clang, valgrind, static checks, limits) and the
 # fuzzers: their own makefiles, which add their tests to TESTS
@@ -362,13 +362,38 @@ spv-check: $(B)/spv2h
 $(B)/test_vulkan: tests/test_vulkan.c $(LIB) $(SPV_H) $(REF) $(SCENE) $(RAYS) $(VK_UTIL) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) $(VK_PROGRAM_FLAGS) $< -o $@ $(LDLIBS) $(VK_LIBS)
 
+# test_vulkan again with the buffer-depth trace kernel compiled from HLSL
+# (tests/hlsl/lrt_trace.hlsl over shaders/linear_rt.hlsl, glslang's HLSL
+# front end; SPIR-V 1.3, the newest glslang writes its storage buffers for)
+$(B)/test_vulkan_hlsl_spv.h: tests/hlsl/lrt_trace.hlsl shaders/linear_rt.hlsl shaders/linear_rt.glsl linear_rt.h \
+  $(B)/spv2h | $(B)
+	@mkdir -p $(B)/hlsl
+	$(GLSLANG) -D -V --target-env vulkan1.1 -e main -S comp -o $(B)/hlsl/lrt_trace.spv tests/hlsl/lrt_trace.hlsl \
+	  > $(B)/hlsl/lrt_trace.log 2>&1 || { cat $(B)/hlsl/lrt_trace.log; exit 1; }
+	@# linear_rt adds float controls (RoundingModeRTE...) to its kernels, core
+	@# in SPIR-V 1.4: before that a module names their extension
+	spirv-dis --raw-id $(B)/hlsl/lrt_trace.spv > $(B)/hlsl/lrt_trace.spvasm
+	awk -v n=$$(grep -n OpCapability $(B)/hlsl/lrt_trace.spvasm | tail -1 | cut -d: -f1) \
+	  '{ print } NR == n { print "OpExtension \"SPV_KHR_float_controls\"" }' $(B)/hlsl/lrt_trace.spvasm > $(B)/hlsl/lrt_trace_fc.spvasm
+	spirv-as --target-env vulkan1.1 --preserve-numeric-ids $(B)/hlsl/lrt_trace_fc.spvasm -o $(B)/hlsl/lrt_trace_fc.spv
+	$(SPIRV_VAL) --target-env vulkan1.1 $(B)/hlsl/lrt_trace_fc.spv
+	$(B)/spv2h $@ lrt_hlsl_trace=$(B)/hlsl/lrt_trace_fc.spv
+
+$(B)/test_vulkan_hlsl: tests/test_vulkan.c $(B)/test_vulkan_hlsl_spv.h $(LIB) $(SPV_H) $(REF) $(SCENE) $(RAYS) \
+  $(VK_UTIL) | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) $(VK_PROGRAM_FLAGS) -DTEST_HLSL -I$(B) $< -o $@ $(LDLIBS) $(VK_LIBS)
+
 ifeq ($(HAVE_VULKAN),1)
+test-vulkan-hlsl: $(B)/test_vulkan_hlsl
+	$(B)/test_vulkan_hlsl
+	$(B)/test_vulkan_hlsl --flushing-device
+
 test-vulkan: $(B)/test_vulkan
 	$(B)/test_vulkan
 	$(B)/test_vulkan --flushing-device
 else
-test-vulkan:
-	@echo "test-vulkan: skipped: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"; \
+test-vulkan test-vulkan-hlsl:
+	@echo "$@: skipped: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"; \
 	[ "$$CI" != "true" ]
 endif
 
@@ -596,7 +621,7 @@ TEST_PROGRAMS = $(addprefix $(FB)/,$(FUZZERS)) \
     test_misuse test_misuse_san soak soak_tsan bench-twin walk_rays) \
   $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,$(VULKAN_PROGRAMS))) \
   $(if $(filter 11,$(HAVE_VULKAN)$(VI_HAVE_GLSLANG)),$(B)/vulkan_inline)
-VULKAN_PROGRAMS := test_vulkan test_vulkan_threads test_vulkan_threads_tsan vulkan_trace gpu_stats
+VULKAN_PROGRAMS := test_vulkan test_vulkan_hlsl test_vulkan_threads test_vulkan_threads_tsan vulkan_trace gpu_stats
 
 test-programs: $(TEST_PROGRAMS)
 

@@ -5346,6 +5346,15 @@ enum { LRT__VK_REFIT_BUFFER, LRT__VK_REFIT_IMAGE, LRT__VK_TRACE_BUFFER, LRT__VK_
 #define LRT__VK_LAZY 0
 #endif
 
+/* The trace module of buffer depth. tests/test_vulkan.c built as
+   test_vulkan_hlsl defines these before the implementation: the same kernel
+   compiled from HLSL (tests/hlsl/lrt_trace.hlsl over shaders/linear_rt.hlsl),
+   run in its place through every test. */
+#ifndef LRT__VK_TRACE_BUFFER_SPV
+#define LRT__VK_TRACE_BUFFER_SPV lrt_spv_trace_buffer
+#define LRT__VK_TRACE_BUFFER_SPV_SIZE lrt_spv_trace_buffer_SIZE
+#endif
+
 static lrt__vk_module lrt__vk_module_at(int which)
 {
     lrt__vk_module m;
@@ -5355,7 +5364,7 @@ static lrt__vk_module lrt__vk_module_at(int which)
     case LRT__VK_TRACE_BUFFER:
     case LRT__VK_RARE_BUFFER:
     case LRT__VK_BUDGET_BUFFER:
-    case LRT__VK_WHOLE_BUFFER: m.code = lrt_spv_trace_buffer; m.bytes = lrt_spv_trace_buffer_SIZE; break;
+    case LRT__VK_WHOLE_BUFFER: m.code = LRT__VK_TRACE_BUFFER_SPV; m.bytes = LRT__VK_TRACE_BUFFER_SPV_SIZE; break;
     default: m.code = lrt_spv_trace_image; m.bytes = lrt_spv_trace_image_SIZE; break;
     }
     return m;

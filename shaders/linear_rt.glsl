@@ -24,7 +24,7 @@
 // The numbers follow linear_rt.h step by step, so both paths give the same
 // answers up to float rounding: every plane crossing the answer rests on is
 // (plane - o) * (1/v) in float (a node's test only culls: plane * (1/v) + c
-// with margins, as linear_rt.h's AVX2 node test); a unorm depth plane's
+// with margins, as linear_rt.h's AVX2 node test); a is_unorm depth plane's
 // distance v/max - o.z is taken exactly with Dekker's product (linear_rt.h
 // uses double); a zero direction component is a closed slab (handled
 // without NaN or inf arithmetic). The walk (lrt_trace_ray, below) starts at
@@ -121,7 +121,7 @@ bool lrt_compact(LrtParams p) { return p.node_bits == 8u && p.level_count >= 2u;
 // Depth in: texel (x, y) as the model states it
 // ============================================================================
 
-// The raw depth: for unorm formats the integer v (reversed Z flipped in
+// The raw depth: for is_unorm formats the integer v (reversed Z flipped in
 // integers); for float the bits of the float after the flip (in float) and
 // the model's clamp (NaN and above 1 -> 1, below 0 -> 0).
 uint lrt_clamp_float_bits(float g)
@@ -213,7 +213,7 @@ void lrt_two_prod(float a, float b, out float p, out float e)
     e = ee;
 }
 
-// the sign of x * max - v for a unorm raw value v (max 255 or 65535),
+// the sign of x * max - v for a is_unorm raw value v (max 255 or 65535),
 // exactly: where a depth v / max lies against x, without rounding v / max
 int lrt_scaled_sign(float x, uint format, uint raw)
 {
@@ -224,7 +224,7 @@ int lrt_scaled_sign(float x, uint format, uint raw)
 }
 
 // a texel's back under the constant or relative model: b(d) as float bits,
-// or ~0u when b is not behind a unorm depth's exact v / max (b rounds to
+// or ~0u when b is not behind a is_unorm depth's exact v / max (b rounds to
 // the float d, below v / max): the box is then the flat plate [d, d], its
 // back the depth's own exact plane (linear_rt.h's lrt__model_back_bits)
 uint lrt_model_back_bits(LrtParams p, uint raw)
@@ -388,7 +388,14 @@ struct LrtExpansion {
     int m;
 };
 
-LrtExpansion lrt_expansion() { return LrtExpansion(vec4(0.0), vec4(0.0), 0); }
+LrtExpansion lrt_expansion()
+{
+    LrtExpansion x; // (field by field: HLSL has no struct constructors)
+    x.hi = vec4(0.0, 0.0, 0.0, 0.0);
+    x.lo = vec4(0.0, 0.0, 0.0, 0.0);
+    x.m = 0;
+    return x;
+}
 float lrt_part(LrtExpansion x, int j) { return j < 4 ? lrt_pick(x.lo, j) : lrt_pick(x.hi, j - 4); }
 void lrt_set_part(inout LrtExpansion x, int j, float v)
 {
@@ -466,18 +473,18 @@ void lrt_grow_prod(inout LrtExpansion x, float a, float b, int extra, int scale)
 // z is scaled by 2^zk (lrt_setup_rare) scales the depth too, exactly.
 float lrt_depth_plane(LrtSetup s, uint format, uint raw)
 {
-    bool unorm = format != LRT_FLOAT32 && raw != (format == LRT_UNORM8 ? 255u : 65535u); // v = max is d = 1 exactly
-    float d = format == LRT_FLOAT32 ? uintBitsToFloat(raw) : unorm ? 0.0 : 1.0;
-    // o.z * max = p + e exactly (one product for both uses below; unorm only)
+    bool is_unorm = format != LRT_FLOAT32 && raw != (format == LRT_UNORM8 ? 255u : 65535u); // v = max is d = 1 exactly
+    float d = format == LRT_FLOAT32 ? uintBitsToFloat(raw) : is_unorm ? 0.0 : 1.0;
+    // o.z * max = p + e exactly (one product for both uses below; is_unorm only)
     float qm = format == LRT_UNORM8 ? 255.0 : 65535.0, p = 0.0, e = 0.0, v = float(raw);
     if (format != LRT_FLOAT32) lrt_two_prod(s.o.z, qm, p, e);
     if (s.zero.z) {
         // v/max <= o.z, compared without rounding v/max: v <= o.z * max
         // (lrt_scaled_sign's test, on the same product)
-        bool inside = unorm ? (p != v ? p > v : e >= 0.0) : d <= s.o.z;
+        bool inside = is_unorm ? (p != v ? p > v : e >= 0.0) : d <= s.o.z;
         return (s.neg.z != 0u) == inside ? LRT_INF : -LRT_INF;
     }
-    if (!unorm) {
+    if (!is_unorm) {
         if (s.zk != 0) d = lrt_ldexp(d, s.zk);
         precise float t = (d - s.o.z) * s.iv.z;
         return t;
@@ -663,8 +670,8 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
     vec3 hi3 = vec3(float(p.width), float(p.height), 1.0), o3 = o, v3 = v, sv, iv;
     s.o = o;
     s.v = v;
-    s.iv = vec3(0.0);
-    s.neg = uvec3(0u);
+    s.iv = vec3(0.0, 0.0, 0.0);
+    s.neg = uvec3(0u, 0u, 0u);
     s.zero = bvec3(false);
     s.t_lo = 0.0;
     s.t_hi = -1.0;
@@ -682,7 +689,7 @@ bool lrt_setup_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, out Lrt
                : LRT_MISS_OFF_SCREEN;
     float m = max(max(abs(v.x), abs(v.y)), abs(v.z));
     int e = m != 0.0 ? max(lrt_ilogb(m), -127) : 0;
-    ivec3 ev = ivec3(0);
+    ivec3 ev = ivec3(0, 0, 0);
     uint deg = 0u;
     tmin = lrt_scale_t(tmin, e);
     tmax = lrt_scale_t(tmax, e);
@@ -895,8 +902,8 @@ float lrt_widen(float ex)
 float lrt_back_plane(LrtSetup s, uint format, uint raw)
 {
     if (!s.zero.z) return lrt_depth_plane(s, format, raw);
-    bool unorm = format != LRT_FLOAT32 && raw != (format == LRT_UNORM8 ? 255u : 65535u);
-    bool inside = unorm ? lrt_scaled_sign(s.o.z, format, raw) <= 0 // o.z * max <= v
+    bool is_unorm = format != LRT_FLOAT32 && raw != (format == LRT_UNORM8 ? 255u : 65535u);
+    bool inside = is_unorm ? lrt_scaled_sign(s.o.z, format, raw) <= 0 // o.z * max <= v
                         : s.o.z <= (format == LRT_FLOAT32 ? uintBitsToFloat(raw) : 1.0); // o.z <= b
     return (s.neg.z != 0u) == inside ? -LRT_INF : LRT_INF;
 }
@@ -908,7 +915,7 @@ bool lrt_has_back(LrtParams p) { return LRT_BACK_TREES && p.thickness != LRT_THI
 bool lrt_test_texel(LrtParams p, LrtSetup s, uint tx, uint ty, float en, float ex, out float t, out vec2 planes)
 {
     t = 0.0;
-    planes = vec2(0.0);
+    planes = vec2(0.0, 0.0);
     if (tx >= p.width || ty >= p.height) return false; // padding
     float tz = lrt_depth_plane(s, p.format, lrt_depth_raw(p, tx, ty));
     planes.x = tz;
@@ -1183,10 +1190,10 @@ uint lrt_cull_children(LrtParams p, LrtSetup s, LrtCull c, uint lv, uint off, ui
         uint k = slot0 >> 3, scale = lrt_compact_scale_slot(p, k);
         w = lrt_compact_words(LRT_NODE_WORD(k), lrt_code(own), lrt_code(scale));
         b = back ? lrt_compact_words(LRT_NODE_WORD((back_base >> 1) + k), lrt_code(back_base + own), lrt_code(back_base + scale))
-                 : uvec4(0u);
+                 : uvec4(0u, 0u, 0u, 0u);
     } else {
         w = lrt_node_words(slot0);
-        b = back ? lrt_node_words(back_base + slot0) : uvec4(0u);
+        b = back ? lrt_node_words(back_base + slot0) : uvec4(0u, 0u, 0u, 0u);
     }
     // the depth plane bounds a child's entry where the ray goes away from
     // the camera, its exit where it comes nearer; the back plane the other
@@ -1270,7 +1277,7 @@ const uint LRT_WALK_BUDGET = 2u; // the budget ran out before a node's test
 uint lrt_walk_origin(LrtParams p, LrtSetup s, uint top, uint sx, uint sy, uint budget, out uint hx, out uint hy,
                      out float ht, out vec2 hplanes)
 {
-    hplanes = vec2(0.0);
+    hplanes = vec2(0.0, 0.0);
     hx = 0u;
     hy = 0u;
     ht = 0.0;
@@ -1294,7 +1301,7 @@ uint lrt_walk_origin(LrtParams p, LrtSetup s, uint top, uint sx, uint sy, uint b
     uint eligible = 0xffu, reached = 1u, busy = 0u, steps = 0u;
     // top 0: the bit of texel (px, py) in visiting order
     uint one = top == 0u ? 1u << ((((py & 1u) << 2) | (px & 3u)) ^ lrt_flip_of(1u, flip_tall, flip_wide)) : 0u;
-    uvec4 masks = uvec4(0u);
+    uvec4 masks = uvec4(0u, 0u, 0u, 0u);
     for (;;) {
         if (budget != 0u && steps == budget) { // the budget is spent: the next node is not tested
             ht = lrt_budget_t(s, lv, nx, ny, eligible, flip_tall, flip_wide);
@@ -1510,7 +1517,7 @@ void lrt_cell_axis(int a, int n, float o, float iv, uint neg, bool zero, inout f
 // with the first texel hit (hx, hy), its t and planes, or LRT_WALK_MISS
 uint lrt_walk_cells(LrtParams p, LrtSetup s, out uint hx, out uint hy, out float ht, out vec2 hplanes)
 {
-    hplanes = vec2(0.0);
+    hplanes = vec2(0.0, 0.0);
     hx = 0u;
     hy = 0u;
     ht = 0.0;

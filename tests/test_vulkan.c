@@ -29,12 +29,20 @@
    No Vulkan loader or device: prints why and exits 0 (skipped), or 1 when
    the environment variable CI is "true". Ends with "N passed, M failed".
    LRT_TEST_SEED (a number) draws other rays of the same kinds: a longer
-   soak of the GPU walks against the CPU's, one seed a run. */
+   soak of the GPU walks against the CPU's, one seed a run.
+   Built with TEST_HLSL (test_vulkan_hlsl), the buffer-depth trace kernel is
+   tests/hlsl/lrt_trace.hlsl, compiled by glslang's HLSL front end: the same
+   tests but (e) and the 2D dispatches, which its 1D index cannot take. */
 #ifndef LINEAR_RT_VULKAN
 #define LINEAR_RT_VULKAN
 #endif
 #ifndef LINEAR_RT_VULKAN_DEVICE_HELPER
 #define LINEAR_RT_VULKAN_DEVICE_HELPER
+#endif
+#ifdef TEST_HLSL /* test_vulkan_hlsl: the buffer-depth trace kernel compiled from HLSL (tests/hlsl/lrt_trace.hlsl) */
+#include "test_vulkan_hlsl_spv.h"
+#define LRT__VK_TRACE_BUFFER_SPV lrt_hlsl_trace
+#define LRT__VK_TRACE_BUFFER_SPV_SIZE lrt_hlsl_trace_SIZE
 #endif
 #define LINEAR_RT_IMPLEMENTATION
 #include "../linear_rt.h"
@@ -1516,11 +1524,18 @@ int main(int argc, char **argv)
         RUN_TEST(test_context_options);
         RUN_TEST(test_device_without_extension);
         RUN_TEST(test_bad_arguments);
+#ifndef TEST_HLSL /* lowered limits and 2D dispatches: the HLSL kernel's index is 1D (no gl_NumWorkGroups) */
         RUN_TEST(test_device_limits);
+#endif
         RUN_TEST(test_build_and_trace);
         RUN_TEST(test_found_cases);
         RUN_TEST(test_update);
+#ifndef TEST_HLSL
         RUN_TEST(test_2d_dispatch);
+#else
+        (void)test_device_limits;
+        (void)test_2d_dispatch;
+#endif
         print_trace_summary();
     } else {
         CHECK(0, "Vulkan set-up failed");

@@ -1,0 +1,104 @@
+// tests/hlsl/lrt_trace.hlsl - shaders/lrt_trace.comp again, written in HLSL
+// over shaders/linear_rt.hlsl: the same bindings, push constants and
+// specialization constants as the library's trace kernel (buffer depth), so
+// that test_vulkan_hlsl (tests/test_vulkan.c built with TEST_HLSL) runs
+// every one of test_vulkan's traces through it in the library's place and
+// checks the answers against the CPU's, bit for bit. Compiled by glslang's
+// HLSL front end: glslangValidator -D -V -e main -S comp.
+// HLSL has no gl_NumWorkGroups: the index is 1D (SV_DispatchThreadID.x), so
+// the 2D dispatches (past 65535 groups) are not run through it.
+#define LRT_GLSL 1
+#include "../../linear_rt.h"
+
+struct LrtPush {
+    LRT_K_VK_PUSH_CONSTANTS(uint, float)
+};
+[[vk::push_constant]] ConstantBuffer<LrtPush> pc;
+
+// the contract's binding numbers (LRT_K_VK_BINDING_*), written as literals:
+// an attribute takes no macro that carries a u, and glslang's #if reads none;
+// a wrong one fails test_vulkan_hlsl (the validation layer and the answers)
+
+[[vk::binding(0, 0)]] ByteAddressBuffer lrt_depth;
+[[vk::binding(6, 0)]] ByteAddressBuffer lrt_back;
+[[vk::binding(2, 0)]] ByteAddressBuffer lrt_nodes;
+[[vk::binding(8, 0)]] Buffer<uint4> lrt_node_view;
+struct LrtRayIn {
+    float3 origin;
+    float tmin;
+    float3 dir;
+    float tmax;
+};
+[[vk::binding(4, 0)]] StructuredBuffer<LrtRayIn> lrt_rays;
+[[vk::binding(5, 0)]] RWStructuredBuffer<uint4> lrt_hits;
+
+[[vk::constant_id(0)]] const bool lrt_back_trees = false;
+[[vk::constant_id(1)]] const uint lrt_back_node_bits = 16u;
+[[vk::constant_id(2)]] const bool lrt_node_texels = false;
+[[vk::constant_id(3)]] const uint lrt_trace_pass = 0u;
+
+uint4 lrt_node_quad(uint i)
+{
+    if (lrt_node_texels) return lrt_node_view.Load(int(i));
+    return lrt_nodes.Load4(i * 16u);
+}
+
+#define LRT_DEPTH_IMAGE 0
+#define LRT_DEPTH_WORD(i) lrt_depth.Load((i) * 4u)
+#define LRT_BACK_WORD(i) lrt_back.Load((i) * 4u)
+#define LRT_NODE_WORD(i) lrt_nodes.Load((i) * 4u)
+#define LRT_NODE_QUAD(i) lrt_node_quad(i)
+#define LRT_BACK_TREES lrt_back_trees
+#include "../../shaders/linear_rt.hlsl"
+
+LrtParams lrt_params()
+{
+    LrtParams p;
+    p.width = pc.width;
+    p.height = pc.height;
+    p.format = pc.format;
+    p.flags = pc.flags;
+    p.node_bits = LRT_BACK_TREES ? lrt_back_node_bits : pc.node_bits;
+    p.level_count = pc.level_count;
+    p.depth_offset = pc.depth_offset;
+    p.row_stride = pc.row_stride;
+    p.back_offset = pc.back_offset;
+    p.back_row_stride = pc.back_row_stride;
+    p.thickness = pc.thickness;
+    p.back_k0 = pc.back_k0;
+    p.back_k1 = pc.back_k1;
+    return p;
+}
+
+static const uint LRT_RARE_MARK = 0xffffffffu;
+
+void lrt_trace_one(uint idx)
+{
+    uint i = pc.ray_first + idx;
+    LrtRayIn r = lrt_rays[i];
+    LrtHit hit;
+    uint budget = lrt_trace_pass == 0u ? 0u : pc.trace_flags & LRT_K_TRACE_BUDGET_MASK;
+    if (lrt_trace_pass == 1u || lrt_trace_pass == 2u) {
+        hit = lrt_trace_ray_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget);
+    } else {
+        bool rare;
+        if (lrt_trace_pass == 0u && !LRT_BACK_TREES)
+            hit = lrt_trace_ray_ordinary(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, rare);
+        else
+            hit = lrt_trace_ray_ordinary_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget, rare);
+        if (rare) {
+            lrt_hits[i] = uint4(0u, 0u, 0u, LRT_RARE_MARK);
+            return;
+        }
+    }
+    lrt_hits[i] = uint4(asuint(hit.t), hit.x, hit.y, lrt_hit_word3(hit));
+}
+
+[numthreads(LRT_K_VK_GROUP_SIZE, 1, 1)]
+void main(uint3 id : SV_DispatchThreadID)
+{
+    uint idx = id.x;
+    if (idx >= pc.ray_count) return;
+    if (lrt_trace_pass == 1u && lrt_hits[pc.ray_first + idx].w != LRT_RARE_MARK) return;
+    lrt_trace_one(idx);
+}
