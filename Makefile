@@ -6,7 +6,7 @@
 #                whose tool is missing fails (ALLOW_SKIP=1: it skips instead)
 #   make bench   install gnuplot and Embree too, then the benchmark (bench/)
 #   make bench-plain-vs-native  linear_rt's CPU rows, plain build / -march=native
-#   make examples  build/minimal, ssr, ao, shadows, vulkan_inline, vulkan_trace
+#   make examples  build/minimal, ssr, ao, shadows, vulkan_inline, hlsl_inline, vulkan_trace
 #   make spv     compile shaders/*.comp and regenerate shaders_spv.h (needs glslang)
 #   make gpu-stats  the kernels' weight on AMD GPUs (RDNA3, RDNA2, GCN): Mesa's
 #                RADV compiler on null hardware, tables in build/gpu-stats.md
@@ -113,7 +113,7 @@ $(B)/minimal: examples/minimal.c $(LIB) | deps $(B)
 $(B)/ssr $(B)/ao $(B)/shadows: $(B)/%: examples/%.c $(EXAMPLE_HDR) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) -O3 $< -o $@ $(LDLIBS)
 
-examples: $(addprefix $(B)/,$(EXAMPLES)) $(B)/vulkan_inline $(B)/vulkan_trace
+examples: $(addprefix $(B)/,$(EXAMPLES)) $(B)/vulkan_inline $(B)/hlsl_inline $(B)/vulkan_trace
 
 # the README's pictures: the demo's, at 512x512
 pictures: $(B)/demo $(B)/ssr
@@ -420,9 +420,9 @@ endif
 # make check: the quick loop while working, well under a minute on a 2-core
 # machine: the reference's and the core CPU tests, the traversal paths bit
 # for bit, the walks' C and GLSL twins (tests/walk_twins.sh: every pair of
-# linear_rt.h's TWINS table defined on both sides), and (where there is a
-# Vulkan device) one Vulkan smoke test with
-# validation on. Any test program runs one test by name, e.g.
+# linear_rt.h's TWINS table defined on both sides), (where there is a
+# Vulkan device) one Vulkan smoke test with validation on, and the shaders'
+# one source for GLSL and HLSL. Any test program runs one test by name, e.g.
 # build/test_core test_update.
 CHECK_VK := $(if $(filter 1,$(HAVE_VULKAN)),$(B)/test_vulkan)
 check: | deps $(B)
@@ -432,6 +432,11 @@ check: | deps $(B)
 	$(B)/test_paths
 	tests/walk_twins.sh
 	$(if $(CHECK_VK),$(B)/test_vulkan test_smoke,@echo "check: no Vulkan headers here: the Vulkan smoke test is skipped")
+	@# one source for GLSL and HLSL: linear_rt.hlsl defines no function but the
+	@# built-in HLSL lacks, and linear_rt.glsl's body compiles as HLSL
+	@fns=$$(grep -cE '^[a-zA-Z_][a-zA-Z0-9_ ]* [a-zA-Z_][a-zA-Z0-9_]*\(.*\)$$' shaders/linear_rt.hlsl); \
+	  [ "$$fns" = 1 ] || { echo "check: shaders/linear_rt.hlsl defines $$fns functions: the tracer lives in linear_rt.glsl"; exit 1; }
+	$(if $(CHECK_VK),@$(MAKE) --no-print-directory $(B)/test_vulkan_hlsl_spv.h && echo "check: linear_rt.glsl compiles as HLSL")
 
 # The demo at 128x128 (its own checks: 2 threads == 1, GPU == CPU bit for
 # bit), then its CPU answers (--dump) judged by the exact reference:
@@ -620,7 +625,7 @@ TEST_PROGRAMS = $(addprefix $(FB)/,$(FUZZERS)) \
     test_threads test_threads_tsan test_reference test_reference_san test_reference_csan spv2h static_tu.c \
     test_misuse test_misuse_san soak soak_tsan bench-twin walk_rays) \
   $(if $(filter 1,$(HAVE_VULKAN)),$(addprefix $(B)/,$(VULKAN_PROGRAMS))) \
-  $(if $(filter 11,$(HAVE_VULKAN)$(VI_HAVE_GLSLANG)),$(B)/vulkan_inline)
+  $(if $(filter 11,$(HAVE_VULKAN)$(VI_HAVE_GLSLANG)),$(B)/vulkan_inline $(B)/hlsl_inline)
 VULKAN_PROGRAMS := test_vulkan test_vulkan_hlsl test_vulkan_threads test_vulkan_threads_tsan vulkan_trace gpu_stats
 
 test-programs: $(TEST_PROGRAMS)
@@ -633,8 +638,8 @@ test-programs: $(TEST_PROGRAMS)
 # that is missing from TEST_PROGRAMS fails here too. Without Vulkan headers
 # (ALLOW_SKIP) the Vulkan programs are not asked for.
 PROGRAM_MAKEFILES := Makefile tests/hardening.mk tests/threads.mk tests/fuzz/fuzz.mk examples/vulkan_inline/vulkan_inline.mk
-PROGRAMS_NOT_HERE := $(if $(filter 1,$(HAVE_VULKAN)),,$(VULKAN_PROGRAMS) fuzz_vk_args vulkan_inline) \
-  $(if $(filter 11,$(HAVE_VULKAN)$(VI_HAVE_GLSLANG)),,vulkan_inline)
+PROGRAMS_NOT_HERE := $(if $(filter 1,$(HAVE_VULKAN)),,$(VULKAN_PROGRAMS) fuzz_vk_args vulkan_inline hlsl_inline) \
+  $(if $(filter 11,$(HAVE_VULKAN)$(VI_HAVE_GLSLANG)),,vulkan_inline hlsl_inline)
 test-programs-build:
 	@missing=; for p in $$(awk -f tests/programs.awk $(PROGRAM_MAKEFILES) | sort -u); do \
 	  case " $(notdir $(TEST_PROGRAMS)) $(PROGRAMS_NOT_HERE) " in *" $$p "*) ;; *) missing="$$missing $$p";; esac; \

@@ -10,6 +10,7 @@
    texel: the kernels answer what the CPU answers, bit for bit.
 
    build/vulkan_inline [--size N] [--validation] [--out DIR]
+   (build/hlsl_inline: the same, with examples/hlsl_inline/contact_shadows.hlsl)
      --size N      the embedded scene at N x N texels (default 256)
      --validation  the Khronos validation layer on, synchronization validation
                    too (the barriers); any message is a failure
@@ -21,7 +22,13 @@
 #include "../../linear_rt.h" /* with -DLINEAR_RT_VULKAN -DLINEAR_RT_VULKAN_DEVICE_HELPER */
 #include "../scene.h"
 #include "../vk_small.h" /* buffers, one command buffer, submit and wait, barriers, timestamps */
+#ifdef HLSL_INLINE /* build/hlsl_inline: the same host, the shader in HLSL (examples/hlsl_inline) */
+#include "hlsl_inline_spv.h" /* contact_shadows_spv[]: contact_shadows.hlsl, compiled by make */
+#define EXAMPLE "hlsl_inline"
+#else
 #include "vulkan_inline_spv.h" /* contact_shadows_spv[]: contact_shadows.comp, compiled by make */
+#define EXAMPLE "vulkan_inline"
+#endif
 
 #include <math.h>
 #include <stdio.h>
@@ -240,11 +247,11 @@ static int write_png(const char *dir, const uint32_t *out, uint32_t w, uint32_t 
     if (!px) return 1;
     for (k = 0; k < n; ++k) px[k] = grey[out[k] <= OUT_SKY ? out[k] : OUT_SKY];
     mkdir(dir, 0777); /* fails harmlessly when it exists */
-    snprintf(path, sizeof path, "%s/vulkan_inline.png", dir);
+    snprintf(path, sizeof path, "%s/" EXAMPLE ".png", dir);
     ok = stbi_write_png(path, (int)w, (int)h, 1, px, (int)w);
     free(px);
     if (!ok) {
-        fprintf(stderr, "vulkan_inline: cannot write %s\n", path);
+        fprintf(stderr, EXAMPLE ": cannot write %s\n", path);
         return 1;
     }
     printf("  wrote %s (%ux%u)\n", path, w, h);
@@ -256,7 +263,7 @@ static int write_png(const char *dir, const uint32_t *out, uint32_t w, uint32_t 
     do {                                                                                                          \
         lrt_result r_ = (call);                                                                                   \
         if (r_ != LRT_SUCCESS) {                                                                                  \
-            fprintf(stderr, "vulkan_inline: %s: %s\n", #call, lrt_result_string(r_));                            \
+            fprintf(stderr, EXAMPLE ": %s: %s\n", #call, lrt_result_string(r_));                            \
             goto done;                                                                                            \
         }                                                                                                         \
     } while (0)
@@ -313,16 +320,16 @@ int main(int argc, char **argv)
     /* the device: the validation layer prints each message and counts it */
     r = lrt_vk_device_create(&dev, validation ? LRT_VK_DEVICE_VALIDATION | LRT_VK_DEVICE_SYNC_VALIDATION : 0u);
     if (r == LRT_ERROR_NO_VULKAN_LOADER || r == LRT_ERROR_NO_VULKAN_DEVICE || r == LRT_ERROR_MISSING_VULKAN_FEATURE) {
-        printf("vulkan_inline: %s: %s%s\n", in_ci ? "FAIL under CI=true" : "skipped", lrt_result_string(r),
+        printf(EXAMPLE ": %s: %s%s\n", in_ci ? "FAIL under CI=true" : "skipped", lrt_result_string(r),
                r == LRT_ERROR_MISSING_VULKAN_FEATURE && validation ? " (is VK_LAYER_KHRONOS_validation installed?)" : "");
         return in_ci ? EXIT_FAILED : EXIT_SKIPPED;
     }
     if (r != LRT_SUCCESS) {
-        fprintf(stderr, "vulkan_inline: lrt_vk_device_create: %s (VkResult %d)\n", lrt_result_string(r),
+        fprintf(stderr, EXAMPLE ": lrt_vk_device_create: %s (VkResult %d)\n", lrt_result_string(r),
                 (int)dev.vk_result);
         return EXIT_FAILED;
     }
-    printf("vulkan_inline: %s, Vulkan %u.%u.%u%s\n", dev.properties.deviceName,
+    printf(EXAMPLE ": %s, Vulkan %u.%u.%u%s\n", dev.properties.deviceName,
            VK_API_VERSION_MAJOR(dev.properties.apiVersion), VK_API_VERSION_MINOR(dev.properties.apiVersion),
            VK_API_VERSION_PATCH(dev.properties.apiVersion), validation ? ", validation on" : "");
     CHECK_LRT(lrt_vk_context_create(&dev.desc, &ctx));
@@ -334,7 +341,7 @@ int main(int argc, char **argv)
     hits = (lrt_hit *)malloc(n * sizeof *hits);
     has_ray = (int *)malloc(n * sizeof *has_ray);
     if (!depth || !rays || !hits || !has_ray) {
-        fprintf(stderr, "vulkan_inline: out of memory\n");
+        fprintf(stderr, EXAMPLE ": out of memory\n");
         goto done;
     }
     scene_render((int)w, (int)h, &cam, depth, NULL);
@@ -433,9 +440,9 @@ int main(int argc, char **argv)
                    (double)rays[k].origin[2], (double)rays[k].dir[0], (double)rays[k].dir[1], (double)rays[k].dir[2]);
     }
     if (differ == 0)
-        printf("vulkan_inline: %zu texels, %zu shadowed, GPU == CPU on all\n", n, shadowed);
+        printf(EXAMPLE ": %zu texels, %zu shadowed, GPU == CPU on all\n", n, shadowed);
     else
-        printf("vulkan_inline: FAIL: %zu texels, %zu shadowed, GPU != CPU on %zu\n", n, shadowed, differ);
+        printf(EXAMPLE ": FAIL: %zu texels, %zu shadowed, GPU != CPU on %zu\n", n, shadowed, differ);
     if (t.queries)
         printf("  GPU (timestamps): lrt_vk_cmd_build %.3f ms, our dispatch %.3f ms (median of %d; %.2f ms on the wall "
                "with submit and wait)\n", build_ms, median(trace_ms, RUNS), RUNS, median(wall_ms, RUNS));
@@ -464,7 +471,7 @@ done:
     free(hits);
     free(has_ray);
     if (dev.message_count) {
-        printf("vulkan_inline: FAIL: %u validation messages (printed above)\n", dev.message_count);
+        printf(EXAMPLE ": FAIL: %u validation messages (printed above)\n", dev.message_count);
         rc = EXIT_FAILED;
     }
     return rc;

@@ -17,8 +17,21 @@ VI_HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
 # the library, the examples' scene and our Vulkan helper are included by main.c
 VI_DEPS := $(VI_DIR)/main.c $(LIB) shaders_spv.h $(SCENE) examples/vk_small.h $(VI_SPV_H)
 
-TESTS += test-vulkan-inline
-.PHONY: test-vulkan-inline
+TESTS += test-vulkan-inline test-hlsl-inline
+.PHONY: test-vulkan-inline test-hlsl-inline
+
+# examples/hlsl_inline: the same host (main.c with HLSL_INLINE), the shader in
+# HLSL over shaders/linear_rt.hlsl, compiled by glslang's HLSL front end
+# (SPIR-V 1.3: glslang writes HLSL's storage buffers as BufferBlock)
+HI_SPV_H := $(B)/hlsl_inline_spv.h
+$(HI_SPV_H): examples/hlsl_inline/contact_shadows.hlsl shaders/linear_rt.hlsl shaders/linear_rt.glsl linear_rt.h \
+  $(B)/spv2h | $(B)
+	@mkdir -p $(B)/hlsl_inline_spv
+	$(GLSLANG) -D -V --target-env vulkan1.1 -e main -S comp -I. -Ishaders -o $(B)/hlsl_inline_spv/contact_shadows.spv \
+	  examples/hlsl_inline/contact_shadows.hlsl > $(B)/hlsl_inline_spv/contact_shadows.log 2>&1 || \
+	  { cat $(B)/hlsl_inline_spv/contact_shadows.log; exit 1; }
+	@if command -v $(SPIRV_VAL) >/dev/null 2>&1; then $(SPIRV_VAL) --target-env vulkan1.1 $(B)/hlsl_inline_spv/contact_shadows.spv; fi
+	$(B)/spv2h $@ contact_shadows_spv=$(B)/hlsl_inline_spv/contact_shadows.spv
 
 # The SPIR-V is compiled here, never committed: glslang finds linear_rt.h
 # (its contract block) through -I. and linear_rt.glsl through -Ishaders, and
@@ -34,6 +47,14 @@ ifeq ($(HAVE_VULKAN)$(VI_HAVE_GLSLANG),11)
 $(B)/vulkan_inline: $(VI_DEPS) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) -O3 $(VK_PROGRAM_FLAGS) -I$(B) $< -o $@ -lm $(VK_LIBS)
 
+$(B)/hlsl_inline: $(filter-out $(VI_SPV_H),$(VI_DEPS)) $(HI_SPV_H) | deps $(B)
+	$(CC) $(STD) $(WARN) $(CFLAGS) -O3 $(VK_PROGRAM_FLAGS) -DHLSL_INLINE -I$(B) $< -o $@ -lm $(VK_LIBS)
+
+test-hlsl-inline: $(B)/hlsl_inline
+	@$(B)/hlsl_inline --validation --size 64 --out $(B)/hlsl_inline_out; rc=$$?; \
+	if [ $$rc -eq 77 ]; then echo "test-hlsl-inline: skipped: no Vulkan device"; exit 0; fi; \
+	if [ $$rc -eq 0 ]; then echo "test-hlsl-inline: ok"; fi; exit $$rc
+
 # exit 77 is the program's "no Vulkan loader or device" (1 under CI=true)
 test-vulkan-inline: $(B)/vulkan_inline
 	@$(B)/vulkan_inline --validation --size 64 --out $(B)/vulkan_inline_out; rc=$$?; \
@@ -42,11 +63,11 @@ test-vulkan-inline: $(B)/vulkan_inline
 else
 VI_MISSING := $(if $(filter 1,$(HAVE_VULKAN)),$(GLSLANG) is not installed (Debian: glslang-tools),<vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev))
 # make examples still builds the others
-.PHONY: $(B)/vulkan_inline
-$(B)/vulkan_inline:
-	@echo "vulkan_inline: not built: $(VI_MISSING)"
-test-vulkan-inline:
-	@echo "test-vulkan-inline: skipped: $(VI_MISSING)"; \
+.PHONY: $(B)/vulkan_inline $(B)/hlsl_inline
+$(B)/vulkan_inline $(B)/hlsl_inline:
+	@echo "$(notdir $@): not built: $(VI_MISSING)"
+test-vulkan-inline test-hlsl-inline:
+	@echo "$@: skipped: $(VI_MISSING)"; \
 	[ "$$CI" != "true" ]
 endif
 
