@@ -651,6 +651,28 @@ static void budget_waves(const scene *sc, const bench_rays *rs, const uint32_t *
     free(capped);
 }
 
+static void make_dirs(const char *dir);
+
+/* --dump-steps DIR: each set's steps per ray of the exact cell walk, as
+   DIR/<scene>_<set>.u32 (little-endian uint32 in dispatch order, spaces in
+   names as '-'), for bench/compaction.py */
+static const char *g_steps_dir;
+
+static void dump_steps(const scene *sc, const char *set, const uint32_t *steps, size_t n)
+{
+    char path[512];
+    FILE *f;
+    size_t k, at;
+    make_dirs(g_steps_dir);
+    at = (size_t)snprintf(path, sizeof path, "%s/", g_steps_dir);
+    snprintf(path + at, sizeof path - at, "%s_%s.u32", sc->s.name, set);
+    for (k = at; path[k]; ++k)
+        if (path[k] == ' ') path[k] = '-';
+    f = fopen(path, "wb");
+    if (!f || fwrite(steps, sizeof *steps, n, f) != n) fprintf(stderr, "bench: cannot write %s\n", path);
+    if (f) fclose(f);
+}
+
 static void count_waves(const scene *sc, const ray_set *sets, int nsets)
 {
     static const char *const names[5] = {"linear_rt vulkan 16", "linear_rt vulkan 8", "march64 vulkan", "dda vulkan",
@@ -683,6 +705,7 @@ static void count_waves(const scene *sc, const ray_set *sets, int nsets)
                                          &w->trips, &w->refine_trips);
             if (k == 4) bench_wave_exits(steps, rs->count, WAVE_LANES, 64u, &w->trips, &w->refine_trips);
             wave_estimate(ww, w);
+            if (g_steps_dir && k == 0 && !sc->s.back) dump_steps(sc, rs->name, steps, rs->count);
             ++g_nwaves;
             if (k == 0) { /* the budgets cut the 8-child walk */
                 const wave_weight *ww8 = weight_of("linear_rt vulkan 16 budget", sc->s.back != NULL);
@@ -1669,6 +1692,7 @@ static void usage(void)
 {
     printf("usage: bench [--size N] [--threads T] [--runs R] [--sample S] [--quick] [--only TEXT] [--only-counts] [--out DIR]\n"
            "             [--weights FILE]   (make gpu-stats' weights per step: the wave estimate; none without it)\n"
+           "             [--dump-steps DIR] (the exact cell walk's steps per ray of each set: bench/compaction.py)\n"
            "             [--depth FILE [--format png|pfm|raw] [--width W --height H] [--reversed]\n"
            "                          [--fov DEG --near N --far F]]\n"
            "       bench --chart-only [--out DIR]   (redraw DIR/speed_vs_accuracy.png from DIR/points.dat)\n"
@@ -1722,6 +1746,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[a], "--chart-only")) o.chart_only = 1;
         else if (!strcmp(argv[a], "--only-counts")) o.only_counts = 1;
         else if (!strcmp(argv[a], "--weights") && v) o.weights = argv[++a];
+        else if (!strcmp(argv[a], "--dump-steps") && v) g_steps_dir = argv[++a];
         else if (!strcmp(argv[a], "--only") && v) o.only = argv[++a];
         else if (!strcmp(argv[a], "--out") && v) o.out_dir = argv[++a];
         else if (!strcmp(argv[a], "--depth") && v) o.depth_file = argv[++a];

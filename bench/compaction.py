@@ -1,0 +1,111 @@
+#!/usr/bin/env python3
+"""bench/compaction.py STEPS_DIR WAVES_TSV WEIGHTS_TSV [--gpu navi31] [--wave 32] [--step N]
+
+What compacted passes would pay, on the benchmark's estimate (issue: a wave
+pays for its slowest ray). STEPS_DIR: `bench --only-counts --dump-steps DIR`,
+the exact cell walk's steps per ray of each secondary set, in dispatch order.
+A compacted trace runs every ray for at most S cell steps; the rays not done
+are appended, in order, to a list that the next (indirect) dispatch runs in
+full waves, with a slice twice as long, until none is left. Each wave of a
+pass pays its most steps in that pass (its slowest lane, at most the slice)
+times the cell step's instructions, and each wave of a later pass a resumed
+ray's set-up again: the kernel's instructions outside its loop. Both weights
+are read from make gpu-stats' weights file (the pipeline "linear_rt trace
+buffer" of the GPU asked for); --step N replaces the step's weight (a
+what-if: a cell step of N instructions). S is the first slice of 4, 6, 8,
+12, 16, 24, 32 that the model finds cheapest per set. Compared with the
+capped Hi-Z walk's estimate of the same run (WAVES_TSV, `hiz64 vulkan`).
+Not modelled: the store and load of a ray's state between passes, the
+atomic counter, and the barrier and dispatch each pass costs the GPU."""
+import glob
+import math
+import os
+import sys
+
+
+def main(argv):
+    args = [a for a in argv[1:]]
+    gpu, wave, step_override = "navi31", 32, None
+    for flag in ("--gpu", "--wave", "--step"):
+        if flag in args:
+            i = args.index(flag)
+            value = args[i + 1]
+            del args[i:i + 2]
+            if flag == "--gpu":
+                gpu = value
+            elif flag == "--wave":
+                wave = int(value)
+            else:
+                step_override = float(value)
+    if len(args) != 3:
+        print(__doc__.split("\n\n")[0])
+        return 2
+    steps_dir, waves_tsv, weights_tsv = args
+    step = setup = None
+    for line in open(weights_tsv):
+        f = line.rstrip("\n").split("\t")
+        if len(f) >= 6 and f[0] == gpu and f[1] == "linear_rt trace buffer":
+            step, setup = float(f[5]), float(f[2]) - float(f[5])
+    if step is None:
+        print("compaction: no 'linear_rt trace buffer' row for %s in %s" % (gpu, weights_tsv))
+        return 1
+    if step_override is not None:
+        step = step_override
+    hiz = {}
+    for line in open(waves_tsv):
+        f = line.rstrip("\n").split("\t")
+        if len(f) >= 8 and f[2] == "hiz64 vulkan":
+            hiz[(f[0].replace(" ", "-"), f[1].replace(" ", "-"))] = float(f[7])
+
+    def cost(steps, first):
+        total = setups = 0
+        passes, lst, s = 0, steps, first
+        while lst:
+            passes += 1
+            nxt = []
+            for i in range(0, len(lst), wave):
+                g = lst[i:i + wave]
+                total += max(min(r, s) for r in g)
+                setups += passes > 1
+                nxt.extend(r - s for r in g if r > s)
+            lst, s = nxt, s * 2
+        return total, setups, passes
+
+    print("| scene | set | mean steps | wave / mean | estimate | slice | passes | wave / mean, compacted "
+          "| estimate, compacted | hiz64 | linear_rt / hiz64 | compacted / hiz64 |")
+    print("|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
+    rows = []
+    for path in sorted(glob.glob(os.path.join(steps_dir, "*.u32"))):
+        scene, rays = os.path.basename(path)[:-4].split("_", 1)
+        if rays == "primary" or (scene, rays) not in hiz:
+            continue
+        data = open(path, "rb").read()
+        steps = [int.from_bytes(data[i:i + 4], "little") for i in range(0, len(data), 4)]
+        if not steps:
+            continue
+        groups = len(steps) / wave
+        mean = sum(steps) / len(steps)
+        plain = sum(max(steps[i:i + wave]) for i in range(0, len(steps), wave)) / groups
+        best = None
+        for first in (4, 6, 8, 12, 16, 24, 32):
+            total, setups, passes = cost(steps, first)
+            est = (total * step + setups * setup) / groups
+            if best is None or est < best[0]:
+                best = (est, first, passes, total / groups)
+        h = hiz[(scene, rays)]
+        rows.append((plain * step / h, best[0] / h))
+        print("| %s | %s | %.2f | %.2f | %.0f | %d | %d | %.2f | %.0f | %.0f | %.2f | %.2f |" % (
+            scene, rays, mean, plain / mean if mean else 0, plain * step, best[1], best[2],
+            best[3] / mean if mean else 0, best[0], h, plain * step / h, best[0] / h))
+    if rows:
+        g0 = math.exp(sum(math.log(a) for a, _ in rows) / len(rows))
+        g1 = math.exp(sum(math.log(b) for _, b in rows) / len(rows))
+        print("\n%s, wave%d: a cell step %.0f instructions%s, a resumed set-up %.0f. linear_rt / hiz64, geometric "
+              "mean: %.2f in one pass, %.2f compacted; compacted at most hiz64's on %d of %d sets." % (
+                  gpu, wave, step, " (--step)" if step_override is not None else "", setup, g0, g1,
+                  sum(1 for _, b in rows if b <= 1.0), len(rows)))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
