@@ -544,6 +544,7 @@ bench-publish:
 # methods keep agreeing with the reference (it exits non-zero otherwise)
 test-bench: $(B)/bench
 	$(B)/bench --quick --out $(B)
+	python3 bench/compaction.py --self-test
 
 # bench/walk_rays.c, the workload of bench/walk_ab.sh (which builds its own
 # copies against two headers): built here so that it keeps compiling

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""bench/compaction.py STEPS_DIR WAVES_TSV WEIGHTS_TSV [--gpu navi31] [--wave 32] [--step N]
+"""bench/compaction.py STEPS_DIR WAVES_TSV WEIGHTS_TSV [--gpu navi31] [--wave 32] [--step N] | --self-test
 
 What compacted passes would pay, on the benchmark's estimate (issue: a wave
 pays for its slowest ray). STEPS_DIR: `bench --only-counts --dump-steps DIR`,
@@ -23,8 +23,41 @@ import os
 import sys
 
 
+def passes_cost(steps, first, wave):
+    """(sum over passes and waves of the wave's most steps in that pass, waves run after the first pass,
+    passes) for the rays' steps in dispatch order, the first slice `first`, doubling"""
+    total = setups = 0
+    passes, lst, s = 0, steps, first
+    while lst:
+        passes += 1
+        nxt = []
+        for i in range(0, len(lst), wave):
+            g = lst[i:i + wave]
+            total += max(min(r, s) for r in g)
+            setups += passes > 1
+            nxt.extend(r - s for r in g if r > s)
+        lst, s = nxt, s * 2
+    return total, setups, passes
+
+
+def self_test():
+    """the model on rays worked out by hand; make test-bench runs it"""
+    # 64 rays in two waves of 32: one slow ray (20 steps) in the first, the rest 1 step. One pass: 20 + 1.
+    steps = [20] + [1] * 63
+    assert passes_cost(steps, 10**9, 32) == (21, 0, 1)
+    # slices 4, 8, 16: pass 1 pays 4 + 1, then the slow ray alone: 8 (16 left... 20 - 4 - 8 = 8 <= 16): 8
+    assert passes_cost(steps, 4, 32) == (4 + 1 + 8 + 8, 2, 3)
+    # two slow rays in different waves are packed into one wave of the second pass
+    steps = [9] + [1] * 31 + [9] + [1] * 31
+    assert passes_cost(steps, 4, 32) == (4 + 4 + 5, 1, 2)
+    print("compaction: self-test passed")
+    return 0
+
+
 def main(argv):
     args = [a for a in argv[1:]]
+    if args == ["--self-test"]:
+        return self_test()
     gpu, wave, step_override = "navi31", 32, None
     for flag in ("--gpu", "--wave", "--step"):
         if flag in args:
@@ -57,20 +90,6 @@ def main(argv):
         if len(f) >= 8 and f[2] == "hiz64 vulkan":
             hiz[(f[0].replace(" ", "-"), f[1].replace(" ", "-"))] = float(f[7])
 
-    def cost(steps, first):
-        total = setups = 0
-        passes, lst, s = 0, steps, first
-        while lst:
-            passes += 1
-            nxt = []
-            for i in range(0, len(lst), wave):
-                g = lst[i:i + wave]
-                total += max(min(r, s) for r in g)
-                setups += passes > 1
-                nxt.extend(r - s for r in g if r > s)
-            lst, s = nxt, s * 2
-        return total, setups, passes
-
     print("| scene | set | mean steps | wave / mean | estimate | slice | passes | wave / mean, compacted "
           "| estimate, compacted | hiz64 | linear_rt / hiz64 | compacted / hiz64 |")
     print("|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
@@ -88,7 +107,7 @@ def main(argv):
         plain = sum(max(steps[i:i + wave]) for i in range(0, len(steps), wave)) / groups
         best = None
         for first in (4, 6, 8, 12, 16, 24, 32):
-            total, setups, passes = cost(steps, first)
+            total, setups, passes = passes_cost(steps, first, wave)
             est = (total * step + setups * setup) / groups
             if best is None or est < best[0]:
                 best = (est, first, passes, total / groups)
