@@ -44,7 +44,8 @@ struct Push {
 #define LRT_NODE_WORD(i) node_buf.Load((i) * 4u)
 #include "linear_rt.hlsl"
 
-// 3. the parameters of the tree and the depth
+// 3. the parameters of the tree and the depth (as contact_shadows.comp fills
+// them, on purpose: the example stands alone, a copy to start from)
 LrtParams params()
 {
     LrtParams p;

@@ -51,6 +51,8 @@ uint4 lrt_node_quad(uint i)
 #define LRT_BACK_TREES lrt_back_trees
 #include "../../shaders/linear_rt.hlsl"
 
+// lrt_common.glsl's lrt_params, written again in HLSL on purpose: this file is
+// the library's trace kernel in the other language, line for line
 LrtParams lrt_params()
 {
     LrtParams p;
