@@ -64,7 +64,9 @@ int main(void)
      nodes           4. nodes: build and update (the refit)
      setup           5. a ray's set-up: the exact arithmetic at the edge of float
                         range, the rare set-up, the common one, the start node
-     walk            6. the walk: node and texel tests, the walk itself
+     node-test       6. node and texel tests: a node's 8 children in one step
+     walk               the 8-child walk (WALKS, TWINS: every walk and its twin)
+     walk-cells         the GPU's cell walk in C, for the counts and tests
      batch-avx2         eight rays at once (AVX2), and the trace loop
      trace              the CPU entry points: lrt_trace, lrt_trace_range, lrt_cpu_path
      camera        7. rays from a camera
@@ -3310,51 +3312,15 @@ LRT__FORCE_INLINE __m128i lrt__load_codes(const uint16_t *codes)
 #pragma GCC target("tune=icelake-server")
 #define LRT__WALK_TUNED
 #endif
-/* ================================================================== >>walk
-   WALKS: which pass runs which walk, and where.
-     pass                                entry (C | GLSL)                  walk
-     CPU trace                           lrt__trace_walk                   lrt__walk_origin (8 children a step)
-     GPU ordinary, infinite tree         lrt_trace_ray_ordinary            lrt_walk_cells (one cell a step)
-     GPU ordinary, thickness tree        lrt_trace_ray_ordinary            lrt_walk_origin
-     GPU ordinary with a step budget     lrt_trace_ray_ordinary_budget     lrt_walk_origin
-     GPU rare pass, one pass             lrt_trace_ray                     lrt_walk_origin
-     counts of a GPU wave (bench)        lrt__walk_cells_ray               lrt__walk_cells
-   TWINS: each C helper of the walks and its GLSL twin (same parameters, the
-   same floats); make check fails when a name below is defined on one side
-   only (tests/walk_twins.sh).
-   -- twins --
-     lrt__walk_origin ~ lrt_walk_origin      lrt__walk_cells ~ lrt_walk_cells
-     lrt__cell_axis ~ lrt_cell_axis          lrt__cross_texel ~ lrt_cross_texel
-     lrt__split_level ~ lrt_split_level_x    lrt__in_grid_plane ~ lrt_in_grid_plane
-     lrt__test_texel ~ lrt_test_texel        lrt__kernel_first_texel ~ lrt_first_texel
-     lrt__report_hit ~ lrt_report_hit        lrt__report_budget ~ lrt_budget_t
-     lrt__kernel_cull_setup ~ lrt_cull_setup lrt__kernel_cull_children ~ lrt_cull_children
-     lrt__kernel_cull_slab ~ lrt_cull_slab   lrt__cull_axis ~ lrt_cull_axis
-     lrt__start_node ~ lrt_start_node        lrt__setup_ray ~ lrt_setup_ray
-     lrt__setup_rare ~ lrt_setup_rare        lrt__far_origin ~ lrt_far_origin
-     lrt__child ~ lrt_child                  lrt__child_slot ~ lrt_child_slot
-     lrt__face ~ lrt_face                    lrt__clip ~ lrt_clip
-     lrt__slab ~ lrt_slab                    lrt__widen ~ lrt_widen
-     lrt__depth_plane ~ lrt_depth_plane      lrt__back_plane ~ lrt_back_plane
-     lrt__plane_t ~ lrt_plane_t              lrt__ray_t ~ lrt_ray_t
-     lrt__point_in ~ lrt_point_in            lrt__entered_later ~ lrt_entered_later
-   -- end twins --
-   6. The walk (RayQuery.Proceed of the design), specialised for this tree:
-      no triangles, no instances, no stored boxes. A node's children form a
-      4x2 or 2x4 grid, so their x/y slabs come from 5+3 shared planes; the
-      only per-child work is the z plane of its height. Children are visited
-      front to back (row-major order with the axes flipped by the ray's
-      direction signs is front to back for any straight line), so the first
-      texel hit found is the closest and the walk stops there. One walk
-      (lrt__walk_origin, the kernels' lrt_walk_origin step for step) starts
-      at the lowest node holding the whole segment and goes down, or, for a
-      long ray that starts on the surface, at the level-1 node where it
-      starts and climbs: the same order, the same first hit.
-      Every t of a plane is (plane - o) * (1/v): monotone in the plane, so a
-      child's interval never exceeds its parent's and culling never loses a
-      hit the final texel test would find. A 0 direction component gives
-      infinite inverses and NaN exactly on a plane; NaN is dropped by the
-      max/min accumulations, which makes such slabs closed, as the model says.
+/* ============================================================= >>node-test
+   6. The node and texel tests the walks below are made of: a node's 8
+   children against a ray in one step (ISA blocks: AVX2 | SSE2 | scalar), a
+   ray's constants in lanes, and a level-1 node's first texel hit. Every t
+   of a plane is (plane - o) * (1/v): monotone in the plane, so a child's
+   interval never exceeds its parent's and culling never loses a hit the
+   final texel test would find. A 0 direction component gives infinite
+   inverses and NaN exactly on a plane; NaN is dropped by the max/min
+   accumulations, which makes such slabs closed, as the model says.
    ========================================================================== */
 
 /* ---- ISA block: the node tests (AVX2 | SSE2 | scalar) ----------------------
@@ -4018,6 +3984,48 @@ LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *
 }
 #endif
 
+/* ================================================================== >>walk
+   WALKS: which pass runs which walk, and where.
+     pass                                entry (C | GLSL)                  walk
+     CPU trace                           lrt__trace_walk                   lrt__walk_origin (8 children a step)
+     GPU ordinary, infinite tree         lrt_trace_ray_ordinary            lrt_walk_cells (one cell a step)
+     GPU ordinary, thickness tree        lrt_trace_ray_ordinary            lrt_walk_origin
+     GPU ordinary with a step budget     lrt_trace_ray_ordinary_budget     lrt_walk_origin
+     GPU rare pass, one pass             lrt_trace_ray                     lrt_walk_origin
+     counts of a GPU wave (bench)        lrt__walk_cells_ray               lrt__walk_cells
+   TWINS: each C helper of the walks and its GLSL twin (same parameters, the
+   same floats); make check fails when a name below is defined on one side
+   only (tests/walk_twins.sh).
+   -- twins --
+     lrt__walk_origin ~ lrt_walk_origin      lrt__walk_cells ~ lrt_walk_cells
+     lrt__cell_axis ~ lrt_cell_axis          lrt__cross_texel ~ lrt_cross_texel
+     lrt__split_level ~ lrt_split_level_x    lrt__in_grid_plane ~ lrt_in_grid_plane
+     lrt__test_texel ~ lrt_test_texel        lrt__kernel_first_texel ~ lrt_first_texel
+     lrt__report_hit ~ lrt_report_hit        lrt__report_budget ~ lrt_budget_t
+     lrt__kernel_cull_setup ~ lrt_cull_setup lrt__kernel_cull_children ~ lrt_cull_children
+     lrt__kernel_cull_slab ~ lrt_cull_slab   lrt__cull_axis ~ lrt_cull_axis
+     lrt__start_node ~ lrt_start_node        lrt__setup_ray ~ lrt_setup_ray
+     lrt__setup_rare ~ lrt_setup_rare        lrt__far_origin ~ lrt_far_origin
+     lrt__child ~ lrt_child                  lrt__child_slot ~ lrt_child_slot
+     lrt__face ~ lrt_face                    lrt__clip ~ lrt_clip
+     lrt__slab ~ lrt_slab                    lrt__widen ~ lrt_widen
+     lrt__depth_plane ~ lrt_depth_plane      lrt__back_plane ~ lrt_back_plane
+     lrt__plane_t ~ lrt_plane_t              lrt__ray_t ~ lrt_ray_t
+     lrt__point_in ~ lrt_point_in            lrt__entered_later ~ lrt_entered_later
+   -- end twins --
+   The 8-child walk (RayQuery.Proceed of the design), specialised for this tree:
+      no triangles, no instances, no stored boxes. A node's children form a
+      4x2 or 2x4 grid, so their x/y slabs come from 5+3 shared planes; the
+      only per-child work is the z plane of its height. Children are visited
+      front to back (row-major order with the axes flipped by the ray's
+      direction signs is front to back for any straight line), so the first
+      texel hit found is the closest and the walk stops there. One walk
+      (lrt__walk_origin, the kernels' lrt_walk_origin step for step) starts
+      at the lowest node holding the whole segment and goes down, or, for a
+      long ray that starts on the surface, at the level-1 node where it
+      starts and climbs: the same order, the same first hit.
+   ========================================================================== */
+
 /* Where the walk (lrt__walk_origin below) starts: at the origin for a ray
    that starts on the surface (at most 1/64 in front of the depth of the
    texel it starts in, or behind it) and goes far (its start node at level 4
@@ -4433,6 +4441,28 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
         hit->kind = (uint16_t)kind;
 }
 
+LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
+{
+    const lrt_layout *L = w->L;
+    lrt__ray_setup s;
+    float t_scale;
+    uint32_t kind, lv, nx, ny, px, py;
+    hit->t = 0.0f;
+    hit->x = hit->y = 0;
+    hit->face = LRT_FACE_NONE;
+    if (!lrt__setup_ray(ray, L->width, L->height, &s, &t_scale, &kind)) {
+        hit->kind = (uint16_t)kind;
+        return;
+    }
+    lv = lrt__start_node(w, &s, &nx, &ny, &px, &py);
+    lrt__trace_from(w, ray, hit, &s, t_scale, kind, lv, nx, ny, px, py, NULL, 0);
+}
+
+/* ============================================================ >>walk-cells
+   The GPU's cell walk, in C: the kernels' exact ordinary pass of an
+   infinite tree, one cell or texel a step, for the benchmark's counts and
+   the tests (below).
+   ========================================================================== */
 #ifndef LRT__AVX2_PASS
 /* ---- the GPU's cell walk, in C ------------------------------------------------
    The kernels' exact ordinary pass of an infinite tree walks one cell a
@@ -4443,7 +4473,7 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
    benchmark's count of what a GPU wave pays (bench/visits.c) and the
    tests, which hold its hits to lrt_trace's. The CPU trace never calls it:
    its 8-child node test is cheap in SIMD lanes. Its GLSL twins: the TWINS
-   table at the top of this section. */
+   table of section walk. */
 /* lrt_split_level_x (rows 0) and lrt_split_level_y (rows 1) */
 LRT__UNUSED static int lrt__split_level(int a, int b, int rows)
 {
@@ -4589,23 +4619,6 @@ LRT__UNUSED static int lrt__walk_cells_ray(const lrt_bvh *bvh, const lrt_depth *
     return 1;
 }
 #endif /* !LRT__AVX2_PASS: the cell walk */
-
-LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit)
-{
-    const lrt_layout *L = w->L;
-    lrt__ray_setup s;
-    float t_scale;
-    uint32_t kind, lv, nx, ny, px, py;
-    hit->t = 0.0f;
-    hit->x = hit->y = 0;
-    hit->face = LRT_FACE_NONE;
-    if (!lrt__setup_ray(ray, L->width, L->height, &s, &t_scale, &kind)) {
-        hit->kind = (uint16_t)kind;
-        return;
-    }
-    lv = lrt__start_node(w, &s, &nx, &ny, &px, &py);
-    lrt__trace_from(w, ray, hit, &s, t_scale, kind, lv, nx, ny, px, py, NULL, 0);
-}
 
 /* ============================================================ >>batch-avx2
    Eight rays at once (AVX2): set up side by side, then each walked, and the
