@@ -38,7 +38,7 @@ REF := tests/support/reference.h
 SCENE := examples/scene.h
 RAYS := tests/support/rays.h tests/support/check.h
 SPV_H := shaders_spv.h
-VK_UTIL := tests/support/vk_util.h
+VK_UTIL := linear_rt_vk_util.h
 
 # Vulkan: the headers decide whether the demo and tests get the Vulkan path.
 # Nothing links against Vulkan: the loader is opened at run time (-ldl).
@@ -49,7 +49,7 @@ VK_PROGRAM_FLAGS := $(VK_FLAGS) -DVK_NO_PROTOTYPES
 VK_LIBS := -ldl
 ifeq ($(HAVE_VULKAN),1)
 DEMO_VK := $(VK_PROGRAM_FLAGS)
-DEMO_VK_DEPS := $(SPV_H) examples/vk_small.h
+DEMO_VK_DEPS := $(SPV_H) $(VK_UTIL)
 DEMO_VK_LIBS := $(VK_LIBS)
 endif
 
@@ -401,7 +401,7 @@ endif
 # header's API only), held to lrt_trace bit for bit with the validation
 # layer on. Its exit 77 is "no Vulkan loader or device" (1 under CI=true).
 ifeq ($(HAVE_VULKAN),1)
-$(B)/vulkan_trace: examples/vulkan_trace.c examples/vk_small.h $(LIB) $(SPV_H) | deps $(B)
+$(B)/vulkan_trace: examples/vulkan_trace.c $(VK_UTIL) $(LIB) $(SPV_H) | deps $(B)
 	$(CC) $(STD) $(STRICT) $(CFLAGS) $(VK_PROGRAM_FLAGS) $< -o $@ -lm $(VK_LIBS)
 
 test-vulkan-trace: $(B)/vulkan_trace

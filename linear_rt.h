@@ -139,7 +139,9 @@ int main(void)
    lrt_vk_device_create loads the Vulkan loader at run time (dlopen: link
    with -ldl on old glibc), makes an instance, device and compute queue,
    optionally with the validation layer, and fills an lrt_vk_context_desc.
-
+   linear_rt_vk_util.h, the companion header beside this one, has the rest
+   such programs need: buffers, depth images, one-shot submits, barriers,
+   timestamps.
 
    BARRIERS. The library records two barriers, inside build (its fill of the
    counters -> its dispatch) and inside a trace of two passes (the ordinary

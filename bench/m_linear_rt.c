@@ -27,7 +27,7 @@
 #include <string.h>
 
 #ifdef BENCH_HAVE_VULKAN
-#include "../tests/support/vk_util.h"
+#include "../linear_rt_vk_util.h"
 #endif
 
 /* ---- CPU --------------------------------------------------------------------- */
@@ -177,10 +177,10 @@ typedef struct lrt_gpu {
     uint32_t node_bits;
     uint32_t budget; /* LRT_TRACE_BUDGET's steps, 0: the exact walk */
     lrt_vk_device dev;
-    vkt t;
+    lrt_vku t;
     lrt_vk_context *ctx;
     lrt_vk_bvh bvh;
-    vkt_buffer depth, rays, hits;
+    lrt_vku_buffer depth, rays, hits;
     VkQueryPool pool;
     double period_ns;
     int has_dev, has_t, has_bvh, has_depth;
@@ -192,14 +192,14 @@ static void gpu_release(lrt_gpu *g)
 {
     if (g->has_t) {
         g->t.vkDeviceWaitIdle(g->t.device);
-        if (g->rays.buffer) vkt_buffer_destroy(&g->t, &g->rays);
-        if (g->hits.buffer) vkt_buffer_destroy(&g->t, &g->hits);
-        if (g->has_depth) vkt_buffer_destroy(&g->t, &g->depth);
+        if (g->rays.buffer) lrt_vku_buffer_destroy(&g->t, &g->rays);
+        if (g->hits.buffer) lrt_vku_buffer_destroy(&g->t, &g->hits);
+        if (g->has_depth) lrt_vku_buffer_destroy(&g->t, &g->depth);
         if (g->pool) g->t.vkDestroyQueryPool(g->t.device, g->pool, NULL);
     }
     if (g->has_bvh) lrt_vk_bvh_destroy(g->ctx, &g->bvh);
     if (g->ctx) lrt_vk_context_destroy(g->ctx);
-    if (g->has_t) vkt_free(&g->t);
+    if (g->has_t) lrt_vku_free(&g->t);
     if (g->has_dev) lrt_vk_device_destroy(&g->dev);
     memset(g, 0, sizeof *g);
 }
@@ -222,7 +222,7 @@ static int gpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *
         return 1;
     }
     g->has_dev = 1;
-    if ((r = lrt_vk_context_create(&g->dev.desc, &g->ctx)) != LRT_SUCCESS || vkt_init(&g->t, &g->dev)) {
+    if ((r = lrt_vk_context_create(&g->dev.desc, &g->ctx)) != LRT_SUCCESS || lrt_vku_init(&g->t, &g->dev)) {
         snprintf(why, n, "linear_rt Vulkan context: %s", lrt_result_string(r));
         return 1;
     }
@@ -270,24 +270,24 @@ static int gpu_run(lrt_gpu *g, const bench_scene *sc, gpu_op op, uint32_t count,
     lrt_result r = LRT_SUCCESS;
     uint32_t i;
     gpu_depth(g, sc, d);
-    if (vkt_begin(&g->t)) {
+    if (lrt_vku_begin(&g->t)) {
         snprintf(why, n, "vkBeginCommandBuffer failed");
         return 1;
     }
-    vkt_compute_barrier(&g->t); /* the last submission's commands -> this one */
+    lrt_vku_compute_barrier(&g->t); /* the last submission's commands -> this one */
     g->t.vkCmdResetQueryPool(g->t.cmd, g->pool, 0, 2);
     g->t.vkCmdWriteTimestamp(g->t.cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, g->pool, 0);
     if (op == GPU_BUILD) r = lrt_vk_cmd_build(g->ctx, g->t.cmd, &g->bvh, d);
     else if (op == GPU_UPDATE) r = lrt_vk_cmd_update(g->ctx, g->t.cmd, &g->bvh, d, NULL);
     else
         for (i = 0; i < repeat && r == LRT_SUCCESS; ++i) {
-            if (i) vkt_compute_barrier(&g->t); /* the same hits written again */
+            if (i) lrt_vku_compute_barrier(&g->t); /* the same hits written again */
             r = lrt_vk_cmd_trace(g->ctx, g->t.cmd, &g->bvh, d, g->rays.buffer, 0, g->hits.buffer, 0, count,
                                  LRT_TRACE_BUDGET(g->budget));
         }
     g->t.vkCmdWriteTimestamp(g->t.cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->pool, 1);
-    vkt_host_barrier(&g->t);
-    if (r != LRT_SUCCESS || vkt_submit(&g->t) ||
+    lrt_vku_host_barrier(&g->t);
+    if (r != LRT_SUCCESS || lrt_vku_submit(&g->t) ||
         g->t.vkGetQueryPoolResults(g->t.device, g->pool, 0, 2, sizeof ts, ts, sizeof ts[0],
                                    VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) != VK_SUCCESS) {
         snprintf(why, n, "recording or submitting failed: %s", lrt_result_string(r));
@@ -304,7 +304,7 @@ static int gpu_build(bench_method *m, const bench_scene *sc, double *ms, char *w
     lrt_result r;
     const size_t map_bytes = (size_t)sc->width * sc->height * 4u, bytes = (sc->back ? 2u : 1u) * map_bytes + 4u;
     if (g->has_bvh) lrt_vk_bvh_destroy(g->ctx, &g->bvh);
-    if (g->has_depth) vkt_buffer_destroy(&g->t, &g->depth);
+    if (g->has_depth) lrt_vku_buffer_destroy(&g->t, &g->depth);
     g->has_bvh = g->has_depth = 0;
     memset(&bd, 0, sizeof bd);
     bd.width = sc->width;
@@ -319,7 +319,7 @@ static int gpu_build(bench_method *m, const bench_scene *sc, double *ms, char *w
     g->has_bvh = 1;
     /* device-local where it can also be mapped, as the peers' buffers (m_vk_peers.c):
        a discrete GPU reads host memory over PCIe */
-    if (vkt_buffer_create_in(&g->t, bytes, 1, &g->depth)) {
+    if (lrt_vku_buffer_create_in(&g->t, bytes, 1, &g->depth)) {
         snprintf(why, n, "depth buffer");
         return 1;
     }
@@ -347,13 +347,13 @@ static int gpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *r
         return 1;
     }
     if (rs->count > g->ray_cap) {
-        if (g->rays.buffer) vkt_buffer_destroy(&g->t, &g->rays);
-        if (g->hits.buffer) vkt_buffer_destroy(&g->t, &g->hits);
+        if (g->rays.buffer) lrt_vku_buffer_destroy(&g->t, &g->rays);
+        if (g->hits.buffer) lrt_vku_buffer_destroy(&g->t, &g->hits);
         memset(&g->rays, 0, sizeof g->rays);
         memset(&g->hits, 0, sizeof g->hits);
         g->ray_cap = 0;
-        if (vkt_buffer_create_in(&g->t, rs->count * sizeof(lrt_ray), 1, &g->rays) ||
-            vkt_buffer_create_in(&g->t, rs->count * sizeof(lrt_hit), 1, &g->hits)) {
+        if (lrt_vku_buffer_create_in(&g->t, rs->count * sizeof(lrt_ray), 1, &g->rays) ||
+            lrt_vku_buffer_create_in(&g->t, rs->count * sizeof(lrt_hit), 1, &g->hits)) {
             snprintf(why, n, "ray buffers");
             return 1;
         }

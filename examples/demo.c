@@ -44,7 +44,7 @@
 #include "ao.c"
 #include "shadows.c"
 #ifdef LINEAR_RT_VULKAN
-#include "vk_small.h" /* buffers, one command buffer, submit and wait, barriers, timestamps */
+#include "../linear_rt_vk_util.h" /* buffers, one command buffer, submit and wait, barriers, timestamps */
 #endif
 
 #include <pthread.h>
@@ -258,36 +258,36 @@ static size_t count_same(const lrt_hit *gpu, const lrt_hit *cpu, size_t n, const
 
 /* compute writes (a build, update or trace) -> the next linear_rt command,
    a build's counter fill included (linear_rt.h's BARRIERS) */
-static void compute_barrier(vks *t)
+static void compute_barrier(lrt_vku *t)
 {
-    vks_barrier(t, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+    lrt_vku_barrier(t, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
 }
 
 /* One submission: [update] + trace, timestamps around each; the
    dispatches' milliseconds where the queue has timestamps. */
-static int gpu_frame(vks *t, lrt_vk_context *ctx, lrt_vk_bvh *bvh, const lrt_vk_depth *depth,
-                     const vks_buffer *rays, const vks_buffer *hits, uint32_t n, int with_update,
+static int gpu_frame(lrt_vku *t, lrt_vk_context *ctx, lrt_vk_bvh *bvh, const lrt_vk_depth *depth,
+                     const lrt_vku_buffer *rays, const lrt_vku_buffer *hits, uint32_t n, int with_update,
                      double *update_ms, double *trace_ms)
 {
-    double ms[VKS_TIMESTAMPS - 1];
-    if (vks_begin(t)) return 1;
+    double ms[LRT_VKU_TIMESTAMPS - 1];
+    if (lrt_vku_begin(t)) return 1;
     compute_barrier(t); /* the previous submission's build, update or trace -> this one */
-    vks_timestamp(t, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0);
+    lrt_vku_timestamp(t, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0);
     if (with_update) {
         must(lrt_vk_cmd_update(ctx, t->cmd, bvh, depth, NULL), "lrt_vk_cmd_update");
         compute_barrier(t); /* update -> trace on the tree */
     }
-    vks_timestamp(t, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 1);
+    lrt_vku_timestamp(t, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 1);
     must(lrt_vk_cmd_trace(ctx, t->cmd, bvh, depth, rays->buffer, 0, hits->buffer, 0, n, 0), "lrt_vk_cmd_trace");
-    vks_timestamp(t, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 2);
+    lrt_vku_timestamp(t, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 2);
     /* trace -> the hits read on the host */
-    vks_barrier(t, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+    lrt_vku_barrier(t, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                 VK_ACCESS_HOST_READ_BIT);
-    if (vks_submit(t)) return 1;
+    if (lrt_vku_submit(t)) return 1;
     if (t->queries) {
-        if (vks_timestamps_ms(t, ms)) return 1;
+        if (lrt_vku_timestamps_ms(t, ms)) return 1;
         *update_ms = ms[0];
         *trace_ms = ms[1];
     }
@@ -302,8 +302,8 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
     lrt_vk_bvh bvh = {0};
     lrt_vk_bvh_desc bd;
     lrt_vk_depth vd;
-    vks t;
-    vks_buffer db, rb, hb, sb, shb;
+    lrt_vku t;
+    lrt_vku_buffer db, rb, hb, sb, shb;
     const size_t depth_bytes = (size_t)depth->width * depth->height * 4u;
     double upd[GPU_RUNS], tr[GPU_RUNS], sg[GPU_RUNS];
     lrt_result r;
@@ -321,16 +321,16 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
     snprintf(g->device, sizeof g->device, "%s, Vulkan %u.%u.%u", dev.properties.deviceName,
              VK_API_VERSION_MAJOR(dev.properties.apiVersion), VK_API_VERSION_MINOR(dev.properties.apiVersion),
              VK_API_VERSION_PATCH(dev.properties.apiVersion));
-    if ((r = lrt_vk_context_create(&dev.desc, &ctx)) != LRT_SUCCESS || vks_init(&t, &dev)) {
+    if ((r = lrt_vk_context_create(&dev.desc, &ctx)) != LRT_SUCCESS || lrt_vku_init(&t, &dev)) {
         snprintf(g->why, sizeof g->why, "Vulkan set-up failed: %s", lrt_result_string(r));
-        vks_free(&t);
+        lrt_vku_free(&t);
         lrt_vk_context_destroy(ctx);
         lrt_vk_device_destroy(&dev);
         return;
     }
-    if (n > 0xffffffffu || vks_buffer_create(&t, depth_bytes, &db) || vks_buffer_create(&t, n * sizeof *prim, &rb) ||
-        vks_buffer_create(&t, n * sizeof *seg, &sb) || vks_buffer_create(&t, n * sizeof(lrt_hit), &hb) ||
-        vks_buffer_create(&t, n * sizeof(lrt_hit), &shb)) {
+    if (n > 0xffffffffu || lrt_vku_buffer_create_in(&t, depth_bytes, 1, &db) || lrt_vku_buffer_create_in(&t, n * sizeof *prim, 1, &rb) ||
+        lrt_vku_buffer_create_in(&t, n * sizeof *seg, 1, &sb) || lrt_vku_buffer_create_in(&t, n * sizeof(lrt_hit), 1, &hb) ||
+        lrt_vku_buffer_create_in(&t, n * sizeof(lrt_hit), 1, &shb)) {
         snprintf(g->why, sizeof g->why, "Vulkan buffers could not be made");
         goto done;
     }
@@ -353,10 +353,10 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
     }
     g->timed = t.queries != VK_NULL_HANDLE;
     /* build once (the host wrote the depth before the submission) */
-    if (vks_begin(&t)) goto done;
+    if (lrt_vku_begin(&t)) goto done;
     must(lrt_vk_cmd_build(ctx, t.cmd, &bvh, &vd), "lrt_vk_cmd_build");
     compute_barrier(&t);
-    if (vks_submit(&t)) goto done;
+    if (lrt_vku_submit(&t)) goto done;
     for (k = -1; k < GPU_RUNS; ++k) { /* k = -1: warm-up */
         double u = 0, p = 0, s_ = 0, dummy = 0;
         if (gpu_frame(&t, ctx, &bvh, &vd, &rb, &hb, (uint32_t)n, 1, &u, &p) ||
@@ -377,13 +377,13 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
 done:
     lrt_vk_bvh_destroy(ctx, &bvh);
     if (t.device) {
-        vks_buffer_destroy(&t, &db);
-        vks_buffer_destroy(&t, &rb);
-        vks_buffer_destroy(&t, &sb);
-        vks_buffer_destroy(&t, &hb);
-        vks_buffer_destroy(&t, &shb);
+        lrt_vku_buffer_destroy(&t, &db);
+        lrt_vku_buffer_destroy(&t, &rb);
+        lrt_vku_buffer_destroy(&t, &sb);
+        lrt_vku_buffer_destroy(&t, &hb);
+        lrt_vku_buffer_destroy(&t, &shb);
     }
-    vks_free(&t);
+    lrt_vku_free(&t);
     lrt_vk_context_destroy(ctx);
     lrt_vk_device_destroy(&dev);
     if (!g->ran && !g->why[0]) snprintf(g->why, sizeof g->why, "a Vulkan call failed (see above)");

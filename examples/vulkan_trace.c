@@ -16,7 +16,7 @@
 #ifndef LINEAR_RT_VULKAN_DEVICE_HELPER
 #define LINEAR_RT_VULKAN_DEVICE_HELPER
 #endif
-#ifndef VK_NO_PROTOTYPES /* our vk* calls go through function pointers (vk_small.h), not the loader's symbols */
+#ifndef VK_NO_PROTOTYPES /* our vk* calls go through function pointers (linear_rt_vk_util.h), not the loader's symbols */
 #define VK_NO_PROTOTYPES
 #endif
 #include "../linear_rt.h" /* includes <vulkan/vulkan.h> and, beside itself, shaders_spv.h */
@@ -27,7 +27,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "vk_small.h" /* host-visible buffers, one command buffer submitted and waited for, a barrier */
+#include "../linear_rt_vk_util.h" /* host-visible buffers, one command buffer submitted and waited for, a barrier */
 
 enum { W = 256, H = 256, RAYS = 4096 };
 
@@ -55,7 +55,7 @@ static double now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-#define CHECK_VK(call) do { if (call) goto done; } while (0) /* vk_small.h printed why */
+#define CHECK_VK(call) do { if (call) goto done; } while (0) /* linear_rt_vk_util.h printed why */
 #define CHECK_LRT(call) do { lrt_result r_ = (call); if (r_ != LRT_SUCCESS) { \
     fprintf(stderr, "vulkan_trace: %s: %s\n", #call, lrt_result_string(r_)); goto done; } } while (0)
 
@@ -70,8 +70,8 @@ int main(void)
     lrt_depth cd = {.width = W, .height = H, .format = LRT_FORMAT_FLOAT32};
     lrt_vk_bvh bvh = {0};
     lrt_bvh cpu = {0};
-    vks vk = {0};
-    vks_buffer depth = {0}, rays = {0}, hits = {0};
+    lrt_vku vk = {0};
+    lrt_vku_buffer depth = {0}, rays = {0}, hits = {0};
     float *map;
     lrt_hit cpu_hits[RAYS];
     const lrt_hit *gpu_hits;
@@ -87,16 +87,16 @@ int main(void)
     }
     CHECK_LRT(r);
     memcpy(name, dev.properties.deviceName, sizeof name); /* destroy zeroes dev but its message count */
-    CHECK_VK(vks_init(&vk, &dev));
+    CHECK_VK(lrt_vku_init(&vk, &dev));
 
     t0 = now_ms(); /* layouts, a sampler: the pipelines are made by the first commands */
     CHECK_LRT(lrt_vk_context_create(&dev.desc, &ctx));
     context_ms = now_ms() - t0;
 
     /* the depth map, written straight into its buffer; the rays: random segments from in front of it */
-    CHECK_VK(vks_buffer_create(&vk, (VkDeviceSize)W * H * sizeof(float), &depth));
-    CHECK_VK(vks_buffer_create(&vk, RAYS * sizeof(lrt_ray), &rays));
-    CHECK_VK(vks_buffer_create(&vk, RAYS * sizeof(lrt_hit), &hits));
+    CHECK_VK(lrt_vku_buffer_create_in(&vk, (VkDeviceSize)W * H * sizeof(float), 1, &depth));
+    CHECK_VK(lrt_vku_buffer_create_in(&vk, RAYS * sizeof(lrt_ray), 1, &rays));
+    CHECK_VK(lrt_vku_buffer_create_in(&vk, RAYS * sizeof(lrt_hit), 1, &hits));
     map = (float *)depth.map;
     for (y = 0; y < H; ++y)
         for (x = 0; x < W; ++x) map[y * W + x] = scene_depth(x, y);
@@ -111,21 +111,21 @@ int main(void)
     vd.buffer = depth.buffer;
 
     /* one command buffer: build, trace, with the barriers of BARRIERS */
-    CHECK_VK(vks_begin(&vk));
+    CHECK_VK(lrt_vku_begin(&vk));
     /* the depth and rays we wrote -> the kernels (the submit orders host writes already) */
-    vks_barrier(&vk, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+    lrt_vku_barrier(&vk, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                 VK_ACCESS_SHADER_READ_BIT);
     t0 = now_ms();
     CHECK_LRT(lrt_vk_cmd_build(ctx, vk.cmd, &bvh, &vd));
     /* the built tree -> the trace */
-    vks_barrier(&vk, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+    lrt_vku_barrier(&vk, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     CHECK_LRT(lrt_vk_cmd_trace(ctx, vk.cmd, &bvh, &vd, rays.buffer, 0, hits.buffer, 0, RAYS, 0));
     record_ms = now_ms() - t0; /* their pipelines made (refit; trace: one pass on a CPU device, else two) */
     /* its hits -> our mapped read after the fence */
-    vks_barrier(&vk, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+    lrt_vku_barrier(&vk, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                 VK_ACCESS_HOST_READ_BIT);
-    CHECK_VK(vks_submit(&vk));
+    CHECK_VK(lrt_vku_submit(&vk));
 
     /* the same rays on the CPU, on a tree of the same map; every field must match bit for bit */
     cd.data = depth.map;
@@ -146,11 +146,11 @@ int main(void)
 done:
     lrt_bvh_destroy(&cpu);
     if (vk.device) {
-        vks_buffer_destroy(&vk, &hits);
-        vks_buffer_destroy(&vk, &rays);
-        vks_buffer_destroy(&vk, &depth);
+        lrt_vku_buffer_destroy(&vk, &hits);
+        lrt_vku_buffer_destroy(&vk, &rays);
+        lrt_vku_buffer_destroy(&vk, &depth);
     }
-    vks_free(&vk);
+    lrt_vku_free(&vk);
     lrt_vk_bvh_destroy(ctx, &bvh);
     lrt_vk_context_destroy(ctx);
     lrt_vk_device_destroy(&dev); /* the layer's last messages (leaks) are counted too */

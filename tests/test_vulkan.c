@@ -50,7 +50,7 @@
 #include "../examples/scene.h"
 #include "support/rays.h"
 #include "support/check.h"
-#include "support/vk_util.h"
+#include "../linear_rt_vk_util.h"
 
 #include <stdio.h>
 #if defined(__SSE2__) || defined(_M_X64)
@@ -63,7 +63,7 @@
 
 
 static lrt_vk_device g_dev;  /* stays put: the validation callback counts into it */
-static vkt g_t;
+static lrt_vku g_t;
 static lrt_vk_context *g_ctx;
 static VkPhysicalDeviceLimits g_limits;
 
@@ -75,8 +75,8 @@ static const char *src_names[] = {"buffer", "buffer+offset", "image"};
 
 typedef struct gpu_depth {
     lrt_vk_depth depth;
-    vkt_buffer buffer;
-    vkt_image image;
+    lrt_vku_buffer buffer;
+    lrt_vku_image image;
     int source;
     /* a back-map tree's maps: pair[0] the depth (its back: &pair[1]), pair[1] its back map */
     int thick;
@@ -104,7 +104,7 @@ static int gpu_depth_write(gpu_depth *g, const lrt_depth *d, int first)
         unsigned char *packed = (unsigned char *)malloc(row * d->height);
         int err;
         copy_rows(d, packed, row);
-        err = vkt_image_upload(&g_t, &g->image, packed, first);
+        err = lrt_vku_image_upload(&g_t, &g->image, packed, first);
         free(packed);
         return err;
     }
@@ -130,7 +130,7 @@ static int gpu_depth_create(const lrt_depth *d, int source, VkFormat image_forma
     g->depth.width = d->width;
     g->depth.height = d->height;
     if (source == SRC_IMAGE) {
-        if (vkt_image_create(&g_t, image_format, d->width, d->height, &g->image)) return 1;
+        if (lrt_vku_image_create(&g_t, image_format, d->width, d->height, &g->image)) return 1;
         g->depth.view = g->image.view;
         g->depth.layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     } else {
@@ -139,7 +139,7 @@ static int gpu_depth_create(const lrt_depth *d, int source, VkFormat image_forma
         VkDeviceSize offset = source == SRC_OFFSET ? 52u : 0u;
         VkDeviceSize stride = (VkDeviceSize)d->width * bpp + (source == SRC_OFFSET ? 3u * bpp : 0u);
         VkDeviceSize size = offset + stride * (d->height - 1u) + (VkDeviceSize)d->width * bpp;
-        if (vkt_buffer_create(&g_t, (size + 3u) / 4u * 4u, &g->buffer)) return 1;
+        if (lrt_vku_buffer_create(&g_t, (size + 3u) / 4u * 4u, &g->buffer)) return 1;
         memset(g->buffer.map, 0xee, (size_t)g->buffer.size); /* poison around the texels */
         g->depth.buffer = g->buffer.buffer;
         g->depth.offset = offset;
@@ -151,8 +151,8 @@ static int gpu_depth_create(const lrt_depth *d, int source, VkFormat image_forma
 
 static void gpu_depth_destroy(gpu_depth *g)
 {
-    vkt_buffer_destroy(&g_t, &g->buffer);
-    vkt_image_destroy(&g_t, &g->image);
+    lrt_vku_buffer_destroy(&g_t, &g->buffer);
+    lrt_vku_image_destroy(&g_t, &g->image);
 }
 
 /* ---- GPU BVHs ---------------------------------------------------------------------- */
@@ -174,11 +174,11 @@ static int gpu_build(const lrt_depth *d, uint32_t node_bits, gpu_depth *g, lrt_v
     CHECK(r == LRT_SUCCESS && bvh->mapped, "%s: lrt_vk_bvh_create: %s", what, lrt_result_string(r));
     if (r != LRT_SUCCESS) return 1;
     memset(bvh->mapped, 0xa5, bvh->layout.bytes); /* the build must write every byte */
-    if (vkt_begin(&g_t)) return 1;
+    if (lrt_vku_begin(&g_t)) return 1;
     r = lrt_vk_cmd_build(g_ctx, g_t.cmd, bvh, gpu_maps(g));
     CHECK(r == LRT_SUCCESS, "%s: lrt_vk_cmd_build: %s", what, lrt_result_string(r));
-    vkt_host_barrier(&g_t);
-    return vkt_submit(&g_t);
+    lrt_vku_host_barrier(&g_t);
+    return lrt_vku_submit(&g_t);
 }
 
 /* GPU nodes == CPU nodes, byte for byte; prints the first difference. */
@@ -226,21 +226,21 @@ static int same_answer(const lrt_hit *a, const lrt_hit *b)
 static int gpu_trace(const lrt_vk_bvh *bvh, const gpu_depth *g, const lrt_ray *rays, lrt_hit *gpu_hits, size_t n,
                      size_t first, uint32_t flags, const char *what)
 {
-    vkt_buffer rb, hb;
+    lrt_vku_buffer rb, hb;
     lrt_result r;
     int err;
-    if (vkt_buffer_create(&g_t, (first + n) * sizeof(lrt_ray), &rb) ||
-        vkt_buffer_create(&g_t, (first + n) * sizeof(lrt_hit), &hb))
+    if (lrt_vku_buffer_create(&g_t, (first + n) * sizeof(lrt_ray), &rb) ||
+        lrt_vku_buffer_create(&g_t, (first + n) * sizeof(lrt_hit), &hb))
         return 1;
     memcpy((lrt_ray *)rb.map + first, rays, n * sizeof(lrt_ray));
     memset(hb.map, 0xff, (size_t)hb.size);
-    if (vkt_begin(&g_t)) return 1;
-    vkt_compute_barrier(&g_t); /* the build of an earlier submission -> this trace */
+    if (lrt_vku_begin(&g_t)) return 1;
+    lrt_vku_compute_barrier(&g_t); /* the build of an earlier submission -> this trace */
     r = lrt_vk_cmd_trace(g_ctx, g_t.cmd, bvh, gpu_maps(g), rb.buffer, first * sizeof(lrt_ray), hb.buffer,
                          first * sizeof(lrt_hit), (uint32_t)n, flags);
     CHECK(r == LRT_SUCCESS, "%s: lrt_vk_cmd_trace: %s", what, lrt_result_string(r));
-    vkt_host_barrier(&g_t);
-    err = vkt_submit(&g_t);
+    lrt_vku_host_barrier(&g_t);
+    err = lrt_vku_submit(&g_t);
     memcpy(gpu_hits, (const lrt_hit *)hb.map + first, n * sizeof(lrt_hit));
     {   /* nothing written outside the slice */
         size_t i, outside = 0;
@@ -248,8 +248,8 @@ static int gpu_trace(const lrt_vk_bvh *bvh, const gpu_depth *g, const lrt_ray *r
         for (i = 0; i < first * sizeof(lrt_hit); ++i) outside += h[i] != 0xff;
         CHECK(outside == 0, "%s: %zu bytes written before the slice", what, outside);
     }
-    vkt_buffer_destroy(&g_t, &rb);
-    vkt_buffer_destroy(&g_t, &hb);
+    lrt_vku_buffer_destroy(&g_t, &rb);
+    lrt_vku_buffer_destroy(&g_t, &hb);
     return err;
 }
 
@@ -376,7 +376,7 @@ static void build_case(int w, int h, int shape, lrt_format format, int reversed,
     if (source == SRC_IMAGE) {
         size_t len = strlen(what);
         snprintf(what + len, sizeof what - len, " (VkFormat %d)", (int)image_format);
-        if (!vkt_format_sampled(&g_t, image_format)) {
+        if (!lrt_vku_format_sampled(&g_t, image_format)) {
             printf("  note: %s: the device cannot sample this format: skipped\n", what);
             lrt_bvh_destroy(&cpu);
             free_map(&m);
@@ -524,7 +524,7 @@ static void update_case(lrt_format format, uint32_t bits, int source, uint32_t t
     snprintf(what, sizeof what, "update %dx%d fmt=%d nodes=%u %s%s", w, h, (int)format, bits, src_names[source],
              thick == LRT_THICKNESS_CONSTANT ? " constant thickness" : thick ? " relative thickness" : "");
     paint_frame(d, w, h, 0);
-    vkt_encode_depth(d, bytes, (size_t)w * h, format);
+    lrt_vku_encode_depth(d, bytes, (size_t)w * h, format);
     CHECK(lrt_bvh_build(&live, &dm, &opt, NULL) == LRT_SUCCESS, "%s: CPU build", what);
     memset(&gpu, 0, sizeof gpu);
     if (gpu_depth_create(&dm, source, default_image_format(format, 1), &g) || (g.model = opt, 0) ||
@@ -538,14 +538,14 @@ static void update_case(lrt_format format, uint32_t bits, int source, uint32_t t
             memcpy(prev, d, sizeof(float) * w * h);
             paint_frame(d, w, h, frame);
             rect = changed_rect(prev, d, w, h);
-            vkt_encode_depth(d, bytes, (size_t)w * h, format);
+            lrt_vku_encode_depth(d, bytes, (size_t)w * h, format);
             CHECK(lrt_bvh_update(&live, &dm, (frame & 1) ? NULL : &rect) == LRT_SUCCESS, "%s: CPU update", what);
-            if (gpu_depth_write(&g, &dm, 0) || vkt_begin(&g_t)) break;
-            vkt_compute_barrier(&g_t); /* the previous frame's refit -> this one */
+            if (gpu_depth_write(&g, &dm, 0) || lrt_vku_begin(&g_t)) break;
+            lrt_vku_compute_barrier(&g_t); /* the previous frame's refit -> this one */
             r = lrt_vk_cmd_update(g_ctx, g_t.cmd, &gpu, &g.depth, (frame & 1) ? NULL : &rect);
             CHECK(r == LRT_SUCCESS, "%s frame %d: lrt_vk_cmd_update: %s", what, frame, lrt_result_string(r));
-            vkt_host_barrier(&g_t);
-            if (vkt_submit(&g_t)) break;
+            lrt_vku_host_barrier(&g_t);
+            if (lrt_vku_submit(&g_t)) break;
             if (!same_nodes(&gpu, &live, what)) {
                 if (frame & 1) same_full = 0;
                 else same_rect = 0;
@@ -558,13 +558,13 @@ static void update_case(lrt_format format, uint32_t bits, int source, uint32_t t
             lrt_rect elsewhere = {0, 0, 4, 4};
             lrt_bvh fresh = {0};
             paint_frame(d, w, h, 3);
-            vkt_encode_depth(d, bytes, (size_t)w * h, format);
+            lrt_vku_encode_depth(d, bytes, (size_t)w * h, format);
             CHECK(lrt_bvh_build(&fresh, &dm, &opt, NULL) == LRT_SUCCESS, "CPU build");
-            if (gpu_depth_write(&g, &dm, 0) == 0 && vkt_begin(&g_t) == 0) {
-                vkt_compute_barrier(&g_t);
+            if (gpu_depth_write(&g, &dm, 0) == 0 && lrt_vku_begin(&g_t) == 0) {
+                lrt_vku_compute_barrier(&g_t);
                 lrt_vk_cmd_update(g_ctx, g_t.cmd, &gpu, &g.depth, &elsewhere);
-                vkt_host_barrier(&g_t);
-                if (vkt_submit(&g_t) == 0)
+                lrt_vku_host_barrier(&g_t);
+                if (lrt_vku_submit(&g_t) == 0)
                     CHECK(memcmp(gpu.mapped, fresh.nodes, fresh.layout.bytes) != 0, "%s: a stale update went unnoticed", what);
             }
             lrt_bvh_destroy(&fresh);
@@ -765,7 +765,7 @@ static void test_bad_arguments(void)
     lrt_vk_bvh bvh = {0}, untouched = {0}, unbuilt = {0};
     lrt_vk_depth bad;
     gpu_depth g;
-    vkt_buffer rb, hb, own;
+    lrt_vku_buffer rb, hb, own;
     lrt_rect rect;
     unsigned char sentinel[sizeof(lrt_vk_bvh)];
     float texels[6] = {0.5f, 0.5f, 0.5f, 0.5f, 0.25f, 0.5f};
@@ -806,7 +806,7 @@ static void test_bad_arguments(void)
     EXPECT_CREATE(&bad_bd, LRT_ERROR_INVALID_OPTION, "unknown flag");
     bad_bd = bd; bad_bd.depth_flags = 2;
     EXPECT_CREATE(&bad_bd, LRT_ERROR_INVALID_OPTION, "unknown depth flag");
-    if (vkt_buffer_create(&g_t, 4096, &own)) return;
+    if (lrt_vku_buffer_create(&g_t, 4096, &own)) return;
     bad_bd = bd; bad_bd.flags = 0; bad_bd.nodes = own.buffer;
     EXPECT_CREATE(&bad_bd, LRT_ERROR_NULL_POINTER, "nodes buffer without a counter buffer");
     bad_bd.counters = own.buffer; bad_bd.counters_offset = align + 2;
@@ -828,11 +828,11 @@ static void test_bad_arguments(void)
     CHECK(lrt_vk_bvh_create(g_ctx, &bad_bd, &bvh) == LRT_SUCCESS && !bvh.mapped && bvh.memory == VK_NULL_HANDLE,
           "bvh in the caller's buffers");
     if (gpu_depth_create(&dm, SRC_PACKED, VK_FORMAT_UNDEFINED, &g)) return;
-    if (vkt_begin(&g_t)) return;
+    if (lrt_vku_begin(&g_t)) return;
     memset(own.map, 0x77, (size_t)own.size);
     CHECK(lrt_vk_cmd_build(g_ctx, g_t.cmd, &bvh, &g.depth) == LRT_SUCCESS, "build in the caller's buffers");
-    vkt_host_barrier(&g_t);
-    if (vkt_submit(&g_t)) return;
+    lrt_vku_host_barrier(&g_t);
+    if (lrt_vku_submit(&g_t)) return;
     {
         lrt_bvh cpu = {0};
         const unsigned char *o = (const unsigned char *)own.map;
@@ -849,11 +849,11 @@ static void test_bad_arguments(void)
     /* recording: every error records nothing (checked below by poisoning
        the nodes and submitting everything), the result codes are right */
     if (gpu_build(&dm, 0, &g, &bvh, "bad arguments")) return;
-    if (vkt_buffer_create(&g_t, 64 * sizeof(lrt_ray), &rb) || vkt_buffer_create(&g_t, 64 * sizeof(lrt_hit), &hb)) return;
+    if (lrt_vku_buffer_create(&g_t, 64 * sizeof(lrt_ray), &rb) || lrt_vku_buffer_create(&g_t, 64 * sizeof(lrt_hit), &hb)) return;
     memset(bvh.mapped, 0x3c, bvh.layout.bytes);
     memset(hb.map, 0x3c, (size_t)hb.size);
     memset(&unbuilt, 0, sizeof unbuilt);
-    if (vkt_begin(&g_t)) return;
+    if (lrt_vku_begin(&g_t)) return;
     cmd = g_t.cmd;
 #define EXPECT(call, code, what)                                                                               \
     do {                                                                                                       \
@@ -1036,8 +1036,8 @@ static void test_bad_arguments(void)
     EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &bad, rb.buffer, 0, hb.buffer, 0, 1, 0), LRT_ERROR_INVALID_OPTION,
            "trace: an image in a layout the kernels cannot read");
 #undef EXPECT
-    vkt_host_barrier(&g_t);
-    if (vkt_submit(&g_t)) return;
+    lrt_vku_host_barrier(&g_t);
+    if (lrt_vku_submit(&g_t)) return;
     {
         const unsigned char *n = (const unsigned char *)bvh.mapped, *h = (const unsigned char *)hb.map;
         size_t i, touched = 0;
@@ -1045,9 +1045,9 @@ static void test_bad_arguments(void)
         for (i = 0; i < hb.size; ++i) touched += h[i] != 0x3c;
         CHECK(touched == 0, "erroring or empty calls recorded work: %zu bytes changed", touched);
     }
-    vkt_buffer_destroy(&g_t, &rb);
-    vkt_buffer_destroy(&g_t, &hb);
-    vkt_buffer_destroy(&g_t, &own);
+    lrt_vku_buffer_destroy(&g_t, &rb);
+    lrt_vku_buffer_destroy(&g_t, &hb);
+    lrt_vku_buffer_destroy(&g_t, &own);
     lrt_vk_bvh_destroy(g_ctx, &bvh);
     CHECK(bvh.created == 0 && bvh.memory == VK_NULL_HANDLE, "destroy zeroes the lrt_vk_bvh");
     lrt_vk_bvh_destroy(g_ctx, &bvh); /* twice is harmless */
@@ -1111,19 +1111,19 @@ static lrt_vk_context *low_context(uint32_t range, uint32_t groups_x, uint32_t g
 
 /* Traces rays[0..n) from rb into hb with ctx (after a barrier for earlier
    submissions) and compares hb with the CPU's hits. */
-static void limits_trace(lrt_vk_context *ctx, const lrt_vk_bvh *bvh, const lrt_vk_depth *depth, vkt_buffer *rb,
-                         vkt_buffer *hb, const lrt_hit *cpu_hits, uint32_t n, const char *what)
+static void limits_trace(lrt_vk_context *ctx, const lrt_vk_bvh *bvh, const lrt_vk_depth *depth, lrt_vku_buffer *rb,
+                         lrt_vku_buffer *hb, const lrt_hit *cpu_hits, uint32_t n, const char *what)
 {
     const lrt_hit *gpu = (const lrt_hit *)hb->map;
     lrt_result r;
     uint32_t i, differ = 0;
     memset(hb->map, 0xff, (size_t)hb->size);
-    if (vkt_begin(&g_t)) return;
-    vkt_compute_barrier(&g_t);
+    if (lrt_vku_begin(&g_t)) return;
+    lrt_vku_compute_barrier(&g_t);
     r = lrt_vk_cmd_trace(ctx, g_t.cmd, bvh, depth, rb->buffer, 0, hb->buffer, 0, n, 0);
     CHECK(r == LRT_SUCCESS, "%s: %s", what, lrt_result_string(r));
-    vkt_host_barrier(&g_t);
-    if (vkt_submit(&g_t)) return;
+    lrt_vku_host_barrier(&g_t);
+    if (lrt_vku_submit(&g_t)) return;
     for (i = 0; i < n; ++i) differ += !same_answer(&gpu[i], &cpu_hits[i]);
     CHECK(differ == 0, "%s: %u of %u answers differ from the CPU's", what, differ, n);
 }
@@ -1134,12 +1134,12 @@ static void limits_refit(lrt_vk_context *ctx, lrt_vk_bvh *bvh, const lrt_vk_dept
                          const lrt_bvh *cpu, const char *what)
 {
     lrt_result r;
-    if (vkt_begin(&g_t)) return;
-    vkt_compute_barrier(&g_t);
+    if (lrt_vku_begin(&g_t)) return;
+    lrt_vku_compute_barrier(&g_t);
     r = dirty ? lrt_vk_cmd_update(ctx, g_t.cmd, bvh, depth, dirty) : lrt_vk_cmd_build(ctx, g_t.cmd, bvh, depth);
     CHECK(r == LRT_SUCCESS, "%s: %s", what, lrt_result_string(r));
-    vkt_host_barrier(&g_t);
-    if (vkt_submit(&g_t)) return;
+    lrt_vku_host_barrier(&g_t);
+    if (lrt_vku_submit(&g_t)) return;
     CHECK(same_nodes(bvh, cpu, what), "%s: nodes differ from the CPU build", what);
 }
 
@@ -1151,11 +1151,11 @@ static void test_device_limits(void)
     lrt_vk_bvh bvh = {0}, bvh_wide = {0}, untouched = {0}, fits = {0};
     lrt_vk_bvh_desc bd;
     gpu_depth buf, img, wbuf;
-    vkt_buffer rb, hb;
+    lrt_vku_buffer rb, hb;
     lrt_hit cpu_hits[NRAYS];
     lrt_ray *rays;
     VkDeviceSize nodes_bytes, counters_bytes, texel_align;
-    vkt_buffer own;
+    lrt_vku_buffer own;
     lrt_vk_context *range_ctx, *span_ctx, *group_ctx, *image_ctx, *texel_ctx;
     unsigned char sentinel[sizeof(lrt_vk_bvh)];
     const VkFormat image_format = default_image_format(LRT_FORMAT_FLOAT32, 1);
@@ -1194,12 +1194,12 @@ static void test_device_limits(void)
     texel_ctx = low_context(0, 0, 0, 0, 256);
     g_high_texel_align = 0;
     if (!rays || !range_ctx || !span_ctx || !group_ctx || !image_ctx || !texel_ctx ||
-        !vkt_format_sampled(&g_t, image_format) ||
+        !lrt_vku_format_sampled(&g_t, image_format) ||
         gpu_depth_create(&m.depth, SRC_PACKED, VK_FORMAT_UNDEFINED, &buf) ||
         gpu_depth_create(&m.depth, SRC_IMAGE, image_format, &img) ||
         gpu_depth_create(&wide.depth, SRC_PACKED, VK_FORMAT_UNDEFINED, &wbuf) ||
         gpu_build(&m.depth, 0, &buf, &bvh, "limits 64x64") || gpu_build(&wide.depth, 0, &wbuf, &bvh_wide, "limits 520x64") ||
-        vkt_buffer_create(&g_t, NRAYS * sizeof(lrt_ray), &rb) || vkt_buffer_create(&g_t, NRAYS * sizeof(lrt_hit), &hb)) {
+        lrt_vku_buffer_create(&g_t, NRAYS * sizeof(lrt_ray), &rb) || lrt_vku_buffer_create(&g_t, NRAYS * sizeof(lrt_hit), &hb)) {
         CHECK(0, "device limits: set-up failed");
         goto done;
     }
@@ -1225,7 +1225,7 @@ static void test_device_limits(void)
     memset(bvh.mapped, 0x3c, bvh.layout.bytes);
     memset(bvh_wide.mapped, 0x3c, bvh_wide.layout.bytes);
     memset(hb.map, 0x3c, (size_t)hb.size);
-    if (vkt_begin(&g_t)) goto done;
+    if (lrt_vku_begin(&g_t)) goto done;
     cmd = g_t.cmd;
     rect.x = 0; rect.y = 0; rect.width = 8; rect.height = 8;
 #define EXPECT_LIMIT(call, what)                                                                                \
@@ -1252,8 +1252,8 @@ static void test_device_limits(void)
     EXPECT_LIMIT(lrt_vk_cmd_trace(image_ctx, cmd, &bvh, &img.depth, rb.buffer, 0, hb.buffer, 0, 1, 0),
                  "trace: 64x64 image past 32");
 #undef EXPECT_LIMIT
-    vkt_host_barrier(&g_t);
-    if (vkt_submit(&g_t)) goto done;
+    lrt_vku_host_barrier(&g_t);
+    if (lrt_vku_submit(&g_t)) goto done;
     {
         const unsigned char *a = (const unsigned char *)bvh.mapped, *b = (const unsigned char *)bvh_wide.mapped,
                             *h = (const unsigned char *)hb.map;
@@ -1278,7 +1278,7 @@ static void test_device_limits(void)
        nodes' storage buffer, through a tree made in that context (its texel
        view clipped to 256 nodes) and one made in g_ctx */
     bd.format = LRT_FORMAT_FLOAT32;
-    if (vkt_buffer_create(&g_t, 8u * (nodes_bytes + texel_align), &own)) goto done;
+    if (lrt_vku_buffer_create(&g_t, 8u * (nodes_bytes + texel_align), &own)) goto done;
     bd.nodes = bd.counters = own.buffer;
     bd.counters_offset = ((2u * texel_align + nodes_bytes) / texel_align + 1u) * texel_align;
     bd.nodes_offset = g_limits.minStorageBufferOffsetAlignment < 16u ? 16u : g_limits.minStorageBufferOffsetAlignment;
@@ -1299,9 +1299,9 @@ static void test_device_limits(void)
     lrt_vk_bvh_destroy(texel_ctx, &fits);
 
 done:
-    vkt_buffer_destroy(&g_t, &rb);
-    vkt_buffer_destroy(&g_t, &hb);
-    vkt_buffer_destroy(&g_t, &own);
+    lrt_vku_buffer_destroy(&g_t, &rb);
+    lrt_vku_buffer_destroy(&g_t, &hb);
+    lrt_vku_buffer_destroy(&g_t, &own);
     lrt_vk_bvh_destroy(g_ctx, &bvh);
     lrt_vk_bvh_destroy(g_ctx, &bvh_wide);
     gpu_depth_destroy(&buf);
@@ -1519,7 +1519,7 @@ int main(int argc, char **argv)
     if (g_flushing) printf("the device's threads flush subnormal floats (x86 FTZ and DAZ), as some GPUs do\n");
     printf("lrt_vk_cmd_trace in %s\n", g_flushing ? "the device's passes (lavapipe: one)" : "two passes (LRT_VK_TRACE_TWO_PASSES)");
     CHECK(r == LRT_SUCCESS, "lrt_vk_context_create: %s", lrt_result_string(r));
-    if (r == LRT_SUCCESS && vkt_init(&g_t, &g_dev) == 0) {
+    if (r == LRT_SUCCESS && lrt_vku_init(&g_t, &g_dev) == 0) {
         RUN_TEST(test_smoke);
         RUN_TEST(test_context_options);
         RUN_TEST(test_device_without_extension);
@@ -1540,7 +1540,7 @@ int main(int argc, char **argv)
     } else {
         CHECK(0, "Vulkan set-up failed");
     }
-    vkt_free(&g_t);
+    lrt_vku_free(&g_t);
     lrt_vk_context_destroy(g_ctx);
     lrt_vk_device_destroy(&g_dev);
     CHECK(g_dev.message_count == 0, "%u validation messages (printed above)", g_dev.message_count);

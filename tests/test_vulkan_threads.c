@@ -5,7 +5,7 @@
    One device (lavapipe on the project's machines) with the Khronos
    validation layer, synchronization validation and its thread-safety checks
    on (any message fails the test), one lrt_vk_context. 4 threads, each with
-   its own command pool, command buffer and fence (tests/support/vk_util.h), its own
+   its own command pool, command buffer and fence (linear_rt_vk_util.h), its own
    lrt_vk_bvh, depth (a buffer, or a sampled image it uploads itself), rays
    and hits, and its own map size, format and node bits, run frames: record
    build (frame 0) or update (the changed rectangle, or the whole map) and a
@@ -39,7 +39,7 @@
 #include "../examples/scene.h"
 #include "support/rays.h"
 #include "support/check.h"
-#include "support/vk_util.h"
+#include "../linear_rt_vk_util.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -113,10 +113,10 @@ typedef struct vk_worker {
     VkFormat image_format; /* VK_FORMAT_UNDEFINED: the depth is a storage buffer */
     size_t nrays;
     frame_in frames[FRAMES];
-    vkt t;               /* its own command pool, command buffer and fence */
-    vkt_buffer upload;   /* the depth buffer, or the image's staging buffer */
-    vkt_image image;
-    vkt_buffer rays, hits;
+    lrt_vku t;               /* its own command pool, command buffer and fence */
+    lrt_vku_buffer upload;   /* the depth buffer, or the image's staging buffer */
+    lrt_vku_image image;
+    lrt_vku_buffer rays, hits;
     lrt_vk_depth depth;
     lrt_vk_bvh gpu;
     /* results, read by the main thread after the join */
@@ -204,36 +204,36 @@ static void *worker_main(void *arg)
         recording(1);
         if (k->image_format != VK_FORMAT_UNDEFINED) { /* the upload: BARRIERS' first rule */
             VkBufferImageCopy c;
-            vkt_image_barrier(&k->t, &k->image,
+            lrt_vku_image_barrier(&k->t, &k->image,
                               f == 0 ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
                               VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
             memset(&c, 0, sizeof c);
             c.imageSubresource.aspectMask =
-                vkt_is_depth_format(k->image_format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+                lrt_vku_is_depth_format(k->image_format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
             c.imageSubresource.layerCount = 1;
             c.imageExtent.width = k->w;
             c.imageExtent.height = k->h;
             c.imageExtent.depth = 1;
             k->t.vkCmdCopyBufferToImage(k->t.cmd, k->upload.buffer, k->image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                                         1, &c);
-            vkt_image_barrier(&k->t, &k->image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+            lrt_vku_image_barrier(&k->t, &k->image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                               VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
                               VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
         }
         if (f == 0) {
             gr = lrt_vk_cmd_build(g_ctx, k->t.cmd, &k->gpu, &k->depth);
         } else {
-            vkt_compute_barrier(&k->t); /* the last frame's refit and trace -> this refit */
+            lrt_vku_compute_barrier(&k->t); /* the last frame's refit and trace -> this refit */
             gr = lrt_vk_cmd_update(g_ctx, k->t.cmd, &k->gpu, &k->depth, dirty);
         }
         gate(); /* every command buffer is recording now: the rest is recorded side by side */
         if (gr == LRT_SUCCESS) {
-            vkt_compute_barrier(&k->t); /* the refit -> the trace */
+            lrt_vku_compute_barrier(&k->t); /* the refit -> the trace */
             gr = lrt_vk_cmd_trace(g_ctx, k->t.cmd, &k->gpu, &k->depth, k->rays.buffer, 0, k->hits.buffer, 0,
                                   (uint32_t)k->nrays, in->flags);
         }
-        vkt_host_barrier(&k->t);
+        lrt_vku_host_barrier(&k->t);
         vr = submit(k);
         if (gr != LRT_SUCCESS || vr != VK_SUCCESS) {
             snprintf(k->failure, sizeof k->failure, "frame %d: recording: %s, submission: VkResult %d", f,
@@ -275,7 +275,7 @@ static void make_frames(vk_worker *k)
         in->bytes = malloc(texels * bytes_of(k->format));
         in->rays = (lrt_ray *)malloc(sizeof(lrt_ray) * k->nrays);
         if (!in->bytes || !in->rays) exit(2);
-        vkt_encode_depth(d, in->bytes, texels, k->format);
+        lrt_vku_encode_depth(d, in->bytes, texels, k->format);
         if (f) in->rect = changed_rect(prev, d, w, h);
         in->whole = f % 3 == 0;
         in->flags = flags[(f + k->index) % 2];
@@ -303,23 +303,23 @@ static int worker_create(vk_worker *k, int index, uint32_t w, uint32_t h, lrt_fo
     k->bits = bits;
     k->nrays = nrays;
     make_frames(k);
-    if (vkt_init(&k->t, &g_dev)) return 1;
-    if (image_format != VK_FORMAT_UNDEFINED && !vkt_format_sampled(&k->t, image_format)) {
+    if (lrt_vku_init(&k->t, &g_dev)) return 1;
+    if (image_format != VK_FORMAT_UNDEFINED && !lrt_vku_format_sampled(&k->t, image_format)) {
         printf("  note: worker %d: the device cannot sample VkFormat %d: its depth is a buffer\n", index,
                (int)image_format);
         image_format = VK_FORMAT_UNDEFINED;
     }
     k->image_format = image_format;
     /* the kernels read 32-bit words: the depth buffer is rounded up to 4 bytes */
-    if (vkt_buffer_create(&k->t, (bytes + 3u) / 4u * 4u, &k->upload) ||
-        vkt_buffer_create(&k->t, nrays * sizeof(lrt_ray), &k->rays) ||
-        vkt_buffer_create(&k->t, nrays * sizeof(lrt_hit), &k->hits))
+    if (lrt_vku_buffer_create(&k->t, (bytes + 3u) / 4u * 4u, &k->upload) ||
+        lrt_vku_buffer_create(&k->t, nrays * sizeof(lrt_ray), &k->rays) ||
+        lrt_vku_buffer_create(&k->t, nrays * sizeof(lrt_hit), &k->hits))
         return 1;
     k->depth.format = format;
     k->depth.width = w;
     k->depth.height = h;
     if (image_format != VK_FORMAT_UNDEFINED) {
-        if (vkt_image_create(&k->t, image_format, w, h, &k->image)) return 1;
+        if (lrt_vku_image_create(&k->t, image_format, w, h, &k->image)) return 1;
         k->depth.view = k->image.view;
         k->depth.layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     } else {
@@ -345,11 +345,11 @@ static void worker_destroy(vk_worker *k)
     if (k->t.device) {
         k->t.vkDeviceWaitIdle(k->t.device);
         lrt_vk_bvh_destroy(g_ctx, &k->gpu);
-        vkt_image_destroy(&k->t, &k->image);
-        vkt_buffer_destroy(&k->t, &k->upload);
-        vkt_buffer_destroy(&k->t, &k->rays);
-        vkt_buffer_destroy(&k->t, &k->hits);
-        vkt_free(&k->t);
+        lrt_vku_image_destroy(&k->t, &k->image);
+        lrt_vku_buffer_destroy(&k->t, &k->upload);
+        lrt_vku_buffer_destroy(&k->t, &k->rays);
+        lrt_vku_buffer_destroy(&k->t, &k->hits);
+        lrt_vku_free(&k->t);
     }
     for (f = 0; f < FRAMES; ++f) {
         free(k->frames[f].bytes);

@@ -21,7 +21,7 @@
 #define LINEAR_RT_IMPLEMENTATION
 #include "../../linear_rt.h" /* with -DLINEAR_RT_VULKAN -DLINEAR_RT_VULKAN_DEVICE_HELPER */
 #include "../scene.h"
-#include "../vk_small.h" /* buffers, one command buffer, submit and wait, barriers, timestamps */
+#include "../../linear_rt_vk_util.h" /* buffers, one command buffer, submit and wait, barriers, timestamps */
 #ifdef HLSL_INLINE /* build/hlsl_inline: the same host, the shader in HLSL (examples/hlsl_inline) */
 #include "hlsl_inline_spv.h" /* contact_shadows_spv[]: contact_shadows.hlsl, compiled by make */
 #define EXAMPLE "hlsl_inline"
@@ -60,7 +60,7 @@ typedef struct shadow_push {
     float bias;
 } shadow_push;
 
-/* The Vulkan functions of our own pipeline (../vk_small.h has the rest). */
+/* The Vulkan functions of our own pipeline (linear_rt_vk_util.h has the rest). */
 #define OWN_FUNCS(X)                                                                                              \
     X(vkCreateDescriptorSetLayout) X(vkDestroyDescriptorSetLayout) X(vkCreatePipelineLayout)                     \
     X(vkDestroyPipelineLayout) X(vkCreateShaderModule) X(vkDestroyShaderModule) X(vkCreateComputePipelines)      \
@@ -110,7 +110,7 @@ static int own_create(own *o, const lrt_vk_device *dev)
     memset(o, 0, sizeof *o);
 #define OWN_LOAD(name)                                                                                            \
     o->name = (PFN_##name)dev->desc.get_device_proc_addr(device, #name);                                          \
-    if (!o->name) return vks_fail("loading " #name, VK_ERROR_INITIALIZATION_FAILED);
+    if (!o->name) return lrt_vku_fail("loading " #name, VK_ERROR_INITIALIZATION_FAILED);
     OWN_FUNCS(OWN_LOAD)
 #undef OWN_LOAD
     /* depth and nodes at the library's bindings (linear_rt.h's >>contract), our output at 3;
@@ -128,7 +128,7 @@ static int own_create(own *o, const lrt_vk_device *dev)
     si.bindingCount = 3;
     si.pBindings = b;
     if ((r = o->vkCreateDescriptorSetLayout(device, &si, NULL, &o->set_layout)) != VK_SUCCESS)
-        return vks_fail("vkCreateDescriptorSetLayout", r);
+        return lrt_vku_fail("vkCreateDescriptorSetLayout", r);
     memset(&pc, 0, sizeof pc);
     pc.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     pc.size = sizeof(shadow_push);
@@ -139,13 +139,13 @@ static int own_create(own *o, const lrt_vk_device *dev)
     li.pushConstantRangeCount = 1;
     li.pPushConstantRanges = &pc;
     if ((r = o->vkCreatePipelineLayout(device, &li, NULL, &o->layout)) != VK_SUCCESS)
-        return vks_fail("vkCreatePipelineLayout", r);
+        return lrt_vku_fail("vkCreatePipelineLayout", r);
     memset(&mi, 0, sizeof mi);
     mi.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
     mi.codeSize = contact_shadows_spv_SIZE;
     mi.pCode = contact_shadows_spv;
     if ((r = o->vkCreateShaderModule(device, &mi, NULL, &module)) != VK_SUCCESS)
-        return vks_fail("vkCreateShaderModule", r);
+        return lrt_vku_fail("vkCreateShaderModule", r);
     memset(&ci, 0, sizeof ci);
     ci.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
     ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
@@ -155,7 +155,7 @@ static int own_create(own *o, const lrt_vk_device *dev)
     ci.layout = o->layout;
     r = o->vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, NULL, &o->pipeline);
     o->vkDestroyShaderModule(device, module, NULL);
-    return r == VK_SUCCESS ? 0 : vks_fail("vkCreateComputePipelines", r);
+    return r == VK_SUCCESS ? 0 : lrt_vku_fail("vkCreateComputePipelines", r);
 }
 
 static void own_destroy(own *o, VkDevice device)
@@ -167,8 +167,8 @@ static void own_destroy(own *o, VkDevice device)
 }
 
 /* Records our dispatch: the tree and depth of linear_rt, our output. */
-static void own_record(const own *o, VkCommandBuffer cmd, const lrt_vk_bvh *bvh, const vks_buffer *depth,
-                       const vks_buffer *out, const shadow_push *push)
+static void own_record(const own *o, VkCommandBuffer cmd, const lrt_vk_bvh *bvh, const lrt_vku_buffer *depth,
+                       const lrt_vku_buffer *out, const shadow_push *push)
 {
     VkDescriptorBufferInfo bi[3];
     VkWriteDescriptorSet w[3];
@@ -286,11 +286,11 @@ int main(int argc, char **argv)
     lrt_vk_bvh bvh = {0};
     lrt_vk_bvh_desc bd;
     lrt_vk_depth vd;
-    vks t;
-    vks_buffer depth_buf, out_buf;
+    lrt_vku t;
+    lrt_vku_buffer depth_buf, out_buf;
     own o;
     shadow_push push;
-    double build_ms = 0, trace_ms[RUNS], wall_ms[RUNS], cpu_build_ms, cpu_ms, t0, gpu_ms[VKS_TIMESTAMPS - 1];
+    double build_ms = 0, trace_ms[RUNS], wall_ms[RUNS], cpu_build_ms, cpu_ms, t0, gpu_ms[LRT_VKU_TIMESTAMPS - 1];
     const uint32_t *out;
     lrt_result r;
     scene_camera cam = scene_default_camera();
@@ -333,7 +333,7 @@ int main(int argc, char **argv)
            VK_API_VERSION_MAJOR(dev.properties.apiVersion), VK_API_VERSION_MINOR(dev.properties.apiVersion),
            VK_API_VERSION_PATCH(dev.properties.apiVersion), validation ? ", validation on" : "");
     CHECK_LRT(lrt_vk_context_create(&dev.desc, &ctx));
-    if (vks_init(&t, &dev) || own_create(&o, &dev)) goto done;
+    if (lrt_vku_init(&t, &dev) || own_create(&o, &dev)) goto done;
 
     /* the scene's depth, and the CPU's tree of it */
     depth = (float *)malloc(n * sizeof *depth);
@@ -355,7 +355,7 @@ int main(int argc, char **argv)
     cpu_build_ms = now_ms() - t0;
 
     /* the depth in a host-visible storage buffer; the GPU's tree */
-    if (vks_buffer_create(&t, n * sizeof *depth, &depth_buf) || vks_buffer_create(&t, n * sizeof(uint32_t), &out_buf))
+    if (lrt_vku_buffer_create_in(&t, n * sizeof *depth, 1, &depth_buf) || lrt_vku_buffer_create_in(&t, n * sizeof(uint32_t), 1, &out_buf))
         goto done;
     memcpy(depth_buf.map, depth, n * sizeof *depth); /* host writes before the submission: no barrier */
     memset(&vd, 0, sizeof vd);
@@ -392,25 +392,25 @@ int main(int argc, char **argv)
        submission, which needs none. */
     for (a = 0; a <= RUNS; ++a) {
         t0 = now_ms();
-        if (vks_begin(&t)) goto done;
-        vks_timestamp(&t, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0);
+        if (lrt_vku_begin(&t)) goto done;
+        lrt_vku_timestamp(&t, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0);
         if (a == 0) CHECK_LRT(lrt_vk_cmd_build(ctx, t.cmd, &bvh, &vd));
-        vks_timestamp(&t, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 1);
+        lrt_vku_timestamp(&t, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 1);
         /* "before update or trace, after the build of the tree": (CS, SHADER_WRITE)
            -> (CS, SHADER_READ); in later runs the same barrier orders the last
            run's writes of our output before this run's (and BARRIERS asks it of
            a build in an earlier submission too) */
-        vks_barrier(&t, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+        lrt_vku_barrier(&t, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
         own_record(&o, t.cmd, &bvh, &depth_buf, &out_buf, &push);
-        vks_timestamp(&t, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 2);
+        lrt_vku_timestamp(&t, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 2);
         /* "after trace: its hits" -> (HOST, HOST_READ): our output, mapped, read after the fence */
-        vks_barrier(&t, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+        lrt_vku_barrier(&t, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                     VK_ACCESS_HOST_READ_BIT);
-        if (vks_submit(&t)) goto done;
+        if (lrt_vku_submit(&t)) goto done;
         if (a > 0) wall_ms[a - 1] = now_ms() - t0;
         if (t.queries) {
-            if (vks_timestamps_ms(&t, gpu_ms)) goto done;
+            if (lrt_vku_timestamps_ms(&t, gpu_ms)) goto done;
             if (a == 0) build_ms = gpu_ms[0];
             else trace_ms[a - 1] = gpu_ms[1];
         }
@@ -458,11 +458,11 @@ done:
     if (t.device) {
         t.vkDeviceWaitIdle(t.device);
         own_destroy(&o, t.device);
-        vks_buffer_destroy(&t, &depth_buf);
-        vks_buffer_destroy(&t, &out_buf);
+        lrt_vku_buffer_destroy(&t, &depth_buf);
+        lrt_vku_buffer_destroy(&t, &out_buf);
     }
     lrt_vk_bvh_destroy(ctx, &bvh);
-    vks_free(&t);
+    lrt_vku_free(&t);
     lrt_vk_context_destroy(ctx);
     lrt_vk_device_destroy(&dev);
     lrt_bvh_destroy(&cpu_bvh);

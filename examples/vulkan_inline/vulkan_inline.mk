@@ -1,7 +1,7 @@
 # examples/vulkan_inline/vulkan_inline.mk - the vulkan_inline example: a
 # compute shader of the user's own (contact_shadows.comp) that includes
 # shaders/linear_rt.glsl, and its host code (main.c, and
-# examples/vk_small.h, which the demo shares).
+# linear_rt_vk_util.h, which the demo shares).
 # Included by the Makefile, which defines B, LIB, SCENE, STD, WARN, CFLAGS,
 # HAVE_VULKAN, VK_PROGRAM_FLAGS, VK_LIBS, GLSLANG, SPIRV_VAL, SPV_ENV, TESTS
 # and the rules for $(B), deps and $(B)/spv2h. It leaves the default goal alone.
@@ -15,7 +15,7 @@ VI_DIR := examples/vulkan_inline
 VI_SPV_H := $(B)/vulkan_inline_spv.h
 VI_HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
 # the library, the examples' scene and our Vulkan helper are included by main.c
-VI_DEPS := $(VI_DIR)/main.c $(LIB) shaders_spv.h $(SCENE) examples/vk_small.h $(VI_SPV_H)
+VI_DEPS := $(VI_DIR)/main.c $(LIB) shaders_spv.h $(SCENE) linear_rt_vk_util.h $(VI_SPV_H)
 
 TESTS += test-vulkan-inline test-hlsl-inline
 .PHONY: test-vulkan-inline test-hlsl-inline
