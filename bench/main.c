@@ -665,7 +665,10 @@ static void dump_steps(const scene *sc, const char *set, const uint32_t *steps, 
     size_t k, at;
     make_dirs(g_steps_dir);
     at = (size_t)snprintf(path, sizeof path, "%s/", g_steps_dir);
-    snprintf(path + at, sizeof path - at, "%s_%s.u32", sc->s.name, set);
+    if (at >= sizeof path || (size_t)snprintf(path + at, sizeof path - at, "%s_%s.u32", sc->s.name, set) >= sizeof path - at) {
+        fprintf(stderr, "bench: --dump-steps: the directory's name is too long\n");
+        return;
+    }
     for (k = at; path[k]; ++k)
         if (path[k] == ' ') path[k] = '-';
     f = fopen(path, "wb");
