@@ -362,22 +362,25 @@ spv-check: $(B)/spv2h
 $(B)/test_vulkan: tests/test_vulkan.c $(LIB) $(SPV_H) $(REF) $(SCENE) $(RAYS) $(VK_UTIL) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) $(VK_PROGRAM_FLAGS) $< -o $@ $(LDLIBS) $(VK_LIBS)
 
-# test_vulkan again with the buffer-depth trace kernel compiled from HLSL
+# test_vulkan again with the trace kernels compiled from HLSL
 # (tests/hlsl/lrt_trace.hlsl over shaders/linear_rt.hlsl, glslang's HLSL
-# front end; SPIR-V 1.3, the newest glslang writes its storage buffers for)
+# front end, buffer and image depth; SPIR-V 1.3, the newest glslang writes
+# its storage buffers for). linear_rt adds float controls (RoundingModeRTE,
+# ...) to its kernels, core in SPIR-V 1.4: before that a module names their
+# extension, which the rule adds after the last OpCapability.
+HLSL_TRACE = $(GLSLANG) -D -V --target-env vulkan1.1 $(3) -DLRT_HLSL_DEPTH_IMAGE=$(2) -e main -S comp \
+	  -o $(B)/hlsl/$(1).spv tests/hlsl/lrt_trace.hlsl > $(B)/hlsl/$(1).log 2>&1 || { cat $(B)/hlsl/$(1).log; exit 1; }; \
+	spirv-dis --raw-id $(B)/hlsl/$(1).spv > $(B)/hlsl/$(1).spvasm && \
+	awk -v n=$$(grep -n OpCapability $(B)/hlsl/$(1).spvasm | tail -1 | cut -d: -f1) \
+	  '{ print } NR == n { print "OpExtension \"SPV_KHR_float_controls\"" }' $(B)/hlsl/$(1).spvasm > $(B)/hlsl/$(1)_fc.spvasm && \
+	spirv-as --target-env vulkan1.1 --preserve-numeric-ids $(B)/hlsl/$(1)_fc.spvasm -o $(B)/hlsl/$(1)_fc.spv && \
+	$(SPIRV_VAL) --target-env vulkan1.1 $(B)/hlsl/$(1)_fc.spv
 $(B)/test_vulkan_hlsl_spv.h: tests/hlsl/lrt_trace.hlsl shaders/linear_rt.hlsl shaders/linear_rt.glsl linear_rt.h \
   $(B)/spv2h | $(B)
 	@mkdir -p $(B)/hlsl
-	$(GLSLANG) -D -V --target-env vulkan1.1 -e main -S comp -o $(B)/hlsl/lrt_trace.spv tests/hlsl/lrt_trace.hlsl \
-	  > $(B)/hlsl/lrt_trace.log 2>&1 || { cat $(B)/hlsl/lrt_trace.log; exit 1; }
-	@# linear_rt adds float controls (RoundingModeRTE...) to its kernels, core
-	@# in SPIR-V 1.4: before that a module names their extension
-	spirv-dis --raw-id $(B)/hlsl/lrt_trace.spv > $(B)/hlsl/lrt_trace.spvasm
-	awk -v n=$$(grep -n OpCapability $(B)/hlsl/lrt_trace.spvasm | tail -1 | cut -d: -f1) \
-	  '{ print } NR == n { print "OpExtension \"SPV_KHR_float_controls\"" }' $(B)/hlsl/lrt_trace.spvasm > $(B)/hlsl/lrt_trace_fc.spvasm
-	spirv-as --target-env vulkan1.1 --preserve-numeric-ids $(B)/hlsl/lrt_trace_fc.spvasm -o $(B)/hlsl/lrt_trace_fc.spv
-	$(SPIRV_VAL) --target-env vulkan1.1 $(B)/hlsl/lrt_trace_fc.spv
-	$(B)/spv2h $@ lrt_hlsl_trace=$(B)/hlsl/lrt_trace_fc.spv
+	$(call HLSL_TRACE,lrt_trace_buffer,0)
+	$(call HLSL_TRACE,lrt_trace_image,1,--auto-sampled-textures)
+	$(B)/spv2h $@ lrt_hlsl_trace_buffer=$(B)/hlsl/lrt_trace_buffer_fc.spv lrt_hlsl_trace_image=$(B)/hlsl/lrt_trace_image_fc.spv
 
 $(B)/test_vulkan_hlsl: tests/test_vulkan.c $(B)/test_vulkan_hlsl_spv.h $(LIB) $(SPV_H) $(REF) $(SCENE) $(RAYS) \
   $(VK_UTIL) | deps $(B)

@@ -5361,13 +5361,17 @@ enum { LRT__VK_REFIT_BUFFER, LRT__VK_REFIT_IMAGE, LRT__VK_TRACE_BUFFER, LRT__VK_
 #define LRT__VK_LAZY 0
 #endif
 
-/* The trace module of buffer depth. tests/test_vulkan.c built as
+/* The trace modules. tests/test_vulkan.c built as
    test_vulkan_hlsl defines these before the implementation: the same kernel
    compiled from HLSL (tests/hlsl/lrt_trace.hlsl over shaders/linear_rt.hlsl),
    run in its place through every test. */
 #ifndef LRT__VK_TRACE_BUFFER_SPV
 #define LRT__VK_TRACE_BUFFER_SPV lrt_spv_trace_buffer
 #define LRT__VK_TRACE_BUFFER_SPV_SIZE lrt_spv_trace_buffer_SIZE
+#endif
+#ifndef LRT__VK_TRACE_IMAGE_SPV
+#define LRT__VK_TRACE_IMAGE_SPV lrt_spv_trace_image
+#define LRT__VK_TRACE_IMAGE_SPV_SIZE lrt_spv_trace_image_SIZE
 #endif
 
 static lrt__vk_module lrt__vk_module_at(int which)
@@ -5380,7 +5384,7 @@ static lrt__vk_module lrt__vk_module_at(int which)
     case LRT__VK_RARE_BUFFER:
     case LRT__VK_BUDGET_BUFFER:
     case LRT__VK_WHOLE_BUFFER: m.code = LRT__VK_TRACE_BUFFER_SPV; m.bytes = LRT__VK_TRACE_BUFFER_SPV_SIZE; break;
-    default: m.code = lrt_spv_trace_image; m.bytes = lrt_spv_trace_image_SIZE; break;
+    default: m.code = LRT__VK_TRACE_IMAGE_SPV; m.bytes = LRT__VK_TRACE_IMAGE_SPV_SIZE; break;
     }
     return m;
 }

@@ -5,8 +5,7 @@
 // every one of test_vulkan's traces through it in the library's place and
 // checks the answers against the CPU's, bit for bit. Compiled by glslang's
 // HLSL front end: glslangValidator -D -V -e main -S comp.
-// HLSL has no gl_NumWorkGroups: the index is 1D (SV_DispatchThreadID.x), so
-// the 2D dispatches (past 65535 groups) are not run through it.
+// HLSL has no gl_NumWorkGroups: a 2D dispatch's row is worked out (main).
 #define LRT_GLSL 1
 #include "../../linear_rt.h"
 
@@ -19,10 +18,22 @@ struct LrtPush {
 // an attribute takes no macro that carries a u, and glslang's #if reads none;
 // a wrong one fails test_vulkan_hlsl (the validation layer and the answers)
 
+#if LRT_HLSL_DEPTH_IMAGE
+// sampled images, which glslang's --auto-sampled-textures makes the combined
+// image samplers the library binds
+[[vk::binding(1, 0)]] Texture2D<float> lrt_depth_image;
+[[vk::binding(7, 0)]] Texture2D<float> lrt_back_image;
+#else
 [[vk::binding(0, 0)]] ByteAddressBuffer lrt_depth;
 [[vk::binding(6, 0)]] ByteAddressBuffer lrt_back;
+#endif
 [[vk::binding(2, 0)]] ByteAddressBuffer lrt_nodes;
+#if !LRT_HLSL_DEPTH_IMAGE
+// (not in the image variant: --auto-sampled-textures would make this texel
+// buffer a sampled image too; there a node's codes come from the storage
+// buffer, the same bytes)
 [[vk::binding(8, 0)]] Buffer<uint4> lrt_node_view;
+#endif
 struct LrtRayIn {
     float3 origin;
     float tmin;
@@ -39,13 +50,21 @@ struct LrtRayIn {
 
 uint4 lrt_node_quad(uint i)
 {
+#if !LRT_HLSL_DEPTH_IMAGE
     if (lrt_node_texels) return lrt_node_view.Load(int(i));
+#endif
     return lrt_nodes.Load4(i * 16u);
 }
 
+#if LRT_HLSL_DEPTH_IMAGE
+#define LRT_DEPTH_IMAGE 1
+#define LRT_DEPTH_TEXEL(x, y) lrt_depth_image.Load(int3(int(x), int(y), 0))
+#define LRT_BACK_TEXEL(x, y) lrt_back_image.Load(int3(int(x), int(y), 0))
+#else
 #define LRT_DEPTH_IMAGE 0
 #define LRT_DEPTH_WORD(i) lrt_depth.Load((i) * 4u)
 #define LRT_BACK_WORD(i) lrt_back.Load((i) * 4u)
+#endif
 #define LRT_NODE_WORD(i) lrt_nodes.Load((i) * 4u)
 #define LRT_NODE_QUAD(i) lrt_node_quad(i)
 #define LRT_BACK_TREES lrt_back_trees
@@ -96,10 +115,17 @@ void lrt_trace_one(uint idx)
     lrt_hits[i] = uint4(asuint(hit.t), hit.x, hit.y, lrt_hit_word3(hit));
 }
 
+// HLSL has no gl_NumWorkGroups: a 2D dispatch's row of groups is worked
+// out as the host does (lrt__vk_groups), for a device whose
+// maxComputeWorkGroupCount[0] is at least the library's row of 65535 groups
+// (lavapipe's, and most GPUs'; test_vulkan's lowered limits are not run here)
 [numthreads(LRT_K_VK_GROUP_SIZE, 1, 1)]
-void main(uint3 id : SV_DispatchThreadID)
+void main(uint3 gid : SV_GroupID, uint3 lid : SV_GroupThreadID)
 {
-    uint idx = id.x;
+    uint groups = (pc.ray_count + LRT_K_VK_GROUP_SIZE - 1u) / LRT_K_VK_GROUP_SIZE;
+    uint rows = (groups + 65534u) / 65535u;
+    uint row = (groups + rows - 1u) / rows;
+    uint idx = (gid.y * row + gid.x) * LRT_K_VK_GROUP_SIZE + lid.x;
     if (idx >= pc.ray_count) return;
     if (lrt_trace_pass == 1u && lrt_hits[pc.ray_first + idx].w != LRT_RARE_MARK) return;
     lrt_trace_one(idx);
