@@ -118,7 +118,8 @@ void lrt_trace_one(uint idx)
 // HLSL has no gl_NumWorkGroups: a 2D dispatch's row of groups is worked
 // out as the host does (lrt__vk_groups), for a device whose
 // maxComputeWorkGroupCount[0] is at least the library's row of 65535 groups
-// (lavapipe's, and most GPUs'; test_vulkan's lowered limits are not run here)
+// (lavapipe's, and most GPUs'; test_vulkan's trace in rows of a lowered
+// limit is not run through it)
 [numthreads(LRT_K_VK_GROUP_SIZE, 1, 1)]
 void main(uint3 gid : SV_GroupID, uint3 lid : SV_GroupThreadID)
 {
