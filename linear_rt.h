@@ -4015,17 +4015,17 @@ LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *
      lrt__plane_t ~ lrt_plane_t              lrt__ray_t ~ lrt_ray_t
      lrt__point_in ~ lrt_point_in            lrt__entered_later ~ lrt_entered_later
    -- end twins --
-   The 8-child walk (RayQuery.Proceed of the design), specialised for this tree:
-      no triangles, no instances, no stored boxes. A node's children form a
-      4x2 or 2x4 grid, so their x/y slabs come from 5+3 shared planes; the
-      only per-child work is the z plane of its height. Children are visited
-      front to back (row-major order with the axes flipped by the ray's
-      direction signs is front to back for any straight line), so the first
-      texel hit found is the closest and the walk stops there. One walk
-      (lrt__walk_origin, the kernels' lrt_walk_origin step for step) starts
-      at the lowest node holding the whole segment and goes down, or, for a
-      long ray that starts on the surface, at the level-1 node where it
-      starts and climbs: the same order, the same first hit.
+   The 8-child walk (RayQuery.Proceed of the design), specialised for this
+   tree: no triangles, no instances, no stored boxes. A node's children form
+   a 4x2 or 2x4 grid, so their x/y slabs come from 5+3 shared planes; the
+   only per-child work is the z plane of its height. Children are visited
+   front to back (row-major order with the axes flipped by the ray's
+   direction signs is front to back for any straight line), so the first
+   texel hit found is the closest and the walk stops there. One walk
+   (lrt__walk_origin, the kernels' lrt_walk_origin step for step) starts at
+   the lowest node holding the whole segment and goes down, or, for a long
+   ray that starts on the surface, at the level-1 node where it starts and
+   climbs: the same order, the same first hit.
    ========================================================================== */
 
 /* Where the walk (lrt__walk_origin below) starts: at the origin for a ray

@@ -388,14 +388,18 @@ struct LrtExpansion {
     int m;
 };
 
-LrtExpansion lrt_expansion()
+#ifdef LINEAR_RT_HLSL
+LrtExpansion lrt_expansion() // (field by field: HLSL has no struct constructors)
 {
-    LrtExpansion x; // (field by field: HLSL has no struct constructors)
-    x.hi = vec4(0.0, 0.0, 0.0, 0.0);
+    LrtExpansion x;
     x.lo = vec4(0.0, 0.0, 0.0, 0.0);
+    x.hi = vec4(0.0, 0.0, 0.0, 0.0);
     x.m = 0;
     return x;
 }
+#else
+LrtExpansion lrt_expansion() { return LrtExpansion(vec4(0.0, 0.0, 0.0, 0.0), vec4(0.0, 0.0, 0.0, 0.0), 0); }
+#endif
 float lrt_part(LrtExpansion x, int j) { return j < 4 ? lrt_pick(x.lo, j) : lrt_pick(x.hi, j - 4); }
 void lrt_set_part(inout LrtExpansion x, int j, float v)
 {
