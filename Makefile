@@ -57,6 +57,10 @@ endif
 GLSLANG ?= glslangValidator
 SPIRV_VAL ?= spirv-val
 SPV_ENV := --target-env vulkan1.2
+# HLSL through glslang's HLSL front end: SPIR-V 1.3, the newest for which it
+# writes storage buffers (BufferBlock, dropped in 1.4)
+HLSL_ENV := --target-env vulkan1.1
+GLSLANG_HLSL = $(GLSLANG) -D -V $(HLSL_ENV) -e main -S comp
 SPV_SOURCES := $(wildcard shaders/*.comp shaders/*.glsl) linear_rt.h # the kernels read its >>contract block
 SPV_NAMES := refit_buffer refit_image trace_buffer trace_image
 
@@ -364,17 +368,16 @@ $(B)/test_vulkan: tests/test_vulkan.c $(LIB) $(SPV_H) $(REF) $(SCENE) $(RAYS) $(
 
 # test_vulkan again with the trace kernels compiled from HLSL
 # (tests/hlsl/lrt_trace.hlsl over shaders/linear_rt.hlsl, glslang's HLSL
-# front end, buffer and image depth; SPIR-V 1.3, the newest glslang writes
-# its storage buffers for). linear_rt adds float controls (RoundingModeRTE,
+# front end, buffer and image depth; HLSL_ENV). linear_rt adds float controls (RoundingModeRTE,
 # ...) to its kernels, core in SPIR-V 1.4: before that a module names their
 # extension, which the rule adds after the last OpCapability.
-HLSL_TRACE = $(GLSLANG) -D -V --target-env vulkan1.1 $(3) -DLRT_HLSL_DEPTH_IMAGE=$(2) -e main -S comp \
+HLSL_TRACE = $(GLSLANG_HLSL) $(3) -DLRT_HLSL_DEPTH_IMAGE=$(2) \
 	  -o $(B)/hlsl/$(1).spv tests/hlsl/lrt_trace.hlsl > $(B)/hlsl/$(1).log 2>&1 || { cat $(B)/hlsl/$(1).log; exit 1; }; \
 	spirv-dis --raw-id $(B)/hlsl/$(1).spv > $(B)/hlsl/$(1).spvasm && \
 	awk -v n=$$(grep -n OpCapability $(B)/hlsl/$(1).spvasm | tail -1 | cut -d: -f1) \
 	  '{ print } NR == n { print "OpExtension \"SPV_KHR_float_controls\"" }' $(B)/hlsl/$(1).spvasm > $(B)/hlsl/$(1)_fc.spvasm && \
-	spirv-as --target-env vulkan1.1 --preserve-numeric-ids $(B)/hlsl/$(1)_fc.spvasm -o $(B)/hlsl/$(1)_fc.spv && \
-	$(SPIRV_VAL) --target-env vulkan1.1 $(B)/hlsl/$(1)_fc.spv
+	spirv-as $(HLSL_ENV) --preserve-numeric-ids $(B)/hlsl/$(1)_fc.spvasm -o $(B)/hlsl/$(1)_fc.spv && \
+	$(SPIRV_VAL) $(HLSL_ENV) $(B)/hlsl/$(1)_fc.spv
 $(B)/test_vulkan_hlsl_spv.h: tests/hlsl/lrt_trace.hlsl shaders/linear_rt.hlsl shaders/linear_rt.glsl linear_rt.h \
   $(B)/spv2h | $(B)
 	@mkdir -p $(B)/hlsl

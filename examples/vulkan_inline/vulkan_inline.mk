@@ -3,7 +3,7 @@
 # shaders/linear_rt.glsl, and its host code (main.c, and
 # linear_rt_vk_util.h, which the demo shares).
 # Included by the Makefile, which defines B, LIB, SCENE, STD, WARN, CFLAGS,
-# HAVE_VULKAN, VK_PROGRAM_FLAGS, VK_LIBS, GLSLANG, SPIRV_VAL, SPV_ENV, TESTS
+# HAVE_VULKAN, VK_PROGRAM_FLAGS, VK_LIBS, GLSLANG, GLSLANG_HLSL, SPIRV_VAL, SPV_ENV, HLSL_ENV, TESTS
 # and the rules for $(B), deps and $(B)/spv2h. It leaves the default goal alone.
 #   make build/vulkan_inline      the example (needs <vulkan/vulkan.h> and glslang)
 #   make test-vulkan-inline       runs it with validation at 64x64; skips (exit 0)
@@ -22,15 +22,15 @@ TESTS += test-vulkan-inline test-hlsl-inline
 
 # examples/hlsl_inline: the same host (main.c with HLSL_INLINE), the shader in
 # HLSL over shaders/linear_rt.hlsl, compiled by glslang's HLSL front end
-# (SPIR-V 1.3: glslang writes HLSL's storage buffers as BufferBlock)
+# (GLSLANG_HLSL, the Makefile's)
 HI_SPV_H := $(B)/hlsl_inline_spv.h
 $(HI_SPV_H): examples/hlsl_inline/contact_shadows.hlsl shaders/linear_rt.hlsl shaders/linear_rt.glsl linear_rt.h \
   $(B)/spv2h | $(B)
 	@mkdir -p $(B)/hlsl_inline_spv
-	$(GLSLANG) -D -V --target-env vulkan1.1 -e main -S comp -I. -Ishaders -o $(B)/hlsl_inline_spv/contact_shadows.spv \
+	$(GLSLANG_HLSL) -I. -Ishaders -o $(B)/hlsl_inline_spv/contact_shadows.spv \
 	  examples/hlsl_inline/contact_shadows.hlsl > $(B)/hlsl_inline_spv/contact_shadows.log 2>&1 || \
 	  { cat $(B)/hlsl_inline_spv/contact_shadows.log; exit 1; }
-	@if command -v $(SPIRV_VAL) >/dev/null 2>&1; then $(SPIRV_VAL) --target-env vulkan1.1 $(B)/hlsl_inline_spv/contact_shadows.spv; fi
+	@if command -v $(SPIRV_VAL) >/dev/null 2>&1; then $(SPIRV_VAL) $(HLSL_ENV) $(B)/hlsl_inline_spv/contact_shadows.spv; fi
 	$(B)/spv2h $@ contact_shadows_spv=$(B)/hlsl_inline_spv/contact_shadows.spv
 
 # The SPIR-V is compiled here, never committed: glslang finds linear_rt.h
