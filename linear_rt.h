@@ -66,7 +66,7 @@ int main(void)
                         range, the rare set-up, the common one, the start node
      node-test       6. node and texel tests: a node's 8 children in one step
      walk               the 8-child walk (WALKS, TWINS: every walk and its twin)
-     walk-cells         the GPU's cell walk in C, for the counts and tests
+     walk-cells         the GPU's cell walk in C: budgeted traces, counts, tests
      batch-avx2         eight rays at once (AVX2), and the trace loop
      trace              the CPU entry points: lrt_trace, lrt_trace_range, lrt_cpu_path
      camera        7. rays from a camera
@@ -553,14 +553,18 @@ typedef struct lrt_hit {
 /* Trace flags: 0 for the exact walk, or LRT_TRACE_BUDGET(steps) (any other
    bit is LRT_ERROR_INVALID_OPTION).
    LRT_TRACE_BUDGET(steps), 1 <= steps <= LRT_TRACE_BUDGET_MAX: each ray's
-   walk tests at most `steps` nodes (a level-1 node's 8 texels are one
-   test; a camera ray inside one texel column takes none). A ray that would
+   walk takes at most `steps` steps. In a tree without a thickness model a
+   step is the GPU's: one cell or texel tested (the cell walk of section
+   walk-cells, which every ordinary ray takes there); otherwise, and for a
+   ray in a plane of the texel grid or at the edge of float range, a node
+   test of the 8-child walk (a level-1 node's 8 texels are one test; a
+   camera ray inside one texel column takes none). A ray that would
    need more stops with LRT_MISS_BUDGET and t set to where its segment is
    proven free: no texel is hit at any t' < t (lrt_trace without a budget
    would return no hit before t), so an engine can fall back, or march on
    from there. x, y are 0 and face LRT_FACE_NONE. Every other answer is
    the exact one lrt_trace gives without a budget: a hit is the closest.
-   A budgeted walk starts where the GPU kernels' walk starts (at the
+   A budgeted walk is the GPU kernels' walk step for step (from the
    origin), so that lrt_vk_cmd_trace counts the same steps and gives the
    same answers bit for bit; LRT_TRACE_BUDGET(0) is 0, no budget.
    There is no any-hit mode: the walk visits children front to back and
@@ -3057,7 +3061,7 @@ typedef struct lrt__walk {
                              (a back map, or float depth); a model's float back of unorm depth may not be */
     uint32_t texels8_w, texels8_h; /* plain float: level-1 nodes (x, y) below these lie inside the map (lrt__texels8) */
     float extent[2];    /* the root's span in texels: no node's plane lies beyond it */
-    uint32_t budget;    /* node tests a ray may take (LRT_TRACE_BUDGET), 0: no limit */
+    uint32_t budget;    /* steps a ray may take (LRT_TRACE_BUDGET), 0: no limit */
     lrt__walk_level lv[LINEAR_RT_MAX_LEVELS + 1];
     uint8_t start_level[2][33]; /* lowest level whose nodes span 2^b texels along x / y */
     lrt__signs signs[4];        /* by neg_x | neg_y << 1 */
@@ -3992,7 +3996,8 @@ LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *
      CPU trace                           lrt__trace_walk                   lrt__walk_origin (8 children a step)
      GPU ordinary, infinite tree         lrt_trace_ray_ordinary            lrt_walk_cells (one cell a step)
      GPU ordinary, thickness tree        lrt_trace_ray_ordinary            lrt_walk_origin
-     GPU ordinary with a step budget     lrt_trace_ray_ordinary_budget     lrt_walk_origin
+     GPU ordinary with a step budget     lrt_trace_ray_ordinary_budget     infinite: lrt_walk_cells, else lrt_walk_origin
+     CPU trace with a step budget        lrt__trace_cells (infinite tree)  lrt__walk_cells
      GPU rare pass, one pass             lrt_trace_ray                     lrt_walk_origin
      counts of a GPU wave (bench)        lrt__walk_cells_ray               lrt__walk_cells
    TWINS: each C helper of the walks and its GLSL twin (same parameters, the
@@ -4412,6 +4417,21 @@ static LRT__NOINLINE int lrt__walk_down_budget(const lrt__walk *w, const lrt_ray
     return lrt__walk_origin(w, ray, hit, s, t_scale, top, nx, ny, px, py, 1u, 1u);
 }
 
+/* Whether lrt_trace takes a set-up ray to the cell walk (section walk-cells): in an infinite
+   tree, with a budget (whose steps must be the kernels'), a ray their
+   ordinary pass would (lrt_trace_ray_ordinary_budget): not rare (a large
+   direction alone is not), and in no plane of the texel grid. */
+LRT__FORCE_INLINE int lrt__walk_cells_takes(const lrt__walk *w, const lrt_ray *ray, const lrt__ray_setup *s)
+{
+    const uint32_t W = w->L->width, H = w->L->height;
+    if (!w->budget || w->back_codes) return 0;
+    if ((lrt__rare_bits(ray) || lrt__far_origin(ray->origin, W, H)) && !lrt__huge_direction(ray, W, H)) return 0;
+    return !lrt__in_grid_plane(s);
+}
+
+static void lrt__trace_cells(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s, float t_scale,
+                             uint32_t kind); /* section walk-cells */
+
 /* The trace of a set-up ray from node (nx, ny) of level lv (lrt__start_node);
    cull: lrt__cull_constants, stride floats apart, where AVX2 builds them
    (NULL: made here). */
@@ -4419,6 +4439,10 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
                                        uint32_t kind, uint32_t lv, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py,
                                        const float *cull, size_t stride)
 {
+    if (lrt__walk_cells_takes(w, ray, s)) { /* a budget counts the kernels' steps */
+        lrt__trace_cells(w, ray, hit, s, t_scale, kind);
+        return;
+    }
     if (lv == 0) { /* one texel: its box alone decides */
         const float x0 = (float)nx, y0 = (float)ny;
         const uint32_t slot = ((ny & 1u) << 2) | (nx & 3u);
@@ -4461,21 +4485,22 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
 }
 
 /* ============================================================ >>walk-cells
-   The GPU's cell walk, in C: the kernels' exact ordinary pass of an
-   infinite tree, one cell or texel a step, for the benchmark's counts and
-   the tests (below).
+   The GPU's cell walk, in C: the kernels' ordinary pass of an infinite
+   tree, one cell or texel a step: a budgeted CPU trace's walk there, the
+   benchmark's counts and the tests (below).
    ========================================================================== */
-#ifndef LRT__AVX2_PASS
 /* ---- the GPU's cell walk, in C ------------------------------------------------
    The kernels' exact ordinary pass of an infinite tree walks one cell a
    step (shaders/linear_rt.glsl, lrt_walk_cells, which says why its answer
    is the walk above's: the first texel hit in the same visiting order).
    This is that walk step for step, its floats the kernels' (a cell's code
    plane lrt__kernel_cull_setup's, a texel's test lrt__test_texel), for the
-   benchmark's count of what a GPU wave pays (bench/visits.c) and the
-   tests, which hold its hits to lrt_trace's. The CPU trace never calls it:
-   its 8-child node test is cheap in SIMD lanes. Its GLSL twins: the TWINS
-   table of section walk. */
+   benchmark's count of what a GPU wave pays (bench/visits.c), the tests,
+   which hold its hits to lrt_trace's, and a budgeted trace of an infinite
+   tree (lrt__walk_cells_takes), whose budget counts the kernels' steps.
+   An exact CPU trace keeps the 8-child walk: its node test is cheap in
+   SIMD lanes. Compiled in both passes; its GLSL twins: the TWINS table of
+   section walk. */
 /* lrt_split_level_x (rows 0) and lrt_split_level_y (rows 1) */
 LRT__UNUSED static int lrt__split_level(int a, int b, int rows)
 {
@@ -4513,39 +4538,55 @@ LRT__UNUSED static void lrt__cell_axis(int a, int n, float o, float v, float iv,
     *last = neg ? a : a + n - 1;
 }
 
-/* lrt_walk_cells of a set-up thin ray: its steps (cells and texels tested),
-   *texels the texels among them, *hit 1 with its texel (hx, hy) */
-LRT__UNUSED static uint32_t lrt__walk_cells(const lrt__walk *w, const lrt__ray_setup *s, size_t *texels, int *hit,
-                                            uint32_t *hx, uint32_t *hy)
+/* what lrt__walk_cells found (lrt_walk_cells' LRT_WALK_*) */
+#define LRT__WALK_MISS 0u
+#define LRT__WALK_HIT 1u
+#define LRT__WALK_BUDGET 2u
+
+/* lrt_walk_cells of a set-up thin ray, step for step: LRT__WALK_HIT with
+   the first texel hit (*hx, *hy), its t and planes; LRT__WALK_MISS; or, with
+   a budget (cell steps, 0: none), LRT__WALK_BUDGET where the next step
+   would pass it, *ht then the t before which the segment is proven free
+   (the GLSL says why). counts, where not NULL, add the steps taken [0] and
+   the texels tested among them [1]. */
+static uint32_t lrt__walk_cells(const lrt__walk *w, const lrt__ray_setup *s, uint32_t budget, uint32_t *hx, uint32_t *hy,
+                                float *ht, float hplanes[2], size_t counts[2])
 {
     const lrt_layout *L = w->L;
     lrt__kernel_cull c;
     int x, y, lv = 0, pend = 0;
-    uint32_t steps = 0;
+    uint32_t steps = 0, found = LRT__WALK_MISS;
+    float free_t = s->t_lo; /* no hit before it */
     lrt__kernel_cull_setup(w, s, &c);
     x = lrt__cross_texel(s->o[0], s->v[0], s->iv[0], s->neg_x, s->t_lo, 0, (int)L->width - 1, (int)s->o[0]);
     y = lrt__cross_texel(s->o[1], s->v[1], s->iv[1], s->neg_y, s->t_lo, 0, (int)L->height - 1, (int)s->o[1]);
-    *hit = 0;
+    *hx = *hy = 0;
+    *ht = 0.0f;
+    hplanes[0] = hplanes[1] = 0.0f;
     for (;;) {
         const int sw = lv + ((lv + 1) >> 1), sh = lv + (lv >> 1);
         const int cx = x >> sw, cy = y >> sh; /* x, y >= 0: a move to -1 ends the walk */
         float en = s->t_lo, ex = s->t_hi, lx, ly;
         int px, py, lastx, lasty, met = 0, to = lv - 1;
+        if (budget && steps == budget) { /* spent: the next cell is not tested */
+            *ht = free_t;
+            found = LRT__WALK_BUDGET;
+            break;
+        }
+        ++steps;
         lrt__cell_axis(cx << sw, 1 << sw, s->o[0], s->v[0], s->iv[0], s->neg_x, &en, &ex, &lx, &px, &lastx);
         lrt__cell_axis(cy << sh, 1 << sh, s->o[1], s->v[1], s->iv[1], s->neg_y, &en, &ex, &ly, &py, &lasty);
-        ++steps;
         if (lv == 0) {
             const int on = (uint32_t)x < L->width && (uint32_t)y < L->height;
             const uint32_t slot = (((uint32_t)y & 1u) << 2) | ((uint32_t)x & 3u);
             const uint32_t code =
                 on && w->exact_codes ? *lrt__codes(w, lrt__node_slot(w, 1, (uint32_t)x >> 2, (uint32_t)y >> 1) + slot) : 0u;
-            float t, planes[2];
-            ++*texels;
-            if (lrt__test_texel(w, s, (uint32_t)x, (uint32_t)y, en, ex, code, &t, planes)) {
-                *hit = 1;
+            if (counts) ++counts[1];
+            if (lrt__test_texel(w, s, (uint32_t)x, (uint32_t)y, en, ex, code, ht, hplanes)) {
                 *hx = (uint32_t)x;
                 *hy = (uint32_t)y;
-                return steps;
+                found = LRT__WALK_HIT;
+                break;
             }
         } else if ((uint32_t)x < L->width && (uint32_t)y < L->height) {
             const uint32_t bw = ((uint32_t)lv & 1u) ? 1u : 2u, bh = 3u - bw;
@@ -4574,29 +4615,53 @@ LRT__UNUSED static uint32_t lrt__walk_cells(const lrt__walk *w, const lrt__ray_s
                 to = pend >> 2;
                 pend = 0;
             } else if (!(lt <= lrt__widen(s->t_hi))) {
-                return steps;
-            } else if ((lx > ly ? lx : ly) <= lrt__widen(lt)) {
-                const int a_first = bx <= by;
-                x = a_first ? px : lastx;
-                y = a_first ? lasty : py;
-                to = a_first ? bx : by;
-                pend = ((bx > by ? bx : by) << 2) | 2 | a_first;
-            } else if (lx < ly) {
-                y = lrt__cross_texel(s->o[1], s->v[1], s->iv[1], s->neg_y, lx, cy << sh, ((cy + 1) << sh) - 1, y);
-                x = px;
-                to = bx;
+                break; /* the segment ends in this cell */
             } else {
-                x = lrt__cross_texel(s->o[0], s->v[0], s->iv[0], s->neg_x, ly, cx << sw, ((cx + 1) << sw) - 1, x);
-                y = py;
-                to = by;
+                free_t = free_t > lt ? free_t : lt; /* every cell before the next is done */
+                if ((lx > ly ? lx : ly) <= lrt__widen(lt)) {
+                    const int a_first = bx <= by;
+                    x = a_first ? px : lastx;
+                    y = a_first ? lasty : py;
+                    to = a_first ? bx : by;
+                    pend = ((bx > by ? bx : by) << 2) | 2 | a_first;
+                } else if (lx < ly) {
+                    y = lrt__cross_texel(s->o[1], s->v[1], s->iv[1], s->neg_y, lx, cy << sh, ((cy + 1) << sh) - 1, y);
+                    x = px;
+                    to = bx;
+                } else {
+                    x = lrt__cross_texel(s->o[0], s->v[0], s->iv[0], s->neg_x, ly, cx << sw, ((cx + 1) << sw) - 1, x);
+                    y = py;
+                    to = by;
+                }
             }
-            if (to >= (int)L->level_count) return steps;
+            if (to >= (int)L->level_count) break; /* past the root's cell: off the screen */
         }
         lv = to;
     }
+    if (counts) counts[0] += steps;
+    return found;
+}
+
+/* A budgeted ray of an infinite tree through the cell walk (lrt_trace_cells
+   of the kernels), called by both passes of the walk: scalar code, once. */
+static LRT__NOINLINE void lrt__trace_cells(const lrt__walk *w, const lrt_ray *ray, lrt_hit *hit, const lrt__ray_setup *s,
+                                           float t_scale, uint32_t kind)
+{
+    uint32_t hx, hy, found;
+    float t, planes[2];
+    found = lrt__walk_cells(w, s, w->budget, &hx, &hy, &t, planes, NULL);
+    if (found == LRT__WALK_HIT) {
+        lrt__report_hit(w, ray, s, t_scale, t, hx, hy, planes, hit);
+        return;
+    }
+    hit->t = found == LRT__WALK_BUDGET ? lrt__ray_t(ray, s, t_scale, t) : 0.0f;
+    hit->x = hit->y = 0;
+    hit->face = LRT_FACE_NONE;
+    hit->kind = (uint16_t)(found == LRT__WALK_BUDGET ? (uint32_t)LRT_MISS_BUDGET : kind);
 }
 
 
+#ifndef LRT__AVX2_PASS
 /* One ray through the cell walk, for code after this file (where the walk's
    names may stand for their AVX2 pass): 0 where the kernels' ordinary pass
    would not take it to the cell walk (a rare ray, one in a plane of the
@@ -4607,8 +4672,8 @@ LRT__UNUSED static int lrt__walk_cells_ray(const lrt_bvh *bvh, const lrt_depth *
 {
     lrt__walk w;
     lrt__ray_setup s;
-    size_t stride = 0;
-    float t_scale;
+    size_t stride = 0, counts[2] = {0, 0};
+    float t_scale, t, planes[2];
     uint32_t kind;
     *hit = 0;
     if (lrt__check_depth(depth, &stride) != LRT_SUCCESS) return 0;
@@ -4617,10 +4682,12 @@ LRT__UNUSED static int lrt__walk_cells_ray(const lrt_bvh *bvh, const lrt_depth *
         return 0;
     if (!lrt__setup_ray(ray, depth->width, depth->height, &s, &t_scale, &kind) || lrt__in_grid_plane(&s)) return 0;
     lrt__walk_init(&w, bvh, depth, stride);
-    *steps = lrt__walk_cells(&w, &s, texels, hit, hx, hy);
+    *hit = lrt__walk_cells(&w, &s, 0u, hx, hy, &t, planes, counts) == LRT__WALK_HIT;
+    *steps = (uint32_t)counts[0];
+    *texels += counts[1];
     return 1;
 }
-#endif /* !LRT__AVX2_PASS: the cell walk */
+#endif /* !LRT__AVX2_PASS: lrt__walk_cells_ray */
 
 /* ============================================================ >>batch-avx2
    Eight rays at once (AVX2): set up side by side, then each walked, and the
@@ -6807,6 +6874,12 @@ LINEAR_RT_DEF void lrt_vk_device_destroy(lrt_vk_device *device)
 #define lrt__level1_codes lrt__level1_codes_avx2
 #define lrt__level1_codes_hit lrt__level1_codes_hit_avx2
 #define lrt__in_grid_plane lrt__in_grid_plane_avx2
+#define lrt__walk_cells_takes lrt__walk_cells_takes_avx2
+#define lrt__split_level lrt__split_level_avx2
+#define lrt__cross_texel lrt__cross_texel_avx2
+#define lrt__cell_axis lrt__cell_axis_avx2
+#define lrt__walk_cells lrt__walk_cells_avx2
+#define lrt__trace_cells lrt__trace_cells_avx2
 #define lrt__level1_hit lrt__level1_hit_avx2
 #define lrt__load_codes lrt__load_codes_avx2
 #define lrt__node_slot lrt__node_slot_avx2

@@ -510,9 +510,9 @@ typedef struct wave_weight {
    make gpu-stats --weights (bench/gpu_stats.c: RADV's ACO for RDNA3, the
    static instructions and loads of each kernel's outermost loop body and of
    the largest loop inside it; bench --weights FILE). linear_rt's exact
-   ordinary pass of an infinite tree is the cell walk: a step tests one cell
-   or one texel, its loop body holds both tests and the move. A thickness
-   tree's, and every budgeted pass, is the 8-child walk, whose loop holds the
+   ordinary pass of an infinite tree, exact or budgeted, is the cell walk: a
+   step tests one cell or one texel, its loop body holds both tests and the
+   move. A thickness tree's is the 8-child walk, whose loop holds the
    level-1 texel loop: the walk's own part (body - inner) is a node test's
    weight, the texel loop's a texel test's. The 64-step march's loop body
    holds its sample and its 8 bisection steps unrolled
@@ -528,8 +528,11 @@ static wave_weight wave_weights[] = {
     {"linear_rt vulkan 8", "linear_rt trace buffer", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
     {"linear_rt vulkan 16 back", "linear_rt trace buffer, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
     {"linear_rt vulkan 8 back", "linear_rt trace buffer, back 8-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
-    {"linear_rt vulkan 16 budget", "linear_rt trace buffer, budgeted", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16 budget", "linear_rt trace buffer, budgeted", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
     {"linear_rt vulkan 16 budget back", "linear_rt trace buffer, budgeted, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
+    /* the 8-child walk uncut, as the one-pass kernel the H200 ran walked every ray */
+    {"linear_rt vulkan 16 8-child", "linear_rt trace buffer, one pass", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16 8-child back", "linear_rt trace buffer, one pass, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
     {"march64 vulkan", "bench march64", 0, 9.0, 0, 0, 0, 0, 0, 0, 0, 0},
     {"dda vulkan", "bench dda", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
     {"hiz64 vulkan", "bench hiz64", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
@@ -624,8 +627,9 @@ static void wave_estimate(const wave_weight *ww, wave_row *w)
 }
 
 /* linear_rt vulkan 16 at each step budget of the benchmark: the budgeted
-   pass is the 8-child walk cut short, so a ray's node tests are min(steps,
-   budget) of that walk's steps (its texel tests per node test taken as
+   pass is the exact pass's walk cut short (an infinite tree's cell walk, a
+   thickness tree's 8-child walk), so a ray's steps are min(steps, budget)
+   of that walk's (the 8-child walk's texel tests per node test taken as
    the uncut walk's) */
 static void budget_waves(const scene *sc, const bench_rays *rs, const uint32_t *steps, double texels)
 {
@@ -710,12 +714,13 @@ static void count_waves(const scene *sc, const ray_set *sets, int nsets)
             wave_estimate(ww, w);
             if (g_steps_dir && k == 0 && !sc->s.back) dump_steps(sc, rs->name, steps, rs->count);
             ++g_nwaves;
-            if (k == 0) { /* the budgets cut the 8-child walk */
-                const wave_weight *ww8 = weight_of("linear_rt vulkan 16 budget", sc->s.back != NULL);
+            if (k == 0) { /* the budgets cut the exact pass's walk */
+                const wave_weight *ww8 = weight_of("linear_rt vulkan 16 8-child", sc->s.back != NULL);
                 double mean, wave, tex8 = 0.0;
+                if (!sc->s.back) budget_waves(sc, rs, steps, w->texels);
                 if (bench_wave_linear_rt(&sc->s, rs, 16u, steps, &tex8) == 0) {
                     bench_wave_stats(steps, rs->count, WAVE_LANES, &mean, &wave);
-                    budget_waves(sc, rs, steps, mean > 0.0 ? tex8 / ((double)rs->count * mean) : 0.0);
+                    if (sc->s.back) budget_waves(sc, rs, steps, mean > 0.0 ? tex8 / ((double)rs->count * mean) : 0.0);
                     if (g_nwaves < MAX_WAVES) { /* the 8-child walk uncut (the one-pass kernel's, which the H200 ran) */
                         wave_row *e = &g_waves[g_nwaves++];
                         e->scene = sc->s.name;
@@ -803,8 +808,8 @@ static void write_waves(FILE *f)
     if (!g_nwaves) return;
     fprintf(f, "\n## What a wave pays\n\nA GPU steps %u rays together (a warp, a wave32) and a group pays for its "
                "slowest ray. Steps per ray, counted on the CPU (bench/visits.c, bench/wave.c) as the Vulkan kernels "
-               "take them: linear_rt's exact walk on an infinite tree, its cells and texels tested (the cell walk); "
-               "on a thickness tree, and with a step budget, its node tests at any level (the 8-child walk, always "
+               "take them: linear_rt's walk on an infinite tree, exact or with a step budget, its cells and texels "
+               "tested (the cell walk); on a thickness tree its node tests at any level (the 8-child walk, always "
                "from the origin's level-1 node); the 64-step march's samples and bisection steps; the DDA's columns; "
                "the Hi-Z walk's iterations. Wave steps: the mean over groups of %u consecutive rays (dispatch order) "
                "of the group's most, for an NVIDIA warp or an RDNA wave32, and for %u lanes, the wave64 RADV compiles "

@@ -18,7 +18,8 @@
 //   #define LRT_BACK_WORD(i) / LRT_BACK_TEXEL(x, y)  the back map, as the depth
 // (without them such a tree cannot be traced here), and #define
 // LRT_BACK_TREES false where no tree with a thickness model is traced: the
-// back code folds away.
+// back code folds away (LRT_INFINITE_TREES false where only such trees are:
+// the cell walk does).
 // Float and integer arithmetic only: no shaderFloat64, no reliance on fma.
 //
 // The numbers follow linear_rt.h step by step, so both paths give the same
@@ -68,6 +69,11 @@
 // compiler cannot remove costs lavapipe on every secondary ray)
 #ifndef LRT_BACK_TREES
 #define LRT_BACK_TREES true
+#endif
+// false: every tree traced here has a thickness model, and the cell walk
+// (which only infinite trees take) folds away
+#ifndef LRT_INFINITE_TREES
+#define LRT_INFINITE_TREES true
 #endif
 #ifndef LRT_BACK_WORD
 #define LRT_BACK_WORD(i) 0u
@@ -1518,8 +1524,14 @@ void lrt_cell_axis(int a, int n, float o, float iv, uint neg, bool zero, inout f
 }
 
 // The walk of an ordinary thin ray (lrt_trace_ray_ordinary): LRT_WALK_HIT
-// with the first texel hit (hx, hy), its t and planes, or LRT_WALK_MISS
-uint lrt_walk_cells(LrtParams p, LrtSetup s, out uint hx, out uint hy, out float ht, out vec2 hplanes)
+// with the first texel hit (hx, hy), its t and planes, or LRT_WALK_MISS;
+// with a budget (cell steps, 0: none), LRT_WALK_BUDGET where the next step
+// would pass it, ht then the t before which the segment is proven free: the
+// t where the ray left the last cell it left by a move. Each plane's t,
+// (p - o) * iv, is monotone in p, so every cell after it in visiting order
+// (a corner's second cell too) is entered no earlier, and a texel's hit
+// lies in its box
+uint lrt_walk_cells(LrtParams p, LrtSetup s, uint budget, out uint hx, out uint hy, out float ht, out vec2 hplanes)
 {
     hplanes = vec2(0.0, 0.0);
     hx = 0u;
@@ -1541,7 +1553,13 @@ uint lrt_walk_cells(LrtParams p, LrtSetup s, out uint hx, out uint hy, out float
     // texel back in x and on in y from the cursor (A came first), 2, on in
     // x and back in y (B came first); the level of that move above
     int pend = 0;
+    float free_t = s.t_lo; // no hit before it
+    uint steps = 0u;
     for (;;) {
+        if (budget != 0u && steps++ == budget) { // spent: the next cell is not tested
+            ht = free_t;
+            return LRT_WALK_BUDGET;
+        }
         uint sw = lrt_span_w_log2(uint(lv)), sh = lrt_span_h_log2(uint(lv));
         int cx = x >> sw, cy = y >> sh; // the cell (int: the cursor may stand past the screen)
         float en = s.t_lo, ex = s.t_hi, lx, ly;
@@ -1583,19 +1601,23 @@ uint lrt_walk_cells(LrtParams p, LrtSetup s, out uint hx, out uint hy, out float
                 pend = 0;
             } else if (!(lt <= lrt_widen(s.t_hi))) {
                 return LRT_WALK_MISS; // the segment ends in this cell
-            } else if (max(lx, ly) <= lrt_widen(lt)) { // a corner: both neighbours, in visiting order
-                bool a_first = bx <= by;
-                x = a_first ? px : lastx;
-                y = a_first ? lasty : py;
-                to = a_first ? bx : by;
-                pend = (max(bx, by) << 2) | 2 | (a_first ? 1 : 0);
-            } else { // the next column, or the next row: one texel along the other axis
-                bool along_x = lx < ly;
-                int c = along_x ? lrt_cross_texel(s.o.y, s.v.y, s.iv.y, s.neg.y, s.zero.y, lx, cy << sh, ((cy + 1) << sh) - 1, y)
+            } else {
+                free_t = max(free_t, lt); // every cell before the next is done
+                if (max(lx, ly) <= lrt_widen(lt)) { // a corner: both neighbours, in visiting order
+                    bool a_first = bx <= by;
+                    x = a_first ? px : lastx;
+                    y = a_first ? lasty : py;
+                    to = a_first ? bx : by;
+                    pend = (max(bx, by) << 2) | 2 | (a_first ? 1 : 0);
+                } else { // the next column, or the next row: one texel along the other axis
+                    bool along_x = lx < ly;
+                    int c = along_x
+                                ? lrt_cross_texel(s.o.y, s.v.y, s.iv.y, s.neg.y, s.zero.y, lx, cy << sh, ((cy + 1) << sh) - 1, y)
                                 : lrt_cross_texel(s.o.x, s.v.x, s.iv.x, s.neg.x, s.zero.x, ly, cx << sw, ((cx + 1) << sw) - 1, x);
-                x = along_x ? px : c;
-                y = along_x ? c : py;
-                to = along_x ? bx : by;
+                    x = along_x ? px : c;
+                    y = along_x ? c : py;
+                    to = along_x ? bx : by;
+                }
             }
             if (to >= int(p.level_count)) return LRT_WALK_MISS; // past the root's cell: off the screen
         }
@@ -1621,23 +1643,6 @@ LrtHit lrt_miss(uint kind)
     return hit;
 }
 
-// any ray: lrt_trace of linear_rt.h, with a step budget (LRT_TRACE_BUDGET:
-// node tests, 0 for none; a ray that needs more gets LRT_MISS_BUDGET)
-LrtHit lrt_trace_ray_budget(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, uint budget)
-{
-    LrtSetup s;
-    int t_exp; // the set-up scaled t by 2^-t_exp
-    uint kind;
-    if (!lrt_setup_ray(p, origin, tmin, dir, tmax, s, t_exp, kind)) return lrt_miss(kind);
-    return lrt_trace_setup(p, s, t_exp, false, kind, tmin, tmax, budget, false);
-}
-
-// any ray, the exact walk
-LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
-{
-    return lrt_trace_ray_budget(p, origin, tmin, dir, tmax, 0u);
-}
-
 // the ordinary set-up of a ray lrt_ray_rare lets through (scaled by its
 // 2^-e); false with rare set for one it does not, or with kind set when
 // nothing is left to walk
@@ -1649,12 +1654,30 @@ bool lrt_setup_unless_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, 
     return !rare && lrt_setup_ordinary(p, o, tmin, v, tmax, e, s, kind);
 }
 
+// a set-up ordinary thin ray of an infinite tree through the cell walk
+LrtHit lrt_trace_cells(LrtParams p, LrtSetup s, int e, uint kind, float tmin, float tmax, uint budget)
+{
+    uint hx, hy;
+    float ht;
+    vec2 hplanes;
+    uint found = lrt_walk_cells(p, s, budget, hx, hy, ht, hplanes);
+    // e <= 125: 2^-e is normal
+    if (found == LRT_WALK_HIT) return lrt_report_hit(p, s, -e, true, ht, tmin, tmax, hx, hy, hplanes);
+    LrtHit hit = lrt_miss(found == LRT_WALK_BUDGET ? LRT_MISS_BUDGET : kind);
+    if (found == LRT_WALK_BUDGET) hit.t = lrt_ray_t(s, -e, true, ht, tmin, tmax);
+    return hit;
+}
+
 // an ordinary ray, without the rare set-up's code: a shader a fraction of
-// lrt_trace_ray's size. rare true (and the hit undefined) for a ray only
-// lrt_setup_rare can set up (lrt_ray_rare; a direction that is only large
-// is scaled here), which lrt_trace_ray then traces, e.g. in a second
-// pass as the library's own kernel does. The same answer as lrt_trace_ray
-// for every other ray
+// lrt_trace_ray's size, with a step budget as lrt_trace_ray_budget's. rare
+// true (and the hit undefined) for a ray only lrt_setup_rare can set up
+// (lrt_ray_rare; a direction that is only large is scaled here), or, in an
+// infinite tree, one the cell walk does not take (lrt_walk_cells_takes),
+// which lrt_trace_ray_budget then traces, e.g. in a second pass as the
+// library's own kernel does. The same answer as lrt_trace_ray_budget for
+// every other ray: an infinite tree's by the cell walk, a thickness
+// tree's by the 8-child walk, whose wider step pays where each texel test
+// also reads a back (docs/PERFORMANCE.md, what a wave pays)
 LrtHit lrt_trace_ray_ordinary_budget(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, uint budget,
                                      out bool rare)
 {
@@ -1662,23 +1685,40 @@ LrtHit lrt_trace_ray_ordinary_budget(LrtParams p, vec3 origin, float tmin, vec3 
     uint kind;
     int e;
     if (!lrt_setup_unless_rare(p, origin, tmin, dir, tmax, s, e, kind, rare)) return lrt_miss(kind);
-    return lrt_trace_setup(p, s, -e, true, kind, tmin, tmax, budget, true); // e <= 125: 2^-e is normal
+    if (!LRT_INFINITE_TREES || lrt_has_back(p)) return lrt_trace_setup(p, s, -e, true, kind, tmin, tmax, budget, true);
+    rare = !lrt_walk_cells_takes(s);
+    return rare ? lrt_miss(kind) : lrt_trace_cells(p, s, e, kind, tmin, tmax, budget);
 }
 
-// the same, the exact walk: the cell walk (lrt_walk_cells), and rare true
-// for a ray it does not trace (lrt_walk_cells_takes), which lrt_trace_ray does
+// the same, the exact walk
 LrtHit lrt_trace_ray_ordinary(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, out bool rare)
 {
+    return lrt_trace_ray_ordinary_budget(p, origin, tmin, dir, tmax, 0u, rare);
+}
+
+// any ray: lrt_trace of linear_rt.h, with a step budget (LRT_TRACE_BUDGET,
+// 0 for none; a ray that needs more gets LRT_MISS_BUDGET). A budget counts
+// the steps of the walk lrt_trace takes: in an infinite tree the cell
+// walk's for the rays it takes (lrt_trace_ray_ordinary_budget), else the
+// 8-child walk's node tests
+LrtHit lrt_trace_ray_budget(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, uint budget)
+{
+    if (budget != 0u && LRT_INFINITE_TREES && !lrt_has_back(p)) {
+        bool rare;
+        LrtHit hit = lrt_trace_ray_ordinary_budget(p, origin, tmin, dir, tmax, budget, rare);
+        if (!rare) return hit;
+    }
     LrtSetup s;
+    int t_exp; // the set-up scaled t by 2^-t_exp
     uint kind;
-    int e;
-    if (!lrt_setup_unless_rare(p, origin, tmin, dir, tmax, s, e, kind, rare)) return lrt_miss(kind);
-    rare = !lrt_walk_cells_takes(s);
-    uint hx, hy;
-    float ht;
-    vec2 hplanes;
-    if (rare || lrt_walk_cells(p, s, hx, hy, ht, hplanes) != LRT_WALK_HIT) return lrt_miss(kind);
-    return lrt_report_hit(p, s, -e, true, ht, tmin, tmax, hx, hy, hplanes); // e <= 125: 2^-e is normal
+    if (!lrt_setup_ray(p, origin, tmin, dir, tmax, s, t_exp, kind)) return lrt_miss(kind);
+    return lrt_trace_setup(p, s, t_exp, false, kind, tmin, tmax, budget, false);
+}
+
+// any ray, the exact walk
+LrtHit lrt_trace_ray(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax)
+{
+    return lrt_trace_ray_budget(p, origin, tmin, dir, tmax, 0u);
 }
 
 #endif

@@ -15,6 +15,7 @@
 //   #define LRT_DEPTH_TEXEL(x, y) depth.Load(int3(x, y, 0)).r (LRT_DEPTH_IMAGE 1)
 //   and for a back-map tree LRT_BACK_WORD(i) / LRT_BACK_TEXEL(x, y), and
 //   #define LRT_BACK_TREES false where no tree with a thickness model is traced
+//   (LRT_INFINITE_TREES false where only such trees are)
 // then calls lrt_trace_ray(p, origin, tmin, dir, tmax) with an LrtParams p
 // (the first fields of the contract's push constants; a constant buffer or
 // push constants of the includer's own).

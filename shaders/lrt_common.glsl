@@ -50,6 +50,7 @@ uvec4 lrt_node_quad(uint i)
 // them): with false the back code folds away, so other trees pay nothing
 layout(constant_id = 0) const bool lrt_back_trees = false;
 #define LRT_BACK_TREES lrt_back_trees
+#define LRT_INFINITE_TREES (!lrt_back_trees) // the host picks these pipelines for thickness trees alone
 // and their node width (8: a compact level 1, or 16): a constant, so the
 // decoding folds
 layout(constant_id = 1) const uint lrt_back_node_bits = 16u;

@@ -34,19 +34,13 @@ void lrt_trace_one(uint idx)
     uint i = pc.ray_first + idx;
     LrtRayIn r = lrt_rays.r[i];
     LrtHit hit;
-    // LRT_TRACE_BUDGET: node tests, 0 for none; the exact ordinary pass's a constant 0
+    // LRT_TRACE_BUDGET: steps, 0 for none; the exact ordinary pass's a constant 0
     uint budget = lrt_trace_pass == 0u ? 0u : pc.trace_flags & LRT_K_TRACE_BUDGET_MASK;
     if (lrt_trace_pass == 1u || lrt_trace_pass == 2u) {
         hit = lrt_trace_ray_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget);
     } else {
-        bool rare;
-        // the exact pass of an infinite tree walks cells; a thickness tree's
-        // the 8-child walk, whose wider step pays where each texel test
-        // also reads a back (docs/PERFORMANCE.md, what a wave pays)
-        if (lrt_trace_pass == 0u && !LRT_BACK_TREES)
-            hit = lrt_trace_ray_ordinary(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, rare);
-        else
-            hit = lrt_trace_ray_ordinary_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget, rare);
+        bool rare; // an infinite tree's rays walk cells; a thickness tree's the 8-child walk
+        hit = lrt_trace_ray_ordinary_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget, rare);
         if (rare) {
             lrt_hits.h[i] = uvec4(0u, 0u, 0u, LRT_RARE_MARK);
             return;

@@ -292,14 +292,16 @@ static void test_bench_scenes(void)
 
 /* linear_rt.h's C twin of the GPU's cell walk (lrt__walk_cells): on every
    ray its ordinary pass takes, the same answer as lrt_trace's (hit or not,
-   the same texel), as test_vulkan holds the kernels' own */
-static size_t g_cell_rays;
+   the same texel), as test_vulkan holds the kernels' own. And a budget
+   counts its steps: lrt_trace with the steps the walk took gives the exact
+   answer, with one fewer a budget miss */
+static size_t g_cell_rays, g_cell_budgets;
 static void cells_match(const char *what, const test_map *m, uint32_t node_bits, const lrt_ray *rays, size_t n)
 {
     const lrt_depth *depth = test_map_depth(m);
     lrt_build_options opt = m->model;
     lrt_bvh bvh = {0};
-    size_t i, differ = 0, texels = 0;
+    size_t i, differ = 0, texels = 0, budget_differ = 0;
     opt.node_bits = node_bits;
     if (lrt_bvh_build(&bvh, depth, &opt, NULL) != LRT_SUCCESS) {
         CHECK(0, "%s: build failed", what);
@@ -318,8 +320,20 @@ static void cells_match(const char *what, const test_map *m, uint32_t node_bits,
             ++differ;
         }
         ++g_cell_rays;
+        if (opt.thickness == LRT_THICKNESS_INFINITE && steps <= LRT_TRACE_BUDGET_MAX) {
+            lrt_hit b = h;
+            int ok = lrt_trace(&bvh, depth, &rays[i], &b, 1, LRT_TRACE_BUDGET(steps)) == LRT_SUCCESS &&
+                     memcmp(&b, &h, sizeof b) == 0;
+            if (ok && steps > 1)
+                ok = lrt_trace(&bvh, depth, &rays[i], &b, 1, LRT_TRACE_BUDGET(steps - 1)) == LRT_SUCCESS &&
+                     b.kind == LRT_MISS_BUDGET;
+            budget_differ += !ok;
+            ++g_cell_budgets;
+        }
     }
     CHECK(differ == 0, "%s: the cell walk differs from lrt_trace on %zu rays", what, differ);
+    CHECK(budget_differ == 0, "%s: a budget of the cell walk's steps (or one fewer) answers otherwise on %zu rays", what,
+          budget_differ);
     lrt_bvh_destroy(&bvh);
 }
 
@@ -344,8 +358,10 @@ static void test_cell_walk(void)
                 free_map(&m);
                 free(rays);
             }
-    printf("%zu rays through the cell walk, each lrt_trace's answer\n", g_cell_rays);
+    printf("%zu rays through the cell walk, each lrt_trace's answer; %zu traced with a budget of its steps\n", g_cell_rays,
+           g_cell_budgets);
     CHECK(g_cell_rays > 100000, "only %zu rays took the cell walk", g_cell_rays);
+    CHECK(g_cell_budgets > 100000, "only %zu rays traced with a budget of the cell walk's steps", g_cell_budgets);
 }
 
 /* the fuzzer's rays, the rare set-up among them */

@@ -68,6 +68,7 @@ uint4 lrt_node_quad(uint i)
 #define LRT_NODE_WORD(i) lrt_nodes.Load((i) * 4u)
 #define LRT_NODE_QUAD(i) lrt_node_quad(i)
 #define LRT_BACK_TREES lrt_back_trees
+#define LRT_INFINITE_TREES (!lrt_back_trees) // as lrt_common.glsl: thickness trees alone
 #include "../../shaders/linear_rt.hlsl"
 
 // lrt_common.glsl's lrt_params, written again in HLSL on purpose: this file is
@@ -103,10 +104,7 @@ void lrt_trace_one(uint idx)
         hit = lrt_trace_ray_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget);
     } else {
         bool rare;
-        if (lrt_trace_pass == 0u && !LRT_BACK_TREES)
-            hit = lrt_trace_ray_ordinary(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, rare);
-        else
-            hit = lrt_trace_ray_ordinary_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget, rare);
+        hit = lrt_trace_ray_ordinary_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget, rare);
         if (rare) {
             lrt_hits[i] = uint4(0u, 0u, 0u, LRT_RARE_MARK);
             return;
