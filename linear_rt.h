@@ -4439,10 +4439,9 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
                                        uint32_t kind, uint32_t lv, uint32_t nx, uint32_t ny, uint32_t px, uint32_t py,
                                        const float *cull, size_t stride)
 {
-    if (lrt__walk_cells_takes(w, ray, s)) { /* a budget counts the kernels' steps */
-        lrt__trace_cells(w, ray, hit, s, t_scale, kind);
-        return;
-    }
+    /* a budget counts the kernels' steps: the cell walk's where it takes
+       the ray (lrt__walk_cells_takes; 0 without a budget) */
+    const int cells = lrt__walk_cells_takes(w, ray, s);
     if (lv == 0) { /* one texel: its box alone decides */
         const float x0 = (float)nx, y0 = (float)ny;
         const uint32_t slot = ((ny & 1u) << 2) | (nx & 3u);
@@ -4453,9 +4452,16 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
         if (lrt__test_texel(w, s, nx, ny, en, ex, w->exact_codes ? *lrt__codes(w, lrt__node_slot(w, 1, nx >> 2, ny >> 1) + slot) : 0u,
                             &t, planes)) {
             lrt__report_hit(w, ray, s, t_scale, t, nx, ny, planes, hit);
+            return; /* the cell walk's first step, its first texel, is this one */
+        }
+        if (!cells) {
+            hit->kind = (uint16_t)kind;
             return;
         }
-        hit->kind = (uint16_t)kind;
+        /* a miss: the cell walk may take more steps to prove it */
+    }
+    if (cells) {
+        lrt__trace_cells(w, ray, hit, s, t_scale, kind);
         return;
     }
     lrt__walk_setup(w, s, cull, stride);
