@@ -394,6 +394,7 @@ ifeq ($(VI_HAVE_GLSLANG),1)
 test-vulkan-hlsl: $(B)/test_vulkan_hlsl
 	$(B)/test_vulkan_hlsl
 	$(B)/test_vulkan_hlsl --flushing-device
+	$(B)/test_vulkan_hlsl --compacted
 else
 test-vulkan-hlsl:
 	@echo "$@: skipped: $(GLSLANG) is not installed (Debian: glslang-tools)"; [ "$$CI" != "true" ]
@@ -402,6 +403,7 @@ endif
 test-vulkan: $(B)/test_vulkan
 	$(B)/test_vulkan
 	$(B)/test_vulkan --flushing-device
+	$(B)/test_vulkan --compacted
 else
 test-vulkan test-vulkan-hlsl:
 	@echo "$@: skipped: <vulkan/vulkan.h> not found (tools/install-deps.sh installs libvulkan-dev)"; \
@@ -589,12 +591,12 @@ $(B)/gpu_stats: bench/gpu_stats.c $(GPU_STATS_DEPS) $(B)/config.stamp | deps $(B
 gpu-stats: $(B)/gpu_stats
 	@$(B)/gpu_stats --out $(GPU_STATS_OUT) --weights $(GPU_WEIGHTS); rc=$$?; [ $$rc -eq 77 ] && exit 0; exit $$rc
 
-# the library's trace pipeline alone compiled (--quick: all thirty are still
+# the library's trace pipeline alone compiled (--quick: all 32 are still
 # made and identified), on each of the three GPUs; then the table of each
-# must have its figures. Then every pipeline, the library's 30 and the
+# must have its figures. Then every pipeline, the library's 32 and the
 # benchmark's 7 peers, on RDNA3: each must compile and the walks' loops be
 # found (a peer dropped or a loop lost fails here)
-GPU_PIPELINES := 37
+GPU_PIPELINES := 39
 test-gpu-stats: $(B)/gpu_stats
 	@$(B)/gpu_stats --quick --out $(B)/gpu-stats-quick.md; rc=$$?; \
 	if [ $$rc -eq 77 ]; then echo "test-gpu-stats: skipped: no RADV"; exit 0; fi; [ $$rc -eq 0 ] || exit $$rc; \

@@ -279,18 +279,23 @@ int main(void)
 #define LRT_K_VK_BINDING_BACK_BUFFER 6u
 #define LRT_K_VK_BINDING_BACK_IMAGE 7u
 #define LRT_K_VK_BINDING_NODE_TEXELS 8u /* the nodes again, as R32G32B32A32_UINT texels: the trace's reads */
-/* The push constants of every kernel, in this order (84 bytes), U32 and
+#define LRT_K_VK_BINDING_SCRATCH 9u     /* a compacted trace's lists (lrt_vk_cmd_trace_compacted) */
+#define LRT_K_VK_TRACE_ROUNDS 6u        /* a compacted trace's dispatches: slices of 16, 32, 64, 128, 256 */
+#define LRT_K_VK_TRACE_SLICE 16u        /* steps, then no limit (shaders/lrt_trace.comp) */
+/* The push constants of every kernel, in this order (92 bytes), U32 and
    F32 being the language's 32-bit unsigned and float types: the map
    (texels, format, flags, node bits, levels; a buffer depth's byte offset
    and row stride), the refit's texel rectangle (inclusive) and build flag
    (1: padding written too), the trace's first ray and count, trace flags
-   (the step budget), a back-map tree's back map (byte offset, row stride), and the tree's
-   thickness model with lrt_layout.back_k. */
+   (the step budget), a back-map tree's back map (byte offset, row stride), the tree's
+   thickness model with lrt_layout.back_k, and a compacted trace's round and its slice of
+   steps (0: no limit). */
 #define LRT_K_VK_PUSH_CONSTANTS(U32, F32)                                             \
     U32 width, height, format, flags, node_bits, level_count, depth_offset, row_stride; \
     U32 rect_x0, rect_y0, rect_x1, rect_y1, build, ray_first, ray_count, trace_flags;   \
     U32 back_offset, back_row_stride, thickness;                                      \
-    F32 back_k0, back_k1;
+    F32 back_k0, back_k1;                                                             \
+    U32 trace_round, trace_slice;
 #endif /* LINEAR_RT_CONTRACT */
 
 #ifndef LRT_GLSL /* the rest is C */
@@ -759,17 +764,18 @@ typedef struct lrt_vk_context lrt_vk_context; /* opaque; immutable after create 
 
 /* Loads the device functions, checks the device (Vulkan 1.2, the push
    descriptor extension, the features of lrt_vk_get_requirements) and creates
-   one descriptor set layout (push descriptors), one pipeline layout (84 bytes
-   of push constants) and one sampler. Its 24 compute pipelines (refit,
-   the trace's ordinary pass, rare pass and one pass, of buffer and of
-   image depth; for
-   infinite trees, and for trees with a thickness model of 16-bit and of
-   8-bit nodes) are made on first use by the lrt_vk_cmd_* that needs one,
+   one descriptor set layout (push descriptors), one pipeline layout (92 bytes
+   of push constants) and one sampler. Its 32 compute pipelines (refit,
+   the trace's ordinary pass, rare pass, one pass and budgeted pass, of
+   buffer and of image depth, for infinite trees and for trees with a
+   thickness model of 16-bit and of 8-bit nodes; and a compacted round of
+   each depth source for infinite trees: shaders/README.md) are made on
+   first use by the lrt_vk_cmd_* that needs one,
    before it records anything (a failure there: LRT_ERROR_VULKAN and
    lrt_vk_context_vk_result), so a program compiles only the kernels its
    trees and maps take: on lavapipe about half a second for each trace
    pipeline. (Built by a compiler without GCC's atomic builtins, create makes
-   all 24.) desc->flags other than lrt_vk_context_flags, or both of them:
+   all 32.) desc->flags other than lrt_vk_context_flags, or both of them:
    LRT_ERROR_INVALID_OPTION. The trace pipelines read the nodes through
    lrt_vk_bvh.node_texels where maxTexelBufferElements holds every tree the
    device can trace, else through the storage buffer. On error *out is
@@ -919,6 +925,36 @@ LINEAR_RT_API lrt_result lrt_vk_cmd_update(lrt_vk_context *ctx, VkCommandBuffer 
 LINEAR_RT_API lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
                                           const lrt_vk_depth *depth, VkBuffer rays, VkDeviceSize rays_offset,
                                           VkBuffer hits, VkDeviceSize hits_offset, uint32_t count, uint32_t flags);
+
+/* A compacted trace: lrt_vk_cmd_trace's answers, bit for bit, in rounds
+   that each run only the rays left, in full waves, so that a wave does not
+   wait for its slowest ray. Round 0 walks every ray for at most
+   LRT_K_VK_TRACE_SLICE cell steps; a ray not done is listed (an atomic
+   counter) with its walk's state, and the next round, an indirect
+   dispatch, resumes only the listed ones for twice the slice, and so on;
+   the last of LRT_K_VK_TRACE_ROUNDS rounds has no limit. Then the rare
+   pass. The lists live in scratch you provide, so that a frame's memory is
+   planned, as an acceleration structure's build takes scratch:
+   lrt_vk_trace_scratch_size(count) bytes at scratch->offset (a multiple of
+   minStorageBufferOffsetAlignment) of a buffer of usage STORAGE_BUFFER,
+   INDIRECT_BUFFER and TRANSFER_DST, which the trace overwrites (it records
+   its own barriers around it; the caller's BARRIERS for rays and hits are
+   lrt_vk_cmd_trace's). More than 4194240 rays are traced in turns of that
+   many, the scratch used again. A tree with a thickness model (its walk is
+   the 8-child walk) and a one-pass context (a CPU device: lavapipe, where
+   rounds only add dispatches) are traced as lrt_vk_cmd_trace traces them,
+   the scratch untouched. Errors: lrt_vk_cmd_trace's; a NULL scratch or
+   buffer LRT_ERROR_NULL_POINTER, a misaligned offset LRT_ERROR_MISALIGNED,
+   a size below the one needed LRT_ERROR_BUFFER_TOO_SMALL. */
+typedef struct lrt_vk_scratch {
+    VkBuffer buffer;
+    VkDeviceSize offset, size;
+} lrt_vk_scratch;
+LINEAR_RT_API VkDeviceSize lrt_vk_trace_scratch_size(uint32_t count);
+LINEAR_RT_API lrt_result lrt_vk_cmd_trace_compacted(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                                    const lrt_vk_depth *depth, VkBuffer rays, VkDeviceSize rays_offset,
+                                                    VkBuffer hits, VkDeviceSize hits_offset, uint32_t count,
+                                                    uint32_t flags, const lrt_vk_scratch *scratch);
 
 #ifdef __cplusplus
 }
@@ -5416,11 +5452,13 @@ typedef struct lrt__vk_module {
    model, of 16-bit nodes, then of 8-bit nodes (constant 0, lrt_back_trees,
    true: other trees' pipelines carry no back code; constant 1,
    lrt_back_node_bits, the node width: known to the compiler, it drops the
-   other width's code from the back-code reads) */
+   other width's code from the back-code reads); last a compacted trace's
+   round (4), for infinite trees alone: the cell walk's */
 enum { LRT__VK_REFIT_BUFFER, LRT__VK_REFIT_IMAGE, LRT__VK_TRACE_BUFFER, LRT__VK_TRACE_IMAGE, LRT__VK_RARE_BUFFER,
        LRT__VK_RARE_IMAGE, LRT__VK_WHOLE_BUFFER, LRT__VK_WHOLE_IMAGE, LRT__VK_BUDGET_BUFFER, LRT__VK_BUDGET_IMAGE,
        LRT__VK_MODULES,
-       LRT__VK_PIPELINES = 3 * LRT__VK_MODULES };
+       LRT__VK_ROUND_BUFFER = 3 * LRT__VK_MODULES, LRT__VK_ROUND_IMAGE,
+       LRT__VK_PIPELINES };
 
 /* Pipelines are made on first use, not by lrt_vk_context_create: a
    program pays only for the kernels its trees and maps take (llvmpipe
@@ -5495,7 +5533,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_get_requirements(lrt_vk_requirements *out)
     X(vkDestroyBuffer) X(vkCreateBufferView) X(vkDestroyBufferView) X(vkGetBufferMemoryRequirements)            \
     X(vkAllocateMemory) X(vkFreeMemory) X(vkBindBufferMemory) X(vkMapMemory) X(vkUnmapMemory)                    \
     X(vkCmdBindPipeline) X(vkCmdPushDescriptorSetKHR) X(vkCmdPushConstants) X(vkCmdDispatch) X(vkCmdFillBuffer)  \
-    X(vkCmdPipelineBarrier)
+    X(vkCmdPipelineBarrier) X(vkCmdDispatchIndirect) X(vkCmdUpdateBuffer)
 
 struct lrt_vk_context {
     VkDevice device;
@@ -5523,8 +5561,8 @@ struct lrt_vk_context {
 typedef struct lrt__vk_push {
     LRT_K_VK_PUSH_CONSTANTS(uint32_t, float)
 } lrt__vk_push;
-/* the layout both sides assume: 21 packed 4-byte fields */
-typedef char lrt__vk_push_is_84_bytes[sizeof(lrt__vk_push) == 84 && offsetof(lrt__vk_push, trace_flags) == 60 &&
+/* the layout both sides assume: 23 packed 4-byte fields */
+typedef char lrt__vk_push_is_92_bytes[sizeof(lrt__vk_push) == 92 && offsetof(lrt__vk_push, trace_flags) == 60 &&
                                               offsetof(lrt__vk_push, back_k0) == 76 && sizeof(float) == 4 ? 1 : -1];
 
 enum {
@@ -5532,8 +5570,8 @@ enum {
     LRT__VK_BIND_NODES = LRT_K_VK_BINDING_NODES, LRT__VK_BIND_COUNTERS = LRT_K_VK_BINDING_COUNTERS,
     LRT__VK_BIND_RAYS = LRT_K_VK_BINDING_RAYS, LRT__VK_BIND_HITS = LRT_K_VK_BINDING_HITS,
     LRT__VK_BIND_BACK_BUFFER = LRT_K_VK_BINDING_BACK_BUFFER, LRT__VK_BIND_BACK_IMAGE = LRT_K_VK_BINDING_BACK_IMAGE,
-    LRT__VK_BIND_NODE_TEXELS = LRT_K_VK_BINDING_NODE_TEXELS,
-    LRT__VK_BINDINGS = 9
+    LRT__VK_BIND_NODE_TEXELS = LRT_K_VK_BINDING_NODE_TEXELS, LRT__VK_BIND_SCRATCH = LRT_K_VK_BINDING_SCRATCH,
+    LRT__VK_BINDINGS = 10
 };
 #define LRT__VK_GROUP LRT_K_VK_GROUP_SIZE /* invocations per workgroup, in x */
 #define LRT__VK_GROUPS_PER_ROW 65535u /* above this many groups the dispatch is 2D */
@@ -5715,15 +5753,19 @@ static uint32_t lrt__vk_node_texels(const VkPhysicalDeviceLimits *limits)
 /* Pipeline p (the enum above, times the tree's variant) of the context. */
 static VkResult lrt__vk_make_pipeline(lrt_vk_context *c, int p, VkPipeline *out)
 {
-    lrt__vk_module m = lrt__vk_module_at(p % LRT__VK_MODULES);
+    /* a round: the ordinary pass's module (of its depth source), an infinite tree's */
+    const int round = p >= LRT__VK_ROUND_BUFFER, kernel = round ? LRT__VK_TRACE_BUFFER + (p - LRT__VK_ROUND_BUFFER)
+                                                                : p % LRT__VK_MODULES;
+    lrt__vk_module m = lrt__vk_module_at(kernel);
     /* VkBool32 lrt_back_trees, node bits, VkBool32 lrt_node_texels, lrt_trace_pass (the
        refit has no constant 3: an entry for a constant a module lacks is ignored) */
-    const int kernel = p % LRT__VK_MODULES;
-    const uint32_t pass = kernel == LRT__VK_RARE_BUFFER || kernel == LRT__VK_RARE_IMAGE       ? 1u
+    const uint32_t pass = round                                                               ? 4u
+                          : kernel == LRT__VK_RARE_BUFFER || kernel == LRT__VK_RARE_IMAGE     ? 1u
                           : kernel == LRT__VK_WHOLE_BUFFER || kernel == LRT__VK_WHOLE_IMAGE   ? 2u
                           : kernel == LRT__VK_BUDGET_BUFFER || kernel == LRT__VK_BUDGET_IMAGE ? 3u
                                                                                               : 0u;
-    const uint32_t consts[4] = {p >= LRT__VK_MODULES, p >= 2 * LRT__VK_MODULES ? 8u : 16u, c->node_texels, pass};
+    const uint32_t consts[4] = {!round && p >= LRT__VK_MODULES, !round && p >= 2 * LRT__VK_MODULES ? 8u : 16u,
+                                c->node_texels, pass};
     VkSpecializationMapEntry entry[4];
     VkSpecializationInfo spec;
     VkShaderModuleCreateInfo mi;
@@ -6262,7 +6304,10 @@ static void lrt__vk_push_common(const lrt_vk_bvh *bvh, const lrt_vk_depth *depth
    recorded, so a failure records nothing. */
 static lrt_result lrt__vk_pipeline(lrt_vk_context *c, int kernel, const lrt_vk_bvh *bvh, VkPipeline *out)
 {
-    const int p = kernel + (!bvh->layout.back_codes ? 0 : bvh->layout.node_bits == 16 ? LRT__VK_MODULES : 2 * LRT__VK_MODULES);
+    const int p = kernel >= LRT__VK_ROUND_BUFFER ? kernel /* an infinite tree's */
+                                                 : kernel + (!bvh->layout.back_codes         ? 0
+                                                             : bvh->layout.node_bits == 16 ? LRT__VK_MODULES
+                                                                                           : 2 * LRT__VK_MODULES);
 #if LRT__VK_LAZY
     VkPipeline have = __atomic_load_n(&c->pipelines[p], __ATOMIC_ACQUIRE), none = VK_NULL_HANDLE;
     VkResult vr;
@@ -6283,11 +6328,11 @@ static lrt_result lrt__vk_pipeline(lrt_vk_context *c, int kernel, const lrt_vk_b
     return LRT_SUCCESS;
 }
 
-static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, VkPipeline pipeline, int trace, const lrt_vk_bvh *bvh,
-                           const lrt__vk_source *src, const VkDescriptorBufferInfo *extra, const uint32_t *extra_binding,
-                           uint32_t extra_count, const lrt__vk_push *pc, uint32_t gx, uint32_t gy)
+static void lrt__vk_bind(lrt_vk_context *c, VkCommandBuffer cmd, VkPipeline pipeline, int trace, const lrt_vk_bvh *bvh,
+                         const lrt__vk_source *src, const VkDescriptorBufferInfo *extra, const uint32_t *extra_binding,
+                         uint32_t extra_count, const lrt__vk_push *pc)
 {
-    VkWriteDescriptorSet w[6];
+    VkWriteDescriptorSet w[7];
     VkDescriptorBufferInfo nodes;
     uint32_t k, n = 3 + extra_count;
     memset(w, 0, sizeof w);
@@ -6329,6 +6374,13 @@ static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, VkPipeline pi
     c->p_vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     c->p_vkCmdPushDescriptorSetKHR(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipeline_layout, 0, n, w);
     c->p_vkCmdPushConstants(cmd, c->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, (uint32_t)sizeof *pc, pc);
+}
+
+static void lrt__vk_record(lrt_vk_context *c, VkCommandBuffer cmd, VkPipeline pipeline, int trace, const lrt_vk_bvh *bvh,
+                           const lrt__vk_source *src, const VkDescriptorBufferInfo *extra, const uint32_t *extra_binding,
+                           uint32_t extra_count, const lrt__vk_push *pc, uint32_t gx, uint32_t gy)
+{
+    lrt__vk_bind(c, cmd, pipeline, trace, bvh, src, extra, extra_binding, extra_count, pc);
     c->p_vkCmdDispatch(cmd, gx, gy, 1);
 }
 
@@ -6401,27 +6453,31 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_update(lrt_vk_context *ctx, VkCommandBuffer 
                          dirty->y + dirty->height - 1u, 0);
 }
 
-LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
-                                          const lrt_vk_depth *depth, VkBuffer rays, VkDeviceSize rays_offset,
-                                          VkBuffer hits, VkDeviceSize hits_offset, uint32_t count, uint32_t flags)
-{
-    static const uint32_t bindings[2] = {LRT__VK_BIND_RAYS, LRT__VK_BIND_HITS};
-    const VkDeviceSize ray_bytes = sizeof(lrt_ray), hit_bytes = sizeof(lrt_hit);
-    VkDescriptorBufferInfo io[2];
-    VkDeviceSize align, first;
-    VkMemoryBarrier mb;
-    VkPipeline ordinary, rare = VK_NULL_HANDLE;
+/* A trace's arguments checked and turned into what every pass records:
+   the rays and hits bound `first` rays before the given offsets (aligned
+   offsets; the kernel starts at ray `first`), the hits once more where a
+   pass has no scratch (binding 2: never read there), the push constants
+   and the one-dispatch groups. *none where count is 0: nothing to record. */
+typedef struct lrt__vk_trace_call {
     lrt__vk_source src;
+    VkDescriptorBufferInfo io[3];
     lrt__vk_push pc;
-    uint32_t gx, gy;
+    uint32_t gx, gy, none;
+} lrt__vk_trace_call;
+
+static lrt_result lrt__vk_trace_prepare(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                        const lrt_vk_depth *depth, VkBuffer rays, VkDeviceSize rays_offset, VkBuffer hits,
+                                        VkDeviceSize hits_offset, uint32_t count, uint32_t flags, lrt__vk_trace_call *t)
+{
+    const VkDeviceSize ray_bytes = sizeof(lrt_ray), hit_bytes = sizeof(lrt_hit);
+    VkDeviceSize align, first;
     lrt_result r;
-    if ((r = lrt__vk_check(ctx, cmd, bvh, depth, 0, &src)) != LRT_SUCCESS) return r;
+    t->none = 1;
+    if ((r = lrt__vk_check(ctx, cmd, bvh, depth, 0, &t->src)) != LRT_SUCCESS) return r;
     if (flags & ~LRT_K_TRACE_BUDGET_MASK) return LRT_ERROR_INVALID_OPTION; /* the budget's bits only */
     if (count > LINEAR_RT_MAX_RAYS_PER_CALL) return LRT_ERROR_TOO_MANY_RAYS;
     if (count == 0) return LRT_SUCCESS;
     if (rays == VK_NULL_HANDLE || hits == VK_NULL_HANDLE) return LRT_ERROR_NULL_POINTER;
-    /* bind both arrays `first` rays before the given offsets, at aligned
-       offsets, and start the kernel at ray `first` */
     align = lrt__vk_storage_alignment(ctx);
     for (first = 0; first < align; ++first) {
         if (first * ray_bytes > rays_offset || first * hit_bytes > hits_offset) {
@@ -6432,36 +6488,141 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer c
     }
     if (first == align) return LRT_ERROR_MISALIGNED;
     if ((first + count) * ray_bytes > ctx->limits.maxStorageBufferRange) return LRT_ERROR_LIMIT_EXCEEDED;
-    if ((r = lrt__vk_groups(ctx, count, &gx, &gy)) != LRT_SUCCESS) return r;
-    if (!ctx->two_passes) { /* the whole kernel, every ray */
-        if ((r = lrt__vk_pipeline(ctx, src.image ? LRT__VK_WHOLE_IMAGE : LRT__VK_WHOLE_BUFFER, bvh, &ordinary)) != LRT_SUCCESS)
-            return r;
-    } else if ((r = lrt__vk_pipeline(ctx, flags ? (src.image ? LRT__VK_BUDGET_IMAGE : LRT__VK_BUDGET_BUFFER)
-                                                : (src.image ? LRT__VK_TRACE_IMAGE : LRT__VK_TRACE_BUFFER),
-                                     bvh, &ordinary)) != LRT_SUCCESS ||
-               (r = lrt__vk_pipeline(ctx, src.image ? LRT__VK_RARE_IMAGE : LRT__VK_RARE_BUFFER, bvh, &rare)) != LRT_SUCCESS) {
-        return r;
-    }
-    io[0].buffer = rays;
-    io[0].offset = rays_offset - first * ray_bytes;
-    io[0].range = (first + count) * ray_bytes;
-    io[1].buffer = hits;
-    io[1].offset = hits_offset - first * hit_bytes;
-    io[1].range = (first + count) * hit_bytes;
-    lrt__vk_push_common(bvh, depth, &src, &pc);
-    pc.ray_first = (uint32_t)first;
-    pc.ray_count = count;
-    pc.trace_flags = flags;
-    lrt__vk_record(ctx, cmd, ordinary, 1, bvh, &src, io, bindings, 2, &pc, gx, gy);
-    if (!ctx->two_passes) return LRT_SUCCESS;
-    /* the rare pass reads the hits the ordinary pass marked (shaders/lrt_trace.comp) */
+    if ((r = lrt__vk_groups(ctx, count, &t->gx, &t->gy)) != LRT_SUCCESS) return r;
+    t->io[0].buffer = rays;
+    t->io[0].offset = rays_offset - first * ray_bytes;
+    t->io[0].range = (first + count) * ray_bytes;
+    t->io[1].buffer = hits;
+    t->io[1].offset = hits_offset - first * hit_bytes;
+    t->io[1].range = (first + count) * hit_bytes;
+    t->io[2] = t->io[1];
+    lrt__vk_push_common(bvh, depth, &t->src, &t->pc);
+    t->pc.ray_first = (uint32_t)first;
+    t->pc.ray_count = count;
+    t->pc.trace_flags = flags;
+    t->none = 0;
+    return LRT_SUCCESS;
+}
+
+static const uint32_t lrt__vk_trace_bindings[3] = {LRT__VK_BIND_RAYS, LRT__VK_BIND_HITS, LRT__VK_BIND_SCRATCH};
+
+/* A barrier between two of the trace's commands on one queue. */
+static void lrt__vk_barrier(lrt_vk_context *ctx, VkCommandBuffer cmd, VkPipelineStageFlags src_stages,
+                            VkAccessFlags src_access, VkPipelineStageFlags dst_stages, VkAccessFlags dst_access)
+{
+    VkMemoryBarrier mb;
     memset(&mb, 0, sizeof mb);
     mb.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-    mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-    ctx->p_vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0,
-                                NULL, 0, NULL);
-    lrt__vk_record(ctx, cmd, rare, 1, bvh, &src, io, bindings, 2, &pc, gx, gy);
+    mb.srcAccessMask = src_access;
+    mb.dstAccessMask = dst_access;
+    ctx->p_vkCmdPipelineBarrier(cmd, src_stages, dst_stages, 0, 1, &mb, 0, NULL, 0, NULL);
+}
+
+/* The rare pass, after the ordinary pass (or rounds) that marked its rays
+   (shaders/lrt_trace.comp): it reads the marks. */
+static void lrt__vk_rare_pass(lrt_vk_context *ctx, VkCommandBuffer cmd, VkPipeline rare, const lrt_vk_bvh *bvh,
+                              const lrt__vk_trace_call *t)
+{
+    lrt__vk_barrier(ctx, cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    lrt__vk_record(ctx, cmd, rare, 1, bvh, &t->src, t->io, lrt__vk_trace_bindings, 3, &t->pc, t->gx, t->gy);
+}
+
+LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                          const lrt_vk_depth *depth, VkBuffer rays, VkDeviceSize rays_offset,
+                                          VkBuffer hits, VkDeviceSize hits_offset, uint32_t count, uint32_t flags)
+{
+    VkPipeline ordinary, rare = VK_NULL_HANDLE;
+    lrt__vk_trace_call t;
+    lrt_result r;
+    if ((r = lrt__vk_trace_prepare(ctx, cmd, bvh, depth, rays, rays_offset, hits, hits_offset, count, flags, &t)) !=
+            LRT_SUCCESS ||
+        t.none)
+        return r;
+    if (!ctx->two_passes) { /* the whole kernel, every ray */
+        if ((r = lrt__vk_pipeline(ctx, t.src.image ? LRT__VK_WHOLE_IMAGE : LRT__VK_WHOLE_BUFFER, bvh, &ordinary)) != LRT_SUCCESS)
+            return r;
+    } else if ((r = lrt__vk_pipeline(ctx, flags ? (t.src.image ? LRT__VK_BUDGET_IMAGE : LRT__VK_BUDGET_BUFFER)
+                                                : (t.src.image ? LRT__VK_TRACE_IMAGE : LRT__VK_TRACE_BUFFER),
+                                     bvh, &ordinary)) != LRT_SUCCESS ||
+               (r = lrt__vk_pipeline(ctx, t.src.image ? LRT__VK_RARE_IMAGE : LRT__VK_RARE_BUFFER, bvh, &rare)) != LRT_SUCCESS) {
+        return r;
+    }
+    lrt__vk_record(ctx, cmd, ordinary, 1, bvh, &t.src, t.io, lrt__vk_trace_bindings, 3, &t.pc, t.gx, t.gy);
+    if (ctx->two_passes) lrt__vk_rare_pass(ctx, cmd, rare, bvh, &t);
+    return LRT_SUCCESS;
+}
+
+/* Rays a round of a compacted trace takes at most: one row of groups (the
+   indirect dispatches are 1D). */
+#define LRT__VK_ROUND_RAYS ((VkDeviceSize)LRT__VK_GROUPS_PER_ROW * LRT__VK_GROUP)
+
+LINEAR_RT_DEF VkDeviceSize lrt_vk_trace_scratch_size(uint32_t count)
+{
+    const VkDeviceSize n = count < LRT__VK_ROUND_RAYS ? count : LRT__VK_ROUND_RAYS;
+    return 16u * ((VkDeviceSize)(LRT_K_VK_TRACE_ROUNDS - 1u) + 2u * n);
+}
+
+LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace_compacted(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                                    const lrt_vk_depth *depth, VkBuffer rays, VkDeviceSize rays_offset,
+                                                    VkBuffer hits, VkDeviceSize hits_offset, uint32_t count,
+                                                    uint32_t flags, const lrt_vk_scratch *scratch)
+{
+    const VkPipelineStageFlags compute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+    const VkPipelineStageFlags compute_indirect = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT;
+    const VkAccessFlags use = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
+    uint32_t header[4 * (LRT_K_VK_TRACE_ROUNDS - 1u)], k, done, per_round;
+    VkPipeline round, rare;
+    lrt__vk_trace_call t;
+    lrt_result r;
+    if ((r = lrt__vk_trace_prepare(ctx, cmd, bvh, depth, rays, rays_offset, hits, hits_offset, count, flags, &t)) !=
+            LRT_SUCCESS ||
+        t.none)
+        return r;
+    if (!scratch || scratch->buffer == VK_NULL_HANDLE) return LRT_ERROR_NULL_POINTER;
+    if (scratch->offset % lrt__vk_storage_alignment(ctx)) return LRT_ERROR_MISALIGNED;
+    if (scratch->size < lrt_vk_trace_scratch_size(count)) return LRT_ERROR_BUFFER_TOO_SMALL;
+    /* a thickness tree's walk is the 8-child walk, and a CPU device traces in one pass */
+    if (bvh->layout.back_codes || !ctx->two_passes)
+        return lrt_vk_cmd_trace(ctx, cmd, bvh, depth, rays, rays_offset, hits, hits_offset, count, flags);
+    if ((r = lrt__vk_pipeline(ctx, t.src.image ? LRT__VK_ROUND_IMAGE : LRT__VK_ROUND_BUFFER, bvh, &round)) != LRT_SUCCESS ||
+        (r = lrt__vk_pipeline(ctx, t.src.image ? LRT__VK_RARE_IMAGE : LRT__VK_RARE_BUFFER, bvh, &rare)) != LRT_SUCCESS)
+        return r;
+    per_round = (uint32_t)LRT__VK_ROUND_RAYS;
+    if (ctx->limits.maxComputeWorkGroupCount[0] < LRT__VK_GROUPS_PER_ROW)
+        per_round = ctx->limits.maxComputeWorkGroupCount[0] * LRT__VK_GROUP;
+    if (per_round == 0) return LRT_ERROR_LIMIT_EXCEEDED;
+    for (k = 0; k < LRT_K_VK_TRACE_ROUNDS - 1u; ++k) { /* each list empty: no groups, no rays */
+        header[4 * k] = header[4 * k + 3] = 0;
+        header[4 * k + 1] = header[4 * k + 2] = 1;
+    }
+    for (done = 0; done < count; done += per_round) {
+        const uint32_t n = count - done < per_round ? count - done : per_round;
+        lrt__vk_trace_call c = t;
+        c.io[2].buffer = scratch->buffer;
+        c.io[2].offset = scratch->offset;
+        c.io[2].range = lrt_vk_trace_scratch_size(n);
+        c.pc.ray_first = t.pc.ray_first + done;
+        c.pc.ray_count = n;
+        /* the lists' counts to zero, after whatever used the scratch before */
+        lrt__vk_barrier(ctx, cmd, compute_indirect, use, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+        ctx->p_vkCmdUpdateBuffer(cmd, scratch->buffer, scratch->offset, sizeof header, header);
+        lrt__vk_barrier(ctx, cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, compute_indirect, use);
+        for (k = 0; k < LRT_K_VK_TRACE_ROUNDS; ++k) {
+            /* slices doubling from LRT_K_VK_TRACE_SLICE; the last without a limit */
+            c.pc.trace_round = k;
+            c.pc.trace_slice = k + 1u < LRT_K_VK_TRACE_ROUNDS ? LRT_K_VK_TRACE_SLICE << k : 0u;
+            if (k == 0) {
+                lrt__vk_record(ctx, cmd, round, 1, bvh, &c.src, c.io, lrt__vk_trace_bindings, 3, &c.pc,
+                               (n + LRT__VK_GROUP - 1u) / LRT__VK_GROUP, 1);
+                continue;
+            }
+            lrt__vk_barrier(ctx, cmd, compute, VK_ACCESS_SHADER_WRITE_BIT, compute_indirect, use);
+            ctx->p_vkCmdPushConstants(cmd, ctx->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, (uint32_t)sizeof c.pc, &c.pc);
+            ctx->p_vkCmdDispatchIndirect(cmd, scratch->buffer, scratch->offset + 16u * (k - 1u));
+        }
+    }
+    lrt__vk_rare_pass(ctx, cmd, rare, bvh, &t);
     return LRT_SUCCESS;
 }
 

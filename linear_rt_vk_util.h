@@ -168,7 +168,8 @@ LRT_VKU_FN int lrt_vku_allocate(lrt_vku *t, VkMemoryRequirements *mr, VkMemoryPr
 }
 
 /* A host-visible, coherent, mapped buffer of size bytes (usage: storage,
-   uniform texel (a tree's nodes), transfer source and destination); prefer_device: DEVICE_LOCAL as well
+   uniform texel (a tree's nodes), indirect (a compacted trace's scratch),
+   transfer source and destination); prefer_device: DEVICE_LOCAL as well
    where there is such memory (integrated GPUs, resizable BAR, lavapipe). */
 LRT_VKU_FN int lrt_vku_buffer_create_in(lrt_vku *t, VkDeviceSize size, int prefer_device, lrt_vku_buffer *b)
 {
@@ -181,7 +182,7 @@ LRT_VKU_FN int lrt_vku_buffer_create_in(lrt_vku *t, VkDeviceSize size, int prefe
     bi.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
     bi.size = size ? size : 4;
     bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
-               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+               VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     if ((r = t->vkCreateBuffer(t->device, &bi, NULL, &b->buffer)) != VK_SUCCESS) return lrt_vku_fail("vkCreateBuffer", r);
     t->vkGetBufferMemoryRequirements(t->device, b->buffer, &mr);

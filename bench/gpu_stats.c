@@ -746,7 +746,7 @@ static VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL gs_gdpa(VkDevice dev, const char
     return f;
 }
 
-/* The library's 30 pipelines, a row each; returns nonzero where it failed.
+/* The library's 32 pipelines, a row each; returns nonzero where it failed.
    *modes, *texels: the float controls and the node texel choice it made. */
 static int gs_library(const gs_vk *g, uint32_t *modes, int *texels, char *why, size_t n)
 {
@@ -798,6 +798,7 @@ static int gs_library(const gs_vk *g, uint32_t *modes, int *texels, char *why, s
                                : p->consts[3] == 1 ? ", rare pass"
                                : p->consts[3] == 2 ? ", one pass"
                                : p->consts[3] == 3 ? ", budgeted"
+                               : p->consts[3] == 4 ? ", compacted round"
                                                    : "";
             if (!p->consts[0])
                 snprintf(name, sizeof name, "linear_rt %s%s", gs_kernel_names[p->kernel], pass);

@@ -1523,15 +1523,42 @@ void lrt_cell_axis(int a, int n, float o, float iv, uint neg, bool zero, inout f
     last = neg != 0u ? a : a + n - 1;
 }
 
-// The walk of an ordinary thin ray (lrt_trace_ray_ordinary): LRT_WALK_HIT
-// with the first texel hit (hx, hy), its t and planes, or LRT_WALK_MISS;
-// with a budget (cell steps, 0: none), LRT_WALK_BUDGET where the next step
-// would pass it, ht then the t before which the segment is proven free: the
-// t where the ray left the last cell it left by a move. Each plane's t,
-// (p - o) * iv, is monotone in p, so every cell after it in visiting order
-// (a corner's second cell too) is entered no earlier, and a texel's hit
-// lies in its box
-uint lrt_walk_cells(LrtParams p, LrtSetup s, uint budget, out uint hx, out uint hy, out float ht, out vec2 hplanes)
+// The cell walk's state between two steps: all a compacted pass keeps of a
+// ray it resumes (with the ray, whose set-up it makes again)
+struct LrtCells {
+    int x, y;     // the cursor (int: it may stand one texel past the screen)
+    int lv;       // the level of the cell tested next
+    int pend;     // a corner's second cell, entered by the next move (below)
+    float free_t; // no hit before it
+    uint steps;   // cells and texels tested
+};
+
+// the walk's start: the cursor on the first texel the segment touches
+// (every texel it touches comes at or after it in visiting order); an axis
+// the ray does not move along: o's texel (o is on the screen, on no texel
+// edge)
+LrtCells lrt_cells_start(LrtParams p, LrtSetup s)
+{
+    LrtCells c;
+    c.x = lrt_cross_texel(s.o.x, s.v.x, s.iv.x, s.neg.x, s.zero.x, s.t_lo, 0, int(p.width) - 1, int(s.o.x));
+    c.y = lrt_cross_texel(s.o.y, s.v.y, s.iv.y, s.neg.y, s.zero.y, s.t_lo, 0, int(p.height) - 1, int(s.o.y));
+    c.lv = 0;
+    c.pend = 0;
+    c.free_t = s.t_lo;
+    c.steps = 0u;
+    return c;
+}
+
+// The walk of an ordinary thin ray (lrt_trace_ray_ordinary) from state c:
+// LRT_WALK_HIT with the first texel hit (hx, hy), its t and planes, or
+// LRT_WALK_MISS; with stop (a count of steps, 0: none) LRT_WALK_BUDGET
+// where the next step would pass it, c then the state to go on from and ht
+// the t before which the segment is proven free: the t where the ray left
+// the last cell it left by a move. Each plane's t, (p - o) * iv, is
+// monotone in p, so every cell after it in visiting order (a corner's
+// second cell too) is entered no earlier, and a texel's hit lies in its box
+uint lrt_walk_cells_from(LrtParams p, LrtSetup s, inout LrtCells c, uint stop, out uint hx, out uint hy, out float ht,
+                         out vec2 hplanes)
 {
     hplanes = vec2(0.0, 0.0);
     hx = 0u;
@@ -1542,24 +1569,28 @@ uint lrt_walk_cells(LrtParams p, LrtSetup s, uint budget, out uint hx, out uint 
     // a compact level 1's nodes take fewer codes (lrt_node_code0)
     uint compact = lrt_compact(p) ? lrt_level_slots(p, 1u) * 5u : 0u;
     LrtCull cull = lrt_cull_setup(p, s); // its depth and back planes: a code's t in one step
-    // the cursor: the first texel the segment touches (every texel it
-    // touches comes at or after it in visiting order); an axis the ray does
-    // not move along: o's texel (o is on the screen, on no texel edge)
-    int x = lrt_cross_texel(s.o.x, s.v.x, s.iv.x, s.neg.x, s.zero.x, s.t_lo, 0, int(p.width) - 1, int(s.o.x));
-    int y = lrt_cross_texel(s.o.y, s.v.y, s.iv.y, s.neg.y, s.zero.y, s.t_lo, 0, int(p.height) - 1, int(s.o.y));
-    int lv = 0;    // the level of the cell tested
+    int x = c.x, y = c.y;
+    int lv = c.lv; // the level of the cell tested
     uint off = 0u; // the first node of level lv + 1, which holds its code
+    for (int l = 1; l <= lv; ++l) off += lrt_level_slots(p, uint(l));
     // a corner's second cell, entered by the next move (0: none): 1, one
     // texel back in x and on in y from the cursor (A came first), 2, on in
     // x and back in y (B came first); the level of that move above
-    int pend = 0;
-    float free_t = s.t_lo; // no hit before it
-    uint steps = 0u;
+    int pend = c.pend;
+    float free_t = c.free_t;
+    uint steps = c.steps;
     for (;;) {
-        if (budget != 0u && steps++ == budget) { // spent: the next cell is not tested
+        if (stop != 0u && steps == stop) { // the next cell is not tested
+            c.x = x;
+            c.y = y;
+            c.lv = lv;
+            c.pend = pend;
+            c.free_t = free_t;
+            c.steps = steps;
             ht = free_t;
             return LRT_WALK_BUDGET;
         }
+        ++steps;
         uint sw = lrt_span_w_log2(uint(lv)), sh = lrt_span_h_log2(uint(lv));
         int cx = x >> sw, cy = y >> sh; // the cell (int: the cursor may stand past the screen)
         float en = s.t_lo, ex = s.t_hi, lx, ly;
@@ -1631,6 +1662,13 @@ uint lrt_walk_cells(LrtParams p, LrtSetup s, uint budget, out uint hx, out uint 
     return LRT_WALK_MISS;
 }
 
+// the walk from the segment's start, with a budget (cell steps, 0: none)
+uint lrt_walk_cells(LrtParams p, LrtSetup s, uint budget, out uint hx, out uint hy, out float ht, out vec2 hplanes)
+{
+    LrtCells c = lrt_cells_start(p, s);
+    return lrt_walk_cells_from(p, s, c, budget, hx, hy, ht, hplanes);
+}
+
 // a miss of the kind a failed set-up gave
 LrtHit lrt_miss(uint kind)
 {
@@ -1654,6 +1692,18 @@ bool lrt_setup_unless_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, 
     return !rare && lrt_setup_ordinary(p, o, tmin, v, tmax, e, s, kind);
 }
 
+// the answer of a cell walk over a set-up ordinary ray (scaled by 2^-e)
+// that found what found says, with its texel, t and planes
+LrtHit lrt_cells_answer(LrtParams p, LrtSetup s, int e, uint kind, float tmin, float tmax, uint found, uint hx, uint hy,
+                        float ht, vec2 hplanes)
+{
+    // e <= 125: 2^-e is normal
+    if (found == LRT_WALK_HIT) return lrt_report_hit(p, s, -e, true, ht, tmin, tmax, hx, hy, hplanes);
+    LrtHit hit = lrt_miss(found == LRT_WALK_BUDGET ? LRT_MISS_BUDGET : kind);
+    if (found == LRT_WALK_BUDGET) hit.t = lrt_ray_t(s, -e, true, ht, tmin, tmax);
+    return hit;
+}
+
 // a set-up ordinary thin ray of an infinite tree through the cell walk
 LrtHit lrt_trace_cells(LrtParams p, LrtSetup s, int e, uint kind, float tmin, float tmax, uint budget)
 {
@@ -1661,11 +1711,7 @@ LrtHit lrt_trace_cells(LrtParams p, LrtSetup s, int e, uint kind, float tmin, fl
     float ht;
     vec2 hplanes;
     uint found = lrt_walk_cells(p, s, budget, hx, hy, ht, hplanes);
-    // e <= 125: 2^-e is normal
-    if (found == LRT_WALK_HIT) return lrt_report_hit(p, s, -e, true, ht, tmin, tmax, hx, hy, hplanes);
-    LrtHit hit = lrt_miss(found == LRT_WALK_BUDGET ? LRT_MISS_BUDGET : kind);
-    if (found == LRT_WALK_BUDGET) hit.t = lrt_ray_t(s, -e, true, ht, tmin, tmax);
-    return hit;
+    return lrt_cells_answer(p, s, e, kind, tmin, tmax, found, hx, hy, ht, hplanes);
 }
 
 // an ordinary ray, without the rare set-up's code: a shader a fraction of

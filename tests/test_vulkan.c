@@ -215,7 +215,9 @@ typedef struct trace_stats {
     size_t rays, differ, wrong, bit_identical, kind_rays[RAY_KIND_COUNT], kind_differ[RAY_KIND_COUNT];
 } trace_stats;
 static trace_stats g_trace_total;
-static int g_flushing; /* --flushing-device */
+static int g_flushing;  /* --flushing-device */
+static int g_compacted; /* --compacted: gpu_trace records lrt_vk_cmd_trace_compacted */
+static size_t g_listed[LRT_K_VK_TRACE_ROUNDS - 1u]; /* rays each round left for the next */
 static size_t g_budget_rays, g_budget_stopped; /* budget_case's rays, and its budget misses */
 static int g_ran_budget_cases;                  /* test_build_and_trace ran: its budget cases must stop some rays */
 
@@ -231,22 +233,38 @@ static int same_answer(const lrt_hit *a, const lrt_hit *b)
 static int gpu_trace(const lrt_vk_bvh *bvh, const gpu_depth *g, const lrt_ray *rays, lrt_hit *gpu_hits, size_t n,
                      size_t first, uint32_t flags, const char *what)
 {
-    lrt_vku_buffer rb, hb;
+    lrt_vku_buffer rb, hb, sb;
+    lrt_vk_scratch scratch;
     lrt_result r;
     int err;
+    memset(&sb, 0, sizeof sb);
     if (lrt_vku_buffer_create(&g_t, (first + n) * sizeof(lrt_ray), &rb) ||
-        lrt_vku_buffer_create(&g_t, (first + n) * sizeof(lrt_hit), &hb))
+        lrt_vku_buffer_create(&g_t, (first + n) * sizeof(lrt_hit), &hb) ||
+        (g_compacted && lrt_vku_buffer_create(&g_t, lrt_vk_trace_scratch_size((uint32_t)n), &sb)))
         return 1;
     memcpy((lrt_ray *)rb.map + first, rays, n * sizeof(lrt_ray));
     memset(hb.map, 0xff, (size_t)hb.size);
+    if (sb.map) memset(sb.map, 0xee, (size_t)sb.size); /* the trace sets what it reads */
+    scratch.buffer = sb.buffer;
+    scratch.offset = 0;
+    scratch.size = sb.size;
     if (lrt_vku_begin(&g_t)) return 1;
     lrt_vku_compute_barrier(&g_t); /* the build of an earlier submission -> this trace */
-    r = lrt_vk_cmd_trace(g_ctx, g_t.cmd, bvh, gpu_maps(g), rb.buffer, first * sizeof(lrt_ray), hb.buffer,
-                         first * sizeof(lrt_hit), (uint32_t)n, flags);
-    CHECK(r == LRT_SUCCESS, "%s: lrt_vk_cmd_trace: %s", what, lrt_result_string(r));
+    if (g_compacted)
+        r = lrt_vk_cmd_trace_compacted(g_ctx, g_t.cmd, bvh, gpu_maps(g), rb.buffer, first * sizeof(lrt_ray), hb.buffer,
+                                       first * sizeof(lrt_hit), (uint32_t)n, flags, &scratch);
+    else
+        r = lrt_vk_cmd_trace(g_ctx, g_t.cmd, bvh, gpu_maps(g), rb.buffer, first * sizeof(lrt_ray), hb.buffer,
+                             first * sizeof(lrt_hit), (uint32_t)n, flags);
+    CHECK(r == LRT_SUCCESS, "%s: lrt_vk_cmd_trace%s: %s", what, g_compacted ? "_compacted" : "", lrt_result_string(r));
     lrt_vku_host_barrier(&g_t);
     err = lrt_vku_submit(&g_t);
     memcpy(gpu_hits, (const lrt_hit *)hb.map + first, n * sizeof(lrt_hit));
+    if (sb.map && !bvh->layout.back_codes) { /* what each round listed (the count, a header's 4th word) */
+        size_t k;
+        for (k = 0; k < LRT_K_VK_TRACE_ROUNDS - 1u; ++k) g_listed[k] += ((const uint32_t *)sb.map)[4 * k + 3];
+    }
+    if (sb.buffer) lrt_vku_buffer_destroy(&g_t, &sb);
     {   /* nothing written outside the slice */
         size_t i, outside = 0;
         const unsigned char *h = (const unsigned char *)hb.map;
@@ -1036,6 +1054,32 @@ static void test_bad_arguments(void)
         EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0,
                                 g_limits.maxStorageBufferRange / (uint32_t)sizeof(lrt_ray) + 1u, 0),
                LRT_ERROR_LIMIT_EXCEEDED, "trace: rays past maxStorageBufferRange");
+    { /* a compacted trace's scratch: each misuse returns before anything is recorded */
+        lrt_vk_scratch sc;
+        sc.buffer = hb.buffer;
+        sc.offset = 0;
+        sc.size = lrt_vk_trace_scratch_size(2);
+        EXPECT(lrt_vk_cmd_trace_compacted(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 2, 0, NULL),
+               LRT_ERROR_NULL_POINTER, "compacted trace: no scratch");
+        sc.buffer = VK_NULL_HANDLE;
+        EXPECT(lrt_vk_cmd_trace_compacted(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 2, 0, &sc),
+               LRT_ERROR_NULL_POINTER, "compacted trace: a null scratch buffer");
+        sc.buffer = hb.buffer;
+        sc.size -= 16;
+        EXPECT(lrt_vk_cmd_trace_compacted(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 2, 0, &sc),
+               LRT_ERROR_BUFFER_TOO_SMALL, "compacted trace: scratch 16 bytes short");
+        sc.size += 16;
+        if (align > 4) {
+            sc.offset = 4;
+            EXPECT(lrt_vk_cmd_trace_compacted(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 2, 0, &sc),
+                   LRT_ERROR_MISALIGNED, "compacted trace: scratch offset 4");
+            sc.offset = 0;
+        }
+        EXPECT(lrt_vk_cmd_trace_compacted(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 2, 0x10000, &sc),
+               LRT_ERROR_INVALID_OPTION, "compacted trace: unknown flag");
+        EXPECT(lrt_vk_cmd_trace_compacted(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 0, 0, NULL), LRT_SUCCESS,
+               "compacted trace: no rays (records nothing, needs no scratch)");
+    }
     bad = g.depth; bad.buffer = VK_NULL_HANDLE;
     memcpy(&bad.view, &g.depth.buffer, sizeof bad.view < sizeof g.depth.buffer ? sizeof bad.view : sizeof g.depth.buffer);
     bad.layout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
@@ -1472,6 +1516,13 @@ static void print_trace_summary(void)
            g_budget_rays, g_budget_stopped);
     CHECK(!g_ran_budget_cases || (g_budget_stopped > 0 && g_budget_stopped < g_budget_rays),
           "budget cases: %zu of %zu rays stopped", g_budget_stopped, g_budget_rays);
+    if (g_compacted) { /* the rounds resumed rays, and some rays reached the last slices */
+        printf("  compacted: rays each round left for the next:");
+        for (k = 0; k < (int)LRT_K_VK_TRACE_ROUNDS - 1; ++k) printf(" %zu", g_listed[k]);
+        printf("\n");
+        CHECK(!g_ran_budget_cases || (g_listed[0] > 0 && g_listed[2] > 0),
+              "compacted: round 0 listed %zu rays, round 2 %zu", g_listed[0], g_listed[2]);
+    }
     /* The kernels compute the CPU's floats step by step: the same kind and
        texel on every ray, t within rounding (the issue's "identical"). */
     CHECK(g_trace_total.differ == 0, "%zu closest-hit GPU answers differ from the CPU's", g_trace_total.differ);
@@ -1487,7 +1538,8 @@ int main(int argc, char **argv)
 #endif
     const char *seed = getenv("LRT_TEST_SEED");
     g_flushing = argc > 1 && strcmp(argv[1], "--flushing-device") == 0;
-    check_select(argc - g_flushing, argv + g_flushing);
+    g_compacted = argc > 1 && strcmp(argv[1], "--compacted") == 0;
+    check_select(argc - g_flushing - g_compacted, argv + g_flushing + g_compacted);
     if (seed) { /* rays.h's generator; never 0, where xorshift stays */
         g_rng = (strtoull(seed, NULL, 0) * 0x9e3779b97f4a7c15ull) | 1u;
         printf("rays from LRT_TEST_SEED=%s\n", seed);
@@ -1525,7 +1577,8 @@ int main(int argc, char **argv)
     _mm_setcsr(mxcsr); /* the CPU path and the reference as usual */
 #endif
     if (g_flushing) printf("the device's threads flush subnormal floats (x86 FTZ and DAZ), as some GPUs do\n");
-    printf("lrt_vk_cmd_trace in %s\n", g_flushing ? "the device's passes (lavapipe: one)" : "two passes (LRT_VK_TRACE_TWO_PASSES)");
+    printf("lrt_vk_cmd_trace%s in %s\n", g_compacted ? "_compacted" : "",
+           g_flushing ? "the device's passes (lavapipe: one)" : "two passes (LRT_VK_TRACE_TWO_PASSES)");
     CHECK(r == LRT_SUCCESS, "lrt_vk_context_create: %s", lrt_result_string(r));
     if (r == LRT_SUCCESS && lrt_vku_init(&g_t, &g_dev) == 0) {
         RUN_TEST(test_smoke);

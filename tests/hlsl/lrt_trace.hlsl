@@ -42,6 +42,8 @@ struct LrtRayIn {
 };
 [[vk::binding(4, 0)]] StructuredBuffer<LrtRayIn> lrt_rays;
 [[vk::binding(5, 0)]] RWStructuredBuffer<uint4> lrt_hits;
+// a compacted trace's lists (lrt_trace.comp's LrtScratch: q[k] at byte 16 k)
+[[vk::binding(9, 0)]] globallycoherent RWByteAddressBuffer lrt_scratch;
 
 [[vk::constant_id(0)]] const bool lrt_back_trees = false;
 [[vk::constant_id(1)]] const uint lrt_back_node_bits = 16u;
@@ -113,6 +115,73 @@ void lrt_trace_one(uint idx)
     lrt_hits[i] = uint4(asuint(hit.t), hit.x, hit.y, lrt_hit_word3(hit));
 }
 
+// lrt_trace.comp's compacted round, line for line
+static const uint LRT_LISTS = LRT_K_VK_TRACE_ROUNDS - 1u;
+
+uint4 lrt_list_entry(uint i, LrtCells c)
+{
+    return uint4(i, uint(c.x + 1) | (uint(c.y + 1) << 16), uint(c.lv) | (uint(c.pend) << 8) | (c.steps << 16),
+                 asuint(c.free_t));
+}
+
+LrtCells lrt_list_cells(uint4 q)
+{
+    LrtCells c;
+    c.x = int(q.y & 0xffffu) - 1;
+    c.y = int(q.y >> 16) - 1;
+    c.lv = int(q.z & 0xffu);
+    c.pend = int((q.z >> 8) & 0xffu);
+    c.steps = q.z >> 16;
+    c.free_t = asfloat(q.w);
+    return c;
+}
+
+void lrt_trace_round(uint idx)
+{
+    uint round = pc.trace_round, budget = pc.trace_flags & LRT_K_TRACE_BUDGET_MASK, i = idx;
+    LrtCells c;
+    c.x = c.y = c.lv = c.pend = 0;
+    c.free_t = 0.0;
+    c.steps = 0u;
+    if (round != 0u) {
+        if (idx >= lrt_scratch.Load(16u * (round - 1u) + 12u)) return;
+        uint4 q = lrt_scratch.Load4(16u * (LRT_LISTS + ((round - 1u) & 1u) * pc.ray_count + idx));
+        i = q.x;
+        c = lrt_list_cells(q);
+    }
+    LrtRayIn r = lrt_rays[pc.ray_first + i];
+    LrtParams p = lrt_params();
+    LrtSetup s;
+    uint kind;
+    int e;
+    bool rare;
+    bool set = lrt_setup_unless_rare(p, r.origin, r.tmin, r.dir, r.tmax, s, e, kind, rare);
+    rare = rare || (set && !lrt_walk_cells_takes(s));
+    if (!set || rare) {
+        LrtHit miss = lrt_miss(kind);
+        lrt_hits[pc.ray_first + i] = rare ? uint4(0u, 0u, 0u, LRT_RARE_MARK)
+                                          : uint4(asuint(miss.t), miss.x, miss.y, lrt_hit_word3(miss));
+        return;
+    }
+    if (round == 0u) c = lrt_cells_start(p, s);
+    uint stop = pc.trace_slice != 0u ? c.steps + pc.trace_slice : 0u;
+    if (budget != 0u && (stop == 0u || stop > budget)) stop = budget;
+    uint hx, hy;
+    float ht;
+    float2 hplanes;
+    uint found = lrt_walk_cells_from(p, s, c, stop, hx, hy, ht, hplanes);
+    if (found == LRT_WALK_BUDGET && c.steps != budget) {
+        if (budget == 0u) c.steps = 0u;
+        uint n, groups;
+        lrt_scratch.InterlockedAdd(16u * round + 12u, 1u, n);
+        if (n % LRT_K_VK_GROUP_SIZE == 0u) lrt_scratch.InterlockedAdd(16u * round, 1u, groups);
+        lrt_scratch.Store4(16u * (LRT_LISTS + (round & 1u) * pc.ray_count + n), lrt_list_entry(i, c));
+        return;
+    }
+    LrtHit hit = lrt_cells_answer(p, s, e, kind, r.tmin, r.tmax, found, hx, hy, ht, hplanes);
+    lrt_hits[pc.ray_first + i] = uint4(asuint(hit.t), hit.x, hit.y, lrt_hit_word3(hit));
+}
+
 // HLSL has no gl_NumWorkGroups: a 2D dispatch's row of groups is worked
 // out as the host does (lrt__vk_groups), for a device whose
 // maxComputeWorkGroupCount[0] is at least the library's row of 65535 groups
@@ -127,5 +196,6 @@ void main(uint3 gid : SV_GroupID, uint3 lid : SV_GroupThreadID)
     uint idx = (gid.y * row + gid.x) * LRT_K_VK_GROUP_SIZE + lid.x;
     if (idx >= pc.ray_count) return;
     if (lrt_trace_pass == 1u && lrt_hits[pc.ray_first + idx].w != LRT_RARE_MARK) return;
-    lrt_trace_one(idx);
+    if (lrt_trace_pass == 4u) lrt_trace_round(idx);
+    else lrt_trace_one(idx);
 }
