@@ -43,7 +43,7 @@ VK_UTIL := linear_rt_vk_util.h
 # Vulkan: the headers decide whether the demo and tests get the Vulkan path.
 # Nothing links against Vulkan: the loader is opened at run time (-ldl).
 HAVE_VULKAN := $(shell printf '\043include <vulkan/vulkan.h>\n' | $(CC) -E -x c - >/dev/null 2>&1 && echo 1)
-VK_FLAGS := -DLINEAR_RT_VULKAN -DLINEAR_RT_VULKAN_DEVICE_HELPER
+VK_FLAGS := -DLINEAR_RT_VULKAN
 # tests and the demo prove it: no Vulkan prototypes, so no link-time Vulkan symbol
 VK_PROGRAM_FLAGS := $(VK_FLAGS) -DVK_NO_PROTOTYPES
 VK_LIBS := -ldl
@@ -250,8 +250,9 @@ test-sanitize: test-sanitize-reference test-sanitize-core
 
 # The header alone, as C99 and C++11, gcc and clang, warnings as errors; the
 # STATIC, NO_SIMD, NO_AVX, NO_RUNTIME_DISPATCH and AVX2 variants, the AVX2
-# walk in a plain build, a renamed copy (LINEAR_RT_SELF); and the README's
-# code sample.
+# walk in a plain build, a renamed copy (LINEAR_RT_SELF); the README's code
+# sample; the Vulkan build, and with it linear_rt_vk_util.h, the companion
+# header (C99 and C++11, gcc and clang).
 test-header: | deps $(B)
 	@printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n' > $(B)/header_tu.c
 	@awk '/^```c$$/ { f = 1; next } /^```$$/ { if (f) exit } f' README.md > $(B)/readme_sample.c
@@ -307,18 +308,21 @@ test-header: | deps $(B)
 	else echo "  the CPU-only build includes no Vulkan header"; n=$$((n + 1)); fi; \
 	if [ "$(HAVE_VULKAN)" = 1 ]; then \
 	  printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n' > $(B)/header_vk_tu.c; \
-	  job gcc $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_gcc.o; \
-	  job g++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_gxx.o; \
-	  if command -v clang >/dev/null 2>&1; then \
-	    job clang $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_clang.o; fi; \
-	  if command -v clang++ >/dev/null 2>&1; then \
-	    job clang++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_clangxx.o; fi; \
+	  printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n#include "../$(VK_UTIL)"\n' > $(B)/header_vku_tu.c; \
+	  for tu in vk vku; do \
+	    job gcc $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_$${tu}_tu.c -o $(B)/header_$${tu}_gcc.o; \
+	    job g++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_$${tu}_tu.c -o $(B)/header_$${tu}_gxx.o; \
+	    if command -v clang >/dev/null 2>&1; then \
+	      job clang $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_$${tu}_tu.c -o $(B)/header_$${tu}_clang.o; fi; \
+	    if command -v clang++ >/dev/null 2>&1; then \
+	      job clang++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_$${tu}_tu.c -o $(B)/header_$${tu}_clangxx.o; fi; \
+	  done; \
 	  job gcc $(STD) $(STRICT) $(VK_FLAGS) -DVK_NO_PROTOTYPES -DLINEAR_RT_STATIC -c $(B)/header_vk_tu.c -o $(B)/header_vk_static.o; \
-	  job gcc $(STD) $(STRICT) -DLINEAR_RT_VULKAN -c $(B)/header_vk_tu.c -o $(B)/header_vk_nohelper.o; \
 	  printf '#include "../linear_rt.h"\n#define LINEAR_RT_VULKAN\n#include "../linear_rt.h"\nint f(void);\nint f(void) { return (int)sizeof(lrt_vk_depth); }\n' > $(B)/header_vk_twice.c; \
 	  job gcc $(STD) $(STRICT) -c $(B)/header_vk_twice.c -o $(B)/header_vk_twice.o; \
-	  flush; if nm $(B)/header_vk_gcc.o | grep -q ' U vk'; then echo "  FAIL: a link-time Vulkan symbol:"; nm $(B)/header_vk_gcc.o | grep ' U vk'; bad=$$((bad + 1)); \
-	  else echo "  no link-time Vulkan symbol in the Vulkan build"; n=$$((n + 1)); fi; \
+	  flush; if nm $(B)/header_vk_gcc.o $(B)/header_vku_gcc.o | grep -q ' U vk'; then echo "  FAIL: a link-time Vulkan symbol:"; \
+	    nm $(B)/header_vk_gcc.o $(B)/header_vku_gcc.o | grep ' U vk'; bad=$$((bad + 1)); \
+	  else echo "  no link-time Vulkan symbol in the Vulkan build and its companion header"; n=$$((n + 1)); fi; \
 	else echo "  note: <vulkan/vulkan.h> not found: Vulkan variants skipped"; fi; \
 	echo "test-header: $$n passed, $$bad failed"; \
 	[ $$bad -eq 0 ]

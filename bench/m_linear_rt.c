@@ -16,7 +16,6 @@
 #endif
 #ifdef BENCH_HAVE_VULKAN
 #define LINEAR_RT_VULKAN
-#define LINEAR_RT_VULKAN_DEVICE_HELPER
 #endif
 #define LINEAR_RT_IMPLEMENTATION
 #include "bench.h"
@@ -176,7 +175,7 @@ int bench_add_linear_rt_cpu(bench_method *out, int max)
 typedef struct lrt_gpu {
     uint32_t node_bits;
     uint32_t budget; /* LRT_TRACE_BUDGET's steps, 0: the exact walk */
-    lrt_vk_device dev;
+    lrt_vku_device dev;
     lrt_vku t;
     lrt_vk_context *ctx;
     lrt_vk_bvh bvh;
@@ -200,7 +199,7 @@ static void gpu_release(lrt_gpu *g)
     if (g->has_bvh) lrt_vk_bvh_destroy(g->ctx, &g->bvh);
     if (g->ctx) lrt_vk_context_destroy(g->ctx);
     if (g->has_t) lrt_vku_free(&g->t);
-    if (g->has_dev) lrt_vk_device_destroy(&g->dev);
+    if (g->has_dev) lrt_vku_device_destroy(&g->dev);
     memset(g, 0, sizeof *g);
 }
 
@@ -217,7 +216,7 @@ static int gpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *
     gpu_release(g);
     g->node_bits = bits;
     g->budget = budget;
-    if ((r = lrt_vk_device_create(&g->dev, 0)) != LRT_SUCCESS) {
+    if ((r = lrt_vku_device_create(&g->dev, 0)) != LRT_SUCCESS) {
         snprintf(why, n, "no Vulkan device: %s", lrt_result_string(r));
         return 1;
     }

@@ -44,7 +44,7 @@
 #include "ao.c"
 #include "shadows.c"
 #ifdef LINEAR_RT_VULKAN
-#include "../linear_rt_vk_util.h" /* buffers, one command buffer, submit and wait, barriers, timestamps */
+#include "../linear_rt_vk_util.h" /* the device, buffers, one command buffer, submit and wait, barriers, timestamps */
 #endif
 
 #include <pthread.h>
@@ -297,7 +297,7 @@ static int gpu_frame(lrt_vku *t, lrt_vk_context *ctx, lrt_vk_bvh *bvh, const lrt
 static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, const lrt_hit *prim_cpu,
                        const lrt_ray *seg, const lrt_hit *seg_cpu, size_t n)
 {
-    static lrt_vk_device dev; /* stays put while it lives */
+    static lrt_vku_device dev; /* stays put while it lives */
     lrt_vk_context *ctx = NULL;
     lrt_vk_bvh bvh = {0};
     lrt_vk_bvh_desc bd;
@@ -313,9 +313,9 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
     memset(&bvh, 0, sizeof bvh);
     memset(&db, 0, sizeof db); /* what was never made is not destroyed */
     rb = hb = sb = shb = db;
-    r = lrt_vk_device_create(&dev, 0);
+    r = lrt_vku_device_create(&dev, 0);
     if (r != LRT_SUCCESS) {
-        snprintf(g->why, sizeof g->why, "lrt_vk_device_create: %s", lrt_result_string(r));
+        snprintf(g->why, sizeof g->why, "lrt_vku_device_create: %s", lrt_result_string(r));
         return;
     }
     snprintf(g->device, sizeof g->device, "%s, Vulkan %u.%u.%u", dev.properties.deviceName,
@@ -325,7 +325,7 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
         snprintf(g->why, sizeof g->why, "Vulkan set-up failed: %s", lrt_result_string(r));
         lrt_vku_free(&t);
         lrt_vk_context_destroy(ctx);
-        lrt_vk_device_destroy(&dev);
+        lrt_vku_device_destroy(&dev);
         return;
     }
     if (n > 0xffffffffu || lrt_vku_buffer_create_in(&t, depth_bytes, 1, &db) || lrt_vku_buffer_create_in(&t, n * sizeof *prim, 1, &rb) ||
@@ -385,7 +385,7 @@ done:
     }
     lrt_vku_free(&t);
     lrt_vk_context_destroy(ctx);
-    lrt_vk_device_destroy(&dev);
+    lrt_vku_device_destroy(&dev);
     if (!g->ran && !g->why[0]) snprintf(g->why, sizeof g->why, "a Vulkan call failed (see above)");
 }
 #endif
