@@ -100,7 +100,7 @@ FORCE:
 EXAMPLE_HDR := examples/example.h examples/depth_file.h examples/surface.h $(SCENE) $(LIB)
 EXAMPLES := minimal ssr ao shadows
 
-$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c examples/march.h $(EXAMPLE_HDR) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
+$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c examples/march.h examples/trace_threads.h $(EXAMPLE_HDR) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
 	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" $< -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
 
 # install first, then a new make: HAVE_VULKAN and the like are read when make
@@ -475,7 +475,7 @@ test-demo: $(B)/demo $(B)/test_demo
 HAVE_EMBREE := $(shell test -f /usr/include/embree3/rtcore.h && echo 1)
 HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
 BENCH_SRC := bench/main.c bench/clock.c bench/m_linear_rt.c bench/visits.c bench/wave.c bench/m_embree.c bench/march_cpu.c bench/m_vk_peers.c
-BENCH_HDR := bench/bench.h bench/scenes.h bench/march_common.h examples/march.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
+BENCH_HDR := bench/bench.h bench/scenes.h bench/march_common.h examples/march.h examples/depth_file.h examples/surface.h examples/trace_threads.h $(LIB) $(REF) $(SCENE)
 BENCH_FLAGS := $(STD) $(WARN) $(CFLAGS) -O3 $(NATIVE)
 BENCH_LIBS := $(LDLIBS)
 BENCH_DEPS :=
@@ -564,7 +564,7 @@ test-bench: $(B)/bench
 
 # bench/walk_rays.c, the workload of bench/walk_ab.sh (which builds its own
 # copies against two headers): built here so that it keeps compiling
-$(B)/walk_rays: bench/walk_rays.c $(LIB) $(SCENE) | deps $(B)
+$(B)/walk_rays: bench/walk_rays.c examples/trace_threads.h $(LIB) $(SCENE) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) -O3 $< -o $@ $(LDLIBS)
 
 # ---- the kernels' weight on AMD GPUs ------------------------------------------
