@@ -131,12 +131,7 @@ int bench_add_linear_rt_cpu(bench_method *out, int max)
         out[i].exact = i < 2;
         out[i].budgeted = i >= 2;
         out[i].impl = c;
-        out[i].open = cpu_open;
-        out[i].build = cpu_build;
-        out[i].update = cpu_update;
-        out[i].trace = cpu_trace;
-        out[i].memory_bytes = cpu_memory;
-        out[i].close = cpu_close;
+        BENCH_METHOD_FUNCTIONS(out[i], cpu);
     }
     return i;
 }
@@ -366,12 +361,7 @@ int bench_add_linear_rt_vulkan(bench_method *out, int max)
             g->node_bits = i == 1 ? 8u : 16u;
             g->budget = i < 2 ? 0u : 4u << (i - 2);
             out[i].impl = g;
-            out[i].open = gpu_open;
-            out[i].build = gpu_build;
-            out[i].update = gpu_update;
-            out[i].trace = gpu_trace;
-            out[i].memory_bytes = gpu_memory;
-            out[i].close = gpu_close;
+            BENCH_METHOD_FUNCTIONS(out[i], gpu);
         }
 #endif
     }

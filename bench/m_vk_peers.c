@@ -1468,12 +1468,7 @@ int bench_add_vulkan_peers(bench_method *out, int max)
         out[i].device = "vulkan";
         out[i].exact = vkp_is_rt(p);
         out[i].impl = p;
-        out[i].open = vkp_open;
-        out[i].build = vkp_build;
-        out[i].update = vkp_update;
-        out[i].trace = vkp_trace;
-        out[i].memory_bytes = vkp_memory;
-        out[i].close = vkp_close;
+        BENCH_METHOD_FUNCTIONS(out[i], vkp);
     }
     return i;
 }

@@ -466,12 +466,7 @@ int bench_add_march_cpu(bench_method *out, int max)
         out[count].device = "cpu";
         out[count].exact = 0;
         out[count].impl = m;
-        out[count].open = march_open;
-        out[count].build = march_build;
-        out[count].update = march_update;
-        out[count].trace = march_trace;
-        out[count].memory_bytes = march_memory;
-        out[count].close = march_close;
+        BENCH_METHOD_FUNCTIONS(out[count], march);
         ++count;
     }
     return count;
