@@ -18,20 +18,6 @@ typedef struct ao__job {
     float radius;
 } ao__job;
 
-/* An orthonormal tangent frame (t, b) around the unit normal n. */
-static void ao__frame(const float n[3], float t[3], float b[3])
-{
-    float a[3] = {0.0f, 0.0f, 0.0f};
-    a[fabsf(n[0]) < 0.6f ? 0 : 1] = 1.0f;
-    t[0] = a[1] * n[2] - a[2] * n[1];
-    t[1] = a[2] * n[0] - a[0] * n[2];
-    t[2] = a[0] * n[1] - a[1] * n[0];
-    surface_normalize(t);
-    b[0] = n[1] * t[2] - n[2] * t[1];
-    b[1] = n[2] * t[0] - n[0] * t[2];
-    b[2] = n[0] * t[1] - n[1] * t[0];
-}
-
 static void ao__rays_row(void *ctx, uint32_t j)
 {
     static const uint8_t dither[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
@@ -60,7 +46,7 @@ static void ao__rays_row(void *ctx, uint32_t j)
             for (s = 0; s < AO_RAYS; ++s) lrt_camera_segment(NULL, NULL, NULL, &rays[s]);
             continue;
         }
-        ao__frame(n, t, b);
+        surface_frame(n, t, b);
         for (s = 0; s < AO_RAYS; ++s) {
             const float *d = disc[i & 3][s];
             float to[3];
