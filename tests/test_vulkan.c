@@ -513,11 +513,7 @@ static void update_case(lrt_format format, uint32_t bits, int source, uint32_t t
     gpu_depth g;
     char what[160];
     int frame, same_rect = 1, same_full = 1;
-    memset(&dm, 0, sizeof dm);
-    dm.data = bytes;
-    dm.width = (uint32_t)w;
-    dm.height = (uint32_t)h;
-    dm.format = format;
+    dm = packed_depth(bytes, (uint32_t)w, (uint32_t)h, format);
     memset(&opt, 0, sizeof opt);
     opt.node_bits = bits;
     opt.thickness = thick;
@@ -658,11 +654,7 @@ static void test_2d_dispatch(void)
             gpu_depth g;
             size_t i;
             for (i = 0; i < (size_t)w * h; ++i) bytes[i] = (uint8_t)(rnd() & 0xff);
-            memset(&dm, 0, sizeof dm);
-            dm.data = bytes;
-            dm.width = (uint32_t)w;
-            dm.height = (uint32_t)h;
-            dm.format = LRT_FORMAT_UNORM8;
+            dm = packed_depth(bytes, (uint32_t)w, (uint32_t)h, LRT_FORMAT_UNORM8);
             lrt_bvh_build(&cpu, &dm, &opt, NULL);
             memset(&gpu, 0, sizeof gpu);
             if (gpu_depth_create(&dm, SRC_PACKED, VK_FORMAT_UNDEFINED, &g) == 0 && gpu_build(&dm, 8, &g, &gpu, "2D refit") == 0)
@@ -776,11 +768,7 @@ static void test_bad_arguments(void)
     const VkDeviceSize align = g_limits.minStorageBufferOffsetAlignment < 4 ? 4 : g_limits.minStorageBufferOffsetAlignment;
     VkCommandBuffer cmd;
     int k;
-    memset(&dm, 0, sizeof dm);
-    dm.data = texels;
-    dm.width = 3;
-    dm.height = 2;
-    dm.format = LRT_FORMAT_FLOAT32;
+    dm = packed_depth(texels, 3, 2, LRT_FORMAT_FLOAT32);
     memset(&bd, 0, sizeof bd);
     bd.width = 3;
     bd.height = 2;
