@@ -71,7 +71,10 @@ typedef struct lrt_vku_device {  /* fields are read-only to callers */
     VkDebugUtilsMessengerEXT messenger;
 } lrt_vku_device;
 
-LRT_VKU_FN void *lrt_vku__open_loader(PFN_vkGetInstanceProcAddr *gipa)
+/* Opens the Vulkan loader (libvulkan.so.1, vulkan-1.dll, libvulkan.1.dylib:
+   nothing is linked) and its vkGetInstanceProcAddr; NULL if there is none.
+   lrt_vku_close_loader closes it. */
+LRT_VKU_FN void *lrt_vku_open_loader(PFN_vkGetInstanceProcAddr *gipa)
 {
     void *lib = NULL, *sym = NULL;
 #if defined(_WIN32)
@@ -104,7 +107,7 @@ LRT_VKU_FN void *lrt_vku__open_loader(PFN_vkGetInstanceProcAddr *gipa)
     return lib;
 }
 
-LRT_VKU_FN void lrt_vku__close_loader(void *lib)
+LRT_VKU_FN void lrt_vku_close_loader(void *lib)
 {
     if (!lib) return;
 #if defined(_WIN32)
@@ -139,6 +142,20 @@ LRT_VKU_FN void lrt_vku__feature_chain(VkPhysicalDeviceFeatures2 *f, VkPhysicalD
     f11->pNext = f12;
     memset(f12, 0, sizeof *f12);
     f12->sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
+}
+
+/* A debug messenger's create info: every warning and error of the
+   validation layer (general, validation, performance) to fn(..., user). */
+LRT_VKU_FN void lrt_vku_messenger_info(VkDebugUtilsMessengerCreateInfoEXT *mi, PFN_vkDebugUtilsMessengerCallbackEXT fn,
+                                       void *user)
+{
+    memset(mi, 0, sizeof *mi);
+    mi->sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
+    mi->messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    mi->messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                      VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+    mi->pfnUserCallback = fn;
+    mi->pUserData = user;
 }
 
 /* Is every feature the kernels need there? Fills the chain on .. on12 to
@@ -195,7 +212,7 @@ LRT_VKU_FN void lrt_vku__device_teardown(lrt_vku_device *d, PFN_vkGetInstancePro
             if (destroy) destroy(inst, NULL);
         }
     }
-    lrt_vku__close_loader(d->loader);
+    lrt_vku_close_loader(d->loader);
     {   /* the count survives: messages of the destruction count too */
         uint32_t messages = d->message_count;
         memset(d, 0, sizeof *d);
@@ -209,6 +226,33 @@ LRT_VKU_FN int lrt_vku__has_extension(const char *name, const VkExtensionPropert
     for (i = 0; i < n; ++i)
         if (strcmp(exts[i].extensionName, name) == 0) return 1;
     return 0;
+}
+
+/* A VkDevice on pd with one queue of `family` and the extensions exts[0,
+   ext_count) and the features chain `features` (a VkPhysicalDeviceFeatures2,
+   or NULL) enabled: the device of lrt_vku_device_create, and of programs
+   that want another (the tests' device without the library's extension,
+   the benchmark's ray-query peers). */
+LRT_VKU_FN VkResult lrt_vku_create_vk_device(PFN_vkCreateDevice create, VkPhysicalDevice pd, uint32_t family,
+                                             const void *features, const char *const *exts, uint32_t ext_count,
+                                             VkDevice *out)
+{
+    const float priority = 1.0f;
+    VkDeviceQueueCreateInfo qi;
+    VkDeviceCreateInfo di;
+    memset(&qi, 0, sizeof qi);
+    qi.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
+    qi.queueFamilyIndex = family;
+    qi.queueCount = 1;
+    qi.pQueuePriorities = &priority;
+    memset(&di, 0, sizeof di);
+    di.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+    di.pNext = features;
+    di.queueCreateInfoCount = 1;
+    di.pQueueCreateInfos = &qi;
+    di.enabledExtensionCount = ext_count;
+    di.ppEnabledExtensionNames = exts;
+    return create(pd, &di, NULL, out);
 }
 
 /* Picks the device and its compute queue family; 0 if none will do. */
@@ -291,17 +335,14 @@ LRT_VKU_FN lrt_result lrt_vku_device_create(lrt_vku_device *out, uint32_t flags)
     VkPhysicalDeviceFeatures2 on;
     VkPhysicalDeviceVulkan11Features on11;
     VkPhysicalDeviceVulkan12Features on12;
-    VkDeviceQueueCreateInfo qi;
-    VkDeviceCreateInfo di;
     lrt_vk_requirements req;
-    const float priority = 1.0f;
     VkResult vr;
     lrt_result r = LRT_SUCCESS;
     if (!out) return LRT_ERROR_NULL_POINTER;
     if (flags & ~(uint32_t)(LRT_VKU_DEVICE_VALIDATION | LRT_VKU_DEVICE_SYNC_VALIDATION)) return LRT_ERROR_INVALID_OPTION;
     memset(out, 0, sizeof *out);
     lrt_vk_get_requirements(&req);
-    out->loader = lrt_vku__open_loader(&gipa);
+    out->loader = lrt_vku_open_loader(&gipa);
     if (!out->loader) return LRT_ERROR_NO_VULKAN_LOADER;
     create_instance = (PFN_vkCreateInstance)gipa(VK_NULL_HANDLE, "vkCreateInstance");
     if (!create_instance) {
@@ -309,13 +350,7 @@ LRT_VKU_FN lrt_result lrt_vku_device_create(lrt_vku_device *out, uint32_t flags)
         return LRT_ERROR_NO_VULKAN_LOADER;
     }
 
-    memset(&mi, 0, sizeof mi);
-    mi.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
-    mi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-    mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                     VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
-    mi.pfnUserCallback = lrt_vku__on_message;
-    mi.pUserData = out;
+    lrt_vku_messenger_info(&mi, lrt_vku__on_message, out);
     if (validate) { /* the layer, and debug utils from anyone (the layer provides it) */
         PFN_vkEnumerateInstanceLayerProperties get_layers =
             (PFN_vkEnumerateInstanceLayerProperties)gipa(VK_NULL_HANDLE, "vkEnumerateInstanceLayerProperties");
@@ -387,20 +422,9 @@ LRT_VKU_FN lrt_result lrt_vku_device_create(lrt_vku_device *out, uint32_t flags)
         r = vr != VK_SUCCESS ? LRT_ERROR_VULKAN : LRT_ERROR_NO_VULKAN_DEVICE;
     create_device = (PFN_vkCreateDevice)gipa(out->desc.instance, "vkCreateDevice");
     if (r == LRT_SUCCESS && (!create_device || !out->desc.get_device_proc_addr)) r = LRT_ERROR_NO_VULKAN_LOADER;
-    if (r == LRT_SUCCESS) {
-        memset(&qi, 0, sizeof qi);
-        qi.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
-        qi.queueFamilyIndex = out->queue_family;
-        qi.queueCount = 1;
-        qi.pQueuePriorities = &priority;
-        memset(&di, 0, sizeof di);
-        di.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
-        di.pNext = &on; /* features 2, 1.1, 1.2: what the kernels need */
-        di.queueCreateInfoCount = 1;
-        di.pQueueCreateInfos = &qi;
-        di.enabledExtensionCount = req.extension_count;
-        di.ppEnabledExtensionNames = req.extensions;
-        vr = create_device(out->desc.physical_device, &di, NULL, &out->desc.device);
+    if (r == LRT_SUCCESS) { /* features 2, 1.1, 1.2: what the kernels need */
+        vr = lrt_vku_create_vk_device(create_device, out->desc.physical_device, out->queue_family, &on, req.extensions,
+                                      req.extension_count, &out->desc.device);
         if (vr != VK_SUCCESS) {
             out->desc.device = VK_NULL_HANDLE;
             r = LRT_ERROR_VULKAN;

@@ -1407,22 +1407,10 @@ static void test_device_without_extension(void)
     const lrt_vk_context_desc *d = &g_dev.desc;
     PFN_vkCreateDevice create = (PFN_vkCreateDevice)d->get_instance_proc_addr(d->instance, "vkCreateDevice");
     PFN_vkDestroyDevice destroy;
-    VkDeviceQueueCreateInfo qi;
-    VkDeviceCreateInfo di;
     lrt_vk_context_desc cd = *d;
     lrt_vk_context *ctx = NULL;
-    const float priority = 1.0f;
     VkDevice bare;
-    memset(&qi, 0, sizeof qi);
-    qi.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
-    qi.queueFamilyIndex = g_dev.queue_family;
-    qi.queueCount = 1;
-    qi.pQueuePriorities = &priority;
-    memset(&di, 0, sizeof di);
-    di.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
-    di.queueCreateInfoCount = 1;
-    di.pQueueCreateInfos = &qi;
-    if (!create || create(d->physical_device, &di, NULL, &bare) != VK_SUCCESS) {
+    if (!create || lrt_vku_create_vk_device(create, d->physical_device, g_dev.queue_family, NULL, NULL, 0, &bare) != VK_SUCCESS) {
         CHECK(0, "could not create a second device");
         return;
     }
