@@ -4,7 +4,9 @@
    engine has of its own, so linear_rt.h carries none of it. A device
    (lrt_vku_device_create: the Vulkan loader opened at run time, an
    instance, a device with what the kernels need and a compute queue,
-   optionally the validation layer), host-visible buffers, sampled depth
+   optionally the validation layer; its pieces for programs that make
+   another device: lrt_vku_open_loader, lrt_vku_messenger_info,
+   lrt_vku_create_vk_device), host-visible buffers, sampled depth
    images uploaded through a staging buffer, one command buffer submitted
    and waited for, memory barriers (the form of every row of linear_rt.h's
    BARRIERS), timestamps. Nothing links against Vulkan: every function
@@ -15,7 +17,9 @@
        #include "linear_rt_vk_util.h"
    Every function is static (no IMPLEMENTATION switch): a program includes
    it in each file that uses it. lrt_vku_device_create returns an
-   lrt_result; the others print a line to stderr and return nonzero.
+   lrt_result, lrt_vku_create_vk_device a VkResult, lrt_vku_open_loader
+   NULL where there is no loader; the others print a line to stderr and
+   return nonzero.
 
    LICENCE: MIT, as linear_rt.h. */
 #ifndef LINEAR_RT_VK_UTIL_H

@@ -647,6 +647,9 @@ static int vkp_pipeline(vkp *p, const uint32_t *code, size_t size, VkPipeline *o
     return 0;
 }
 
+/* bench/gpu_stats.c makes these layouts again (gs_peer_row), a program of
+   its own that weighs the kernels on RADV: the copy there must stay in step
+   with this one. */
 static int vkp_create_pipelines(vkp *p, char *why, size_t n)
 {
     VkDescriptorSetLayoutBinding b[6];

@@ -95,6 +95,10 @@ static double median(double *v, int n)
 }
 
 /* ---- our pipeline -------------------------------------------------------------- */
+/* Written out on purpose, as an engine's own code is: this is the side the
+   example shows. linear_rt.h makes its pipelines with the same calls
+   (lrt__vk_create_objects) and so do the benchmark's peers
+   (bench/m_vk_peers.c), which `duplicates` lists as pairs. */
 static int own_create(own *o, const lrt_vku_device *dev)
 {
     const VkDevice device = dev->desc.device;
