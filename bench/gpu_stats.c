@@ -473,7 +473,7 @@ enum { GS_DEVICE_LIBRARY, GS_DEVICE_PEERS, GS_DEVICE_RAY_QUERY };
 
 /* A device as its user makes it, with pipelineExecutableInfo on as well:
    the library's (lrt_vk_get_requirements: its features and extension, as
-   linear_rt.h's device helper enables them), the peers' (no feature, as
+   lrt_vku_device_create enables them), the peers' (no feature, as
    bench/m_vk_peers.c), the ray-query peers' (bufferDeviceAddress,
    accelerationStructure, rayQuery and their three extensions, as it). */
 static VkResult gs_device(const gs_vk *g, int kind, VkDevice *out, char *why, size_t n)
