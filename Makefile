@@ -43,7 +43,7 @@ VK_UTIL := linear_rt_vk_util.h
 # Vulkan: the headers decide whether the demo and tests get the Vulkan path.
 # Nothing links against Vulkan: the loader is opened at run time (-ldl).
 HAVE_VULKAN := $(shell printf '\043include <vulkan/vulkan.h>\n' | $(CC) -E -x c - >/dev/null 2>&1 && echo 1)
-VK_FLAGS := -DLINEAR_RT_VULKAN -DLINEAR_RT_VULKAN_DEVICE_HELPER
+VK_FLAGS := -DLINEAR_RT_VULKAN
 # tests and the demo prove it: no Vulkan prototypes, so no link-time Vulkan symbol
 VK_PROGRAM_FLAGS := $(VK_FLAGS) -DVK_NO_PROTOTYPES
 VK_LIBS := -ldl
@@ -100,7 +100,7 @@ FORCE:
 EXAMPLE_HDR := examples/example.h examples/depth_file.h examples/surface.h $(SCENE) $(LIB)
 EXAMPLES := minimal ssr ao shadows
 
-$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c examples/march.h $(EXAMPLE_HDR) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
+$(B)/demo: examples/demo.c examples/ssr.c examples/ao.c examples/shadows.c examples/march.h examples/trace_threads.h $(EXAMPLE_HDR) $(DEMO_VK_DEPS) $(B)/config.stamp | deps $(B)
 	$(CC) $(DEMO_FLAGS) $(DEMO_VK) -DDEMO_CFLAGS="\"$(DEMO_FLAGS)\"" $< -o $@ $(LDLIBS) $(DEMO_VK_LIBS)
 
 # install first, then a new make: HAVE_VULKAN and the like are read when make
@@ -250,8 +250,9 @@ test-sanitize: test-sanitize-reference test-sanitize-core
 
 # The header alone, as C99 and C++11, gcc and clang, warnings as errors; the
 # STATIC, NO_SIMD, NO_AVX, NO_RUNTIME_DISPATCH and AVX2 variants, the AVX2
-# walk in a plain build, a renamed copy (LINEAR_RT_SELF); and the README's
-# code sample.
+# walk in a plain build, a renamed copy (LINEAR_RT_SELF); the README's code
+# sample; the Vulkan build, and with it linear_rt_vk_util.h, the companion
+# header (C99 and C++11, gcc and clang).
 test-header: | deps $(B)
 	@printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n' > $(B)/header_tu.c
 	@awk '/^```c$$/ { f = 1; next } /^```$$/ { if (f) exit } f' README.md > $(B)/readme_sample.c
@@ -307,18 +308,21 @@ test-header: | deps $(B)
 	else echo "  the CPU-only build includes no Vulkan header"; n=$$((n + 1)); fi; \
 	if [ "$(HAVE_VULKAN)" = 1 ]; then \
 	  printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n' > $(B)/header_vk_tu.c; \
-	  job gcc $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_gcc.o; \
-	  job g++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_gxx.o; \
-	  if command -v clang >/dev/null 2>&1; then \
-	    job clang $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_clang.o; fi; \
-	  if command -v clang++ >/dev/null 2>&1; then \
-	    job clang++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_vk_tu.c -o $(B)/header_vk_clangxx.o; fi; \
+	  printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n#include "../$(VK_UTIL)"\n' > $(B)/header_vku_tu.c; \
+	  for tu in vk vku; do \
+	    job gcc $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_$${tu}_tu.c -o $(B)/header_$${tu}_gcc.o; \
+	    job g++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_$${tu}_tu.c -o $(B)/header_$${tu}_gxx.o; \
+	    if command -v clang >/dev/null 2>&1; then \
+	      job clang $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/header_$${tu}_tu.c -o $(B)/header_$${tu}_clang.o; fi; \
+	    if command -v clang++ >/dev/null 2>&1; then \
+	      job clang++ -x c++ -std=c++11 $(STRICT) $(VK_FLAGS) -c $(B)/header_$${tu}_tu.c -o $(B)/header_$${tu}_clangxx.o; fi; \
+	  done; \
 	  job gcc $(STD) $(STRICT) $(VK_FLAGS) -DVK_NO_PROTOTYPES -DLINEAR_RT_STATIC -c $(B)/header_vk_tu.c -o $(B)/header_vk_static.o; \
-	  job gcc $(STD) $(STRICT) -DLINEAR_RT_VULKAN -c $(B)/header_vk_tu.c -o $(B)/header_vk_nohelper.o; \
 	  printf '#include "../linear_rt.h"\n#define LINEAR_RT_VULKAN\n#include "../linear_rt.h"\nint f(void);\nint f(void) { return (int)sizeof(lrt_vk_depth); }\n' > $(B)/header_vk_twice.c; \
 	  job gcc $(STD) $(STRICT) -c $(B)/header_vk_twice.c -o $(B)/header_vk_twice.o; \
-	  flush; if nm $(B)/header_vk_gcc.o | grep -q ' U vk'; then echo "  FAIL: a link-time Vulkan symbol:"; nm $(B)/header_vk_gcc.o | grep ' U vk'; bad=$$((bad + 1)); \
-	  else echo "  no link-time Vulkan symbol in the Vulkan build"; n=$$((n + 1)); fi; \
+	  flush; if nm $(B)/header_vk_gcc.o $(B)/header_vku_gcc.o | grep -q ' U vk'; then echo "  FAIL: a link-time Vulkan symbol:"; \
+	    nm $(B)/header_vk_gcc.o $(B)/header_vku_gcc.o | grep ' U vk'; bad=$$((bad + 1)); \
+	  else echo "  no link-time Vulkan symbol in the Vulkan build and its companion header"; n=$$((n + 1)); fi; \
 	else echo "  note: <vulkan/vulkan.h> not found: Vulkan variants skipped"; fi; \
 	echo "test-header: $$n passed, $$bad failed"; \
 	[ $$bad -eq 0 ]
@@ -473,7 +477,7 @@ test-demo: $(B)/demo $(B)/test_demo
 HAVE_EMBREE := $(shell test -f /usr/include/embree3/rtcore.h && echo 1)
 HAVE_GLSLANG := $(shell command -v $(GLSLANG) >/dev/null 2>&1 && echo 1)
 BENCH_SRC := bench/main.c bench/clock.c bench/m_linear_rt.c bench/visits.c bench/wave.c bench/m_embree.c bench/march_cpu.c bench/m_vk_peers.c
-BENCH_HDR := bench/bench.h bench/scenes.h bench/march_common.h examples/march.h examples/depth_file.h examples/surface.h $(LIB) $(REF) $(SCENE)
+BENCH_HDR := bench/bench.h bench/scenes.h bench/march_common.h examples/march.h examples/depth_file.h examples/surface.h examples/trace_threads.h $(LIB) $(REF) $(SCENE)
 BENCH_FLAGS := $(STD) $(WARN) $(CFLAGS) -O3 $(NATIVE)
 BENCH_LIBS := $(LDLIBS)
 BENCH_DEPS :=
@@ -562,7 +566,7 @@ test-bench: $(B)/bench
 
 # bench/walk_rays.c, the workload of bench/walk_ab.sh (which builds its own
 # copies against two headers): built here so that it keeps compiling
-$(B)/walk_rays: bench/walk_rays.c $(LIB) $(SCENE) | deps $(B)
+$(B)/walk_rays: bench/walk_rays.c examples/trace_threads.h $(LIB) $(SCENE) | deps $(B)
 	$(CC) $(STD) $(WARN) $(CFLAGS) -O3 $< -o $@ $(LDLIBS)
 
 # ---- the kernels' weight on AMD GPUs ------------------------------------------
@@ -580,7 +584,7 @@ GPU_STATS_OUT ?= $(B)/gpu-stats.md
 GPU_WEIGHTS ?= $(B)/gpu-weights.tsv
 ifeq ($(HAVE_VULKAN),1)
 GPU_STATS_FLAGS := -DLINEAR_RT_VULKAN -DVK_NO_PROTOTYPES $(ONE_WALK)
-GPU_STATS_DEPS := $(LIB) $(SPV_H)
+GPU_STATS_DEPS := $(LIB) $(SPV_H) $(VK_UTIL)
 ifeq ($(HAVE_GLSLANG),1)
 GPU_STATS_FLAGS += -DGPU_STATS_HAVE_PEERS -I$(B)
 GPU_STATS_DEPS += $(B)/bench_vk_spv.h

@@ -1,22 +1,44 @@
 /* linear_rt_vk_util.h - a companion of linear_rt.h, as sokol keeps util
    headers beside its own: the little Vulkan that tools, tests, examples and
    the benchmark need around linear_rt's recording functions, and that an
-   engine has of its own. Host-visible buffers, sampled depth images
-   uploaded through a staging buffer, one command buffer submitted and
-   waited for, memory barriers (the form of every row of linear_rt.h's
-   BARRIERS), timestamps. Every function pointer comes from the
-   lrt_vk_device of linear_rt.h's device helper: nothing links against
-   Vulkan, it builds with VK_NO_PROTOTYPES. Include after linear_rt.h (with
-   LINEAR_RT_VULKAN and LINEAR_RT_VULKAN_DEVICE_HELPER); every function is
-   static, for one file. Errors print a line to stderr and return nonzero.
+   engine has of its own, so linear_rt.h carries none of it. A device
+   (lrt_vku_device_create: the Vulkan loader opened at run time, an
+   instance, a device with what the kernels need and a compute queue,
+   optionally the validation layer; its pieces for programs that make
+   another device: lrt_vku_open_loader, lrt_vku_messenger_info,
+   lrt_vku_create_vk_device), host-visible buffers, sampled depth
+   images uploaded through a staging buffer, one command buffer submitted
+   and waited for, memory barriers (the form of every row of linear_rt.h's
+   BARRIERS), timestamps. Nothing links against Vulkan: every function
+   comes from the loader's vkGetInstanceProcAddr, so it builds with
+   VK_NO_PROTOTYPES (dlopen: link with -ldl on old glibc).
+       #define LINEAR_RT_VULKAN
+       #include "linear_rt.h"
+       #include "linear_rt_vk_util.h"
+   Every function is static (no IMPLEMENTATION switch): a program includes
+   it in each file that uses it. lrt_vku_device_create returns an
+   lrt_result, lrt_vku_create_vk_device a VkResult, lrt_vku_open_loader
+   NULL where there is no loader; the others print a line to stderr and
+   return nonzero.
 
    LICENCE: MIT, as linear_rt.h. */
 #ifndef LINEAR_RT_VK_UTIL_H
 #define LINEAR_RT_VK_UTIL_H
+#ifndef LINEAR_RT_VULKAN_H
+#error "linear_rt_vk_util.h: include linear_rt.h with LINEAR_RT_VULKAN defined first"
+#endif
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef _WIN32
+#ifndef WIN32_LEAN_AND_MEAN
+#define WIN32_LEAN_AND_MEAN
+#endif
+#include <windows.h>
+#else
+#include <dlfcn.h>
+#endif
 
 #if defined(__GNUC__) || defined(__clang__)
 #define LRT_VKU_FN static __attribute__((unused)) /* a file uses only some */
@@ -24,6 +46,414 @@
 #define LRT_VKU_FN static
 #endif
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- the device: instance, device, queue ---------------------------------------- */
+enum {
+    /* lrt_vku_device_create flags: the Khronos validation layer and a
+       VK_EXT_debug_utils messenger that prints each warning and error to
+       stderr and counts it in lrt_vku_device.message_count */
+    LRT_VKU_DEVICE_VALIDATION = 1u,
+    /* the same with the layer's synchronization validation on (missing or
+       wrong barriers; VK_EXT_validation_features) */
+    LRT_VKU_DEVICE_SYNC_VALIDATION = 2u
+};
+
+typedef struct lrt_vku_device {  /* fields are read-only to callers */
+    lrt_vk_context_desc desc;      /* ready for lrt_vk_context_create */
+    VkQueue queue;                 /* one queue with compute */
+    uint32_t queue_family;
+    uint32_t timestamp_valid_bits; /* of that family; 0: no timestamps */
+    VkPhysicalDeviceProperties properties;
+    uint32_t message_count;        /* validation warnings and errors seen (LRT_VKU_DEVICE_VALIDATION),
+                                      those of destroy included: still readable after it */
+    VkResult vk_result;            /* the failing call's VkResult when create returned LRT_ERROR_VULKAN */
+    /* private */
+    void *loader;
+    VkDebugUtilsMessengerEXT messenger;
+} lrt_vku_device;
+
+/* Opens the Vulkan loader (libvulkan.so.1, vulkan-1.dll, libvulkan.1.dylib:
+   nothing is linked) and its vkGetInstanceProcAddr; NULL if there is none.
+   lrt_vku_close_loader closes it. */
+LRT_VKU_FN void *lrt_vku_open_loader(PFN_vkGetInstanceProcAddr *gipa)
+{
+    void *lib = NULL, *sym = NULL;
+#if defined(_WIN32)
+    HMODULE m = LoadLibraryA("vulkan-1.dll");
+    FARPROC p = m ? GetProcAddress(m, "vkGetInstanceProcAddr") : NULL;
+    lib = (void *)m;
+    memcpy(&sym, &p, sizeof sym < sizeof p ? sizeof sym : sizeof p);
+#else
+    static const char *const names[] = {
+#if defined(__APPLE__)
+        "libvulkan.1.dylib", "libvulkan.dylib", "libMoltenVK.dylib"
+#else
+        "libvulkan.so.1", "libvulkan.so"
+#endif
+    };
+    size_t i;
+    for (i = 0; i < sizeof names / sizeof names[0] && !lib; ++i) lib = dlopen(names[i], RTLD_NOW | RTLD_LOCAL);
+    if (lib) sym = dlsym(lib, "vkGetInstanceProcAddr");
+#endif
+    if (lib && !sym) {
+#if defined(_WIN32)
+        FreeLibrary((HMODULE)lib);
+#else
+        dlclose(lib);
+#endif
+        lib = NULL;
+    }
+    /* an object pointer to a function pointer without a cast ISO C forbids */
+    if (lib) memcpy(gipa, &sym, sizeof *gipa);
+    return lib;
+}
+
+LRT_VKU_FN void lrt_vku_close_loader(void *lib)
+{
+    if (!lib) return;
+#if defined(_WIN32)
+    FreeLibrary((HMODULE)lib);
+#else
+    dlclose(lib);
+#endif
+}
+
+LRT_VKU_FN VKAPI_ATTR VkBool32 VKAPI_CALL lrt_vku__on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                              VkDebugUtilsMessageTypeFlagsEXT types,
+                                                              const VkDebugUtilsMessengerCallbackDataEXT *data, void *user)
+{
+    lrt_vku_device *d = (lrt_vku_device *)user;
+    (void)types;
+    ++d->message_count;
+    (void)fprintf(stderr, "linear_rt: vulkan %s: %s\n",
+                  severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error" : "warning",
+                  data && data->pMessage ? data->pMessage : "(no message)");
+    return VK_FALSE;
+}
+
+/* The chain features 2 -> 1.1 -> 1.2, every feature off. */
+LRT_VKU_FN void lrt_vku__feature_chain(VkPhysicalDeviceFeatures2 *f, VkPhysicalDeviceVulkan11Features *f11,
+                                       VkPhysicalDeviceVulkan12Features *f12)
+{
+    memset(f, 0, sizeof *f);
+    f->sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
+    f->pNext = f11;
+    memset(f11, 0, sizeof *f11);
+    f11->sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES;
+    f11->pNext = f12;
+    memset(f12, 0, sizeof *f12);
+    f12->sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
+}
+
+/* A debug messenger's create info: every warning and error of the
+   validation layer (general, validation, performance) to fn(..., user). */
+LRT_VKU_FN void lrt_vku_messenger_info(VkDebugUtilsMessengerCreateInfoEXT *mi, PFN_vkDebugUtilsMessengerCallbackEXT fn,
+                                       void *user)
+{
+    memset(mi, 0, sizeof *mi);
+    mi->sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
+    mi->messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    mi->messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                      VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+    mi->pfnUserCallback = fn;
+    mi->pUserData = user;
+}
+
+/* Is every feature the kernels need there? Fills the chain on .. on12 to
+   enable them. */
+LRT_VKU_FN int lrt_vku__device_features(PFN_vkGetPhysicalDeviceFeatures2 get, VkPhysicalDevice pd,
+                                        const lrt_vk_requirements *req, VkPhysicalDeviceFeatures2 *on,
+                                        VkPhysicalDeviceVulkan11Features *on11, VkPhysicalDeviceVulkan12Features *on12)
+{
+    VkPhysicalDeviceFeatures2 f;
+    VkPhysicalDeviceVulkan11Features f11;
+    VkPhysicalDeviceVulkan12Features f12;
+    lrt_vku__feature_chain(&f, &f11, &f12);
+    get(pd, &f);
+    lrt_vku__feature_chain(on, on11, on12);
+#define LRT_VKU__WANT(want, have, set)                                                                           \
+    if (want) {                                                                                                   \
+        if (!(have)) return 0;                                                                                    \
+        (set) = VK_TRUE;                                                                                          \
+    }
+    LRT_VKU__WANT(req->shader_float64, f.features.shaderFloat64, on->features.shaderFloat64)
+    LRT_VKU__WANT(req->shader_int64, f.features.shaderInt64, on->features.shaderInt64)
+    LRT_VKU__WANT(req->shader_int16, f.features.shaderInt16, on->features.shaderInt16)
+    LRT_VKU__WANT(req->storage_buffer_16bit_access, f11.storageBuffer16BitAccess, on11->storageBuffer16BitAccess)
+    LRT_VKU__WANT(req->shader_int8, f12.shaderInt8, on12->shaderInt8)
+    LRT_VKU__WANT(req->shader_float16, f12.shaderFloat16, on12->shaderFloat16)
+    LRT_VKU__WANT(req->storage_buffer_8bit_access, f12.storageBuffer8BitAccess, on12->storageBuffer8BitAccess)
+    LRT_VKU__WANT(req->shader_buffer_int64_atomics, f12.shaderBufferInt64Atomics, on12->shaderBufferInt64Atomics)
+    LRT_VKU__WANT(req->vulkan_memory_model, f12.vulkanMemoryModel, on12->vulkanMemoryModel)
+    LRT_VKU__WANT(req->vulkan_memory_model_device_scope, f12.vulkanMemoryModelDeviceScope,
+                  on12->vulkanMemoryModelDeviceScope)
+#undef LRT_VKU__WANT
+    return 1;
+}
+
+/* Destroys whatever of a device exists; leaves it zeroed. */
+LRT_VKU_FN void lrt_vku__device_teardown(lrt_vku_device *d, PFN_vkGetInstanceProcAddr gipa)
+{
+    VkInstance inst = d->desc.instance;
+    if (gipa && inst != VK_NULL_HANDLE) {
+        if (d->desc.device != VK_NULL_HANDLE) {
+            PFN_vkGetDeviceProcAddr gdpa = (PFN_vkGetDeviceProcAddr)gipa(inst, "vkGetDeviceProcAddr");
+            PFN_vkDeviceWaitIdle wait = gdpa ? (PFN_vkDeviceWaitIdle)gdpa(d->desc.device, "vkDeviceWaitIdle") : NULL;
+            PFN_vkDestroyDevice destroy = gdpa ? (PFN_vkDestroyDevice)gdpa(d->desc.device, "vkDestroyDevice") : NULL;
+            if (wait) wait(d->desc.device);
+            if (destroy) destroy(d->desc.device, NULL);
+        }
+        if (d->messenger != VK_NULL_HANDLE) {
+            PFN_vkDestroyDebugUtilsMessengerEXT destroy =
+                (PFN_vkDestroyDebugUtilsMessengerEXT)gipa(inst, "vkDestroyDebugUtilsMessengerEXT");
+            if (destroy) destroy(inst, d->messenger, NULL);
+        }
+        {
+            PFN_vkDestroyInstance destroy = (PFN_vkDestroyInstance)gipa(inst, "vkDestroyInstance");
+            if (destroy) destroy(inst, NULL);
+        }
+    }
+    lrt_vku_close_loader(d->loader);
+    {   /* the count survives: messages of the destruction count too */
+        uint32_t messages = d->message_count;
+        memset(d, 0, sizeof *d);
+        d->message_count = messages;
+    }
+}
+
+LRT_VKU_FN int lrt_vku__has_extension(const char *name, const VkExtensionProperties *exts, uint32_t n)
+{
+    uint32_t i;
+    for (i = 0; i < n; ++i)
+        if (strcmp(exts[i].extensionName, name) == 0) return 1;
+    return 0;
+}
+
+/* A VkDevice on pd with one queue of `family` and the extensions exts[0,
+   ext_count) and the features chain `features` (a VkPhysicalDeviceFeatures2,
+   or NULL) enabled: the device of lrt_vku_device_create, and of programs
+   that want another (the tests' device without the library's extension,
+   the benchmark's ray-query peers). */
+LRT_VKU_FN VkResult lrt_vku_create_vk_device(PFN_vkCreateDevice create, VkPhysicalDevice pd, uint32_t family,
+                                             const void *features, const char *const *exts, uint32_t ext_count,
+                                             VkDevice *out)
+{
+    const float priority = 1.0f;
+    VkDeviceQueueCreateInfo qi;
+    VkDeviceCreateInfo di;
+    memset(&qi, 0, sizeof qi);
+    qi.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
+    qi.queueFamilyIndex = family;
+    qi.queueCount = 1;
+    qi.pQueuePriorities = &priority;
+    memset(&di, 0, sizeof di);
+    di.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+    di.pNext = features;
+    di.queueCreateInfoCount = 1;
+    di.pQueueCreateInfos = &qi;
+    di.enabledExtensionCount = ext_count;
+    di.ppEnabledExtensionNames = exts;
+    return create(pd, &di, NULL, out);
+}
+
+/* Picks the device and its compute queue family; 0 if none will do. */
+LRT_VKU_FN int lrt_vku__pick(lrt_vku_device *d, PFN_vkGetInstanceProcAddr gipa, const lrt_vk_requirements *req,
+                             VkPhysicalDeviceFeatures2 *on, VkPhysicalDeviceVulkan11Features *on11,
+                             VkPhysicalDeviceVulkan12Features *on12, VkResult *vr)
+{
+    VkInstance inst = d->desc.instance;
+    PFN_vkEnumeratePhysicalDevices enumerate = (PFN_vkEnumeratePhysicalDevices)gipa(inst, "vkEnumeratePhysicalDevices");
+    PFN_vkGetPhysicalDeviceProperties get_props =
+        (PFN_vkGetPhysicalDeviceProperties)gipa(inst, "vkGetPhysicalDeviceProperties");
+    PFN_vkGetPhysicalDeviceFeatures2 get_features =
+        (PFN_vkGetPhysicalDeviceFeatures2)gipa(inst, "vkGetPhysicalDeviceFeatures2");
+    PFN_vkGetPhysicalDeviceQueueFamilyProperties get_families =
+        (PFN_vkGetPhysicalDeviceQueueFamilyProperties)gipa(inst, "vkGetPhysicalDeviceQueueFamilyProperties");
+    PFN_vkEnumerateDeviceExtensionProperties get_exts =
+        (PFN_vkEnumerateDeviceExtensionProperties)gipa(inst, "vkEnumerateDeviceExtensionProperties");
+    VkPhysicalDevice devices[16];
+    uint32_t n = 16, i;
+    *vr = VK_SUCCESS;
+    if (!enumerate || !get_props || !get_features || !get_families || !get_exts) return 0;
+    *vr = enumerate(inst, &n, devices);
+    if (*vr == VK_INCOMPLETE) *vr = VK_SUCCESS; /* the first 16 will do */
+    if (*vr != VK_SUCCESS) return 0;
+    for (i = 0; i < n; ++i) {
+        VkQueueFamilyProperties families[32];
+        VkExtensionProperties *exts;
+        uint32_t nf = 32, ne = 0, f;
+        int ext_ok;
+        get_props(devices[i], &d->properties);
+        if (d->properties.apiVersion < req->api_version) continue;
+        if (get_exts(devices[i], NULL, &ne, NULL) != VK_SUCCESS) continue;
+        exts = (VkExtensionProperties *)malloc(sizeof *exts * (ne ? ne : 1));
+        if (!exts) continue;
+        ext_ok = get_exts(devices[i], NULL, &ne, exts) >= VK_SUCCESS &&
+                 lrt_vku__has_extension(req->extensions[0], exts, ne);
+        free(exts);
+        if (!ext_ok) continue;
+        if (!lrt_vku__device_features(get_features, devices[i], req, on, on11, on12)) continue;
+        get_families(devices[i], &nf, families);
+        for (f = 0; f < nf; ++f) {
+            if (families[f].queueFlags & VK_QUEUE_COMPUTE_BIT) {
+                d->desc.physical_device = devices[i];
+                d->queue_family = f;
+                d->timestamp_valid_bits = families[f].timestampValidBits;
+                return 1;
+            }
+        }
+    }
+    memset(&d->properties, 0, sizeof d->properties);
+    return 0;
+}
+
+/* Loads the Vulkan loader at run time (libvulkan.so.1, vulkan-1.dll,
+   libvulkan.1.dylib: nothing is linked), creates an instance (API 1.2),
+   picks the first physical device with Vulkan 1.2, a compute queue,
+   VK_KHR_push_descriptor and lrt_vk_get_requirements' features, and creates
+   a device with one queue and those enabled. *out must stay where it is
+   until destroy (the message callback counts into it). No loader:
+   LRT_ERROR_NO_VULKAN_LOADER; no such device: LRT_ERROR_NO_VULKAN_DEVICE;
+   validation asked for but absent: LRT_ERROR_MISSING_VULKAN_FEATURE. On
+   those and LRT_ERROR_VULKAN, *out is zeroed (but for vk_result) and
+   nothing is left created; on a bad argument it is untouched. */
+LRT_VKU_FN lrt_result lrt_vku_device_create(lrt_vku_device *out, uint32_t flags)
+{
+    static const char *const validation_layer = "VK_LAYER_KHRONOS_validation";
+    static const char *const validation_exts[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME,
+                                                  VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME};
+    const VkValidationFeatureEnableEXT sync = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    const int sync_validate = (flags & LRT_VKU_DEVICE_SYNC_VALIDATION) != 0;
+    const int validate = sync_validate || (flags & LRT_VKU_DEVICE_VALIDATION) != 0;
+    VkValidationFeaturesEXT vf;
+    PFN_vkGetInstanceProcAddr gipa = NULL;
+    PFN_vkCreateInstance create_instance;
+    PFN_vkCreateDevice create_device;
+    PFN_vkGetDeviceQueue get_queue;
+    VkApplicationInfo app;
+    VkInstanceCreateInfo ii;
+    VkDebugUtilsMessengerCreateInfoEXT mi;
+    VkPhysicalDeviceFeatures2 on;
+    VkPhysicalDeviceVulkan11Features on11;
+    VkPhysicalDeviceVulkan12Features on12;
+    lrt_vk_requirements req;
+    VkResult vr;
+    lrt_result r = LRT_SUCCESS;
+    if (!out) return LRT_ERROR_NULL_POINTER;
+    if (flags & ~(uint32_t)(LRT_VKU_DEVICE_VALIDATION | LRT_VKU_DEVICE_SYNC_VALIDATION)) return LRT_ERROR_INVALID_OPTION;
+    memset(out, 0, sizeof *out);
+    lrt_vk_get_requirements(&req);
+    out->loader = lrt_vku_open_loader(&gipa);
+    if (!out->loader) return LRT_ERROR_NO_VULKAN_LOADER;
+    create_instance = (PFN_vkCreateInstance)gipa(VK_NULL_HANDLE, "vkCreateInstance");
+    if (!create_instance) {
+        lrt_vku__device_teardown(out, gipa);
+        return LRT_ERROR_NO_VULKAN_LOADER;
+    }
+
+    lrt_vku_messenger_info(&mi, lrt_vku__on_message, out);
+    if (validate) { /* the layer, and debug utils from anyone (the layer provides it) */
+        PFN_vkEnumerateInstanceLayerProperties get_layers =
+            (PFN_vkEnumerateInstanceLayerProperties)gipa(VK_NULL_HANDLE, "vkEnumerateInstanceLayerProperties");
+        PFN_vkEnumerateInstanceExtensionProperties get_exts =
+            (PFN_vkEnumerateInstanceExtensionProperties)gipa(VK_NULL_HANDLE, "vkEnumerateInstanceExtensionProperties");
+        VkLayerProperties layers[64];
+        VkExtensionProperties exts[256];
+        uint32_t nl = 64, ne = 256;
+        uint32_t i;
+        int found = 0;
+        if (get_layers && get_layers(&nl, layers) >= VK_SUCCESS)
+            for (i = 0; i < nl; ++i)
+                if (strcmp(layers[i].layerName, validation_layer) == 0) found = 1;
+        if (found && !(get_exts && get_exts(validation_layer, &ne, exts) >= VK_SUCCESS &&
+                       lrt_vku__has_extension(validation_exts[0], exts, ne) &&
+                       (!sync_validate || lrt_vku__has_extension(validation_exts[1], exts, ne))))
+            found = 0;
+        if (!found) {
+            lrt_vku__device_teardown(out, gipa);
+            return LRT_ERROR_MISSING_VULKAN_FEATURE;
+        }
+    }
+    memset(&app, 0, sizeof app);
+    app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
+    app.pApplicationName = "linear_rt";
+    app.pEngineName = "linear_rt";
+    app.apiVersion = req.api_version;
+    memset(&ii, 0, sizeof ii);
+    ii.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
+    ii.pApplicationInfo = &app;
+    memset(&vf, 0, sizeof vf);
+    vf.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
+    vf.enabledValidationFeatureCount = 1;
+    vf.pEnabledValidationFeatures = &sync;
+    if (validate) {
+        ii.pNext = &mi; /* messages of instance creation and destruction too */
+        if (sync_validate) {
+            ii.pNext = &vf;
+            vf.pNext = &mi;
+        }
+        ii.enabledLayerCount = 1;
+        ii.ppEnabledLayerNames = &validation_layer;
+        ii.enabledExtensionCount = sync_validate ? 2u : 1u;
+        ii.ppEnabledExtensionNames = validation_exts;
+    }
+    vr = create_instance(&ii, NULL, &out->desc.instance);
+    if (vr != VK_SUCCESS) {
+        out->desc.instance = VK_NULL_HANDLE;
+        lrt_vku__device_teardown(out, gipa);
+        /* no driver at all: the loader finds no ICD */
+        if (vr == VK_ERROR_INCOMPATIBLE_DRIVER) return LRT_ERROR_NO_VULKAN_DEVICE;
+        if (vr == VK_ERROR_LAYER_NOT_PRESENT || vr == VK_ERROR_EXTENSION_NOT_PRESENT)
+            return LRT_ERROR_MISSING_VULKAN_FEATURE;
+        out->vk_result = vr;
+        return LRT_ERROR_VULKAN;
+    }
+    out->desc.get_instance_proc_addr = gipa;
+    out->desc.get_device_proc_addr = (PFN_vkGetDeviceProcAddr)gipa(out->desc.instance, "vkGetDeviceProcAddr");
+    if (validate) {
+        PFN_vkCreateDebugUtilsMessengerEXT create =
+            (PFN_vkCreateDebugUtilsMessengerEXT)gipa(out->desc.instance, "vkCreateDebugUtilsMessengerEXT");
+        vr = create ? create(out->desc.instance, &mi, NULL, &out->messenger) : VK_ERROR_EXTENSION_NOT_PRESENT;
+        if (vr != VK_SUCCESS) {
+            out->messenger = VK_NULL_HANDLE;
+            r = LRT_ERROR_VULKAN;
+        }
+    }
+    if (r == LRT_SUCCESS && !lrt_vku__pick(out, gipa, &req, &on, &on11, &on12, &vr))
+        r = vr != VK_SUCCESS ? LRT_ERROR_VULKAN : LRT_ERROR_NO_VULKAN_DEVICE;
+    create_device = (PFN_vkCreateDevice)gipa(out->desc.instance, "vkCreateDevice");
+    if (r == LRT_SUCCESS && (!create_device || !out->desc.get_device_proc_addr)) r = LRT_ERROR_NO_VULKAN_LOADER;
+    if (r == LRT_SUCCESS) { /* features 2, 1.1, 1.2: what the kernels need */
+        vr = lrt_vku_create_vk_device(create_device, out->desc.physical_device, out->queue_family, &on, req.extensions,
+                                      req.extension_count, &out->desc.device);
+        if (vr != VK_SUCCESS) {
+            out->desc.device = VK_NULL_HANDLE;
+            r = LRT_ERROR_VULKAN;
+        }
+    }
+    if (r != LRT_SUCCESS) {
+        lrt_vku__device_teardown(out, gipa);
+        if (r == LRT_ERROR_VULKAN) out->vk_result = vr;
+        return r;
+    }
+    get_queue = (PFN_vkGetDeviceQueue)out->desc.get_device_proc_addr(out->desc.device, "vkGetDeviceQueue");
+    if (get_queue) get_queue(out->desc.device, out->queue_family, 0, &out->queue);
+    out->vk_result = VK_SUCCESS;
+    return LRT_SUCCESS;
+}
+
+/* Waits for the device to idle and destroys device, messenger and instance,
+   and unloads the loader. Safe on a zeroed lrt_vku_device. */
+LRT_VKU_FN void lrt_vku_device_destroy(lrt_vku_device *device)
+{
+    if (!device) return;
+    lrt_vku__device_teardown(device, device->desc.get_instance_proc_addr);
+}
+
+/* ---- around the device: buffers, images, one command buffer, barriers, timestamps --- */
 #define LRT_VKU_TIMESTAMPS 3 /* queries in lrt_vku.queries */
 
 #define LRT_VKU_INSTANCE_FUNCS(X)                                                                                     \
@@ -39,7 +469,7 @@
     X(vkGetQueryPoolResults) X(vkDeviceWaitIdle)
 
 typedef struct lrt_vku {
-    const lrt_vk_device *dev;
+    const lrt_vku_device *dev;
     VkDevice device;
     VkPhysicalDeviceMemoryProperties memory;
     VkCommandPool pool;
@@ -67,14 +497,15 @@ typedef struct lrt_vku_image {
     uint32_t width, height, bpp;
 } lrt_vku_image;
 
-/* floats in [0,1] -> the bytes of a depth format (unorm: rounded) */
+/* floats in [0,1] -> the bytes of a depth format (unorm: rounded half up,
+   which adding 0.5 and truncating is for f >= 0: hence the NOLINTs) */
 LRT_VKU_FN void lrt_vku_encode_depth(const float *f, void *out, size_t n, lrt_format format)
 {
     size_t i;
     for (i = 0; i < n; ++i) {
-        if (format == LRT_FORMAT_UNORM8) ((uint8_t *)out)[i] = (uint8_t)(f[i] * 255.0f + 0.5f);
+        if (format == LRT_FORMAT_UNORM8) ((uint8_t *)out)[i] = (uint8_t)(f[i] * 255.0f + 0.5f); /* NOLINT(bugprone-incorrect-roundings) */
         else if (format == LRT_FORMAT_UNORM16) {
-            uint16_t v = (uint16_t)(f[i] * 65535.0f + 0.5f);
+            uint16_t v = (uint16_t)(f[i] * 65535.0f + 0.5f); /* NOLINT(bugprone-incorrect-roundings) */
             memcpy((unsigned char *)out + 2 * i, &v, 2);
         } else memcpy((unsigned char *)out + 4 * i, &f[i], 4);
     }
@@ -82,14 +513,14 @@ LRT_VKU_FN void lrt_vku_encode_depth(const float *f, void *out, size_t n, lrt_fo
 
 LRT_VKU_FN int lrt_vku_fail(const char *what, VkResult r)
 {
-    fprintf(stderr, "linear_rt_vk_util: %s failed: VkResult %d\n", what, (int)r);
+    (void)fprintf(stderr, "linear_rt_vk_util: %s failed: VkResult %d\n", what, (int)r);
     return 1;
 }
 
 /* Loads the functions, makes the command pool and buffer, the fence and
    (where the queue has timestamps) the query pool. lrt_vku_free undoes it,
    also after a failure half-way. */
-LRT_VKU_FN int lrt_vku_init(lrt_vku *t, const lrt_vk_device *dev)
+LRT_VKU_FN int lrt_vku_init(lrt_vku *t, const lrt_vku_device *dev)
 {
     const lrt_vk_context_desc *d = &dev->desc;
     VkCommandPoolCreateInfo pi;
@@ -402,4 +833,7 @@ LRT_VKU_FN void lrt_vku_image_destroy(lrt_vku *t, lrt_vku_image *im)
     memset(im, 0, sizeof *im);
 }
 
+#ifdef __cplusplus
+}
+#endif
 #endif /* LINEAR_RT_VK_UTIL_H */

@@ -75,6 +75,12 @@ struct bench_method {
     void (*close)(bench_method *m);
 };
 
+/* Sets a method's six functions, which its file names PREFIX_open,
+   PREFIX_build, PREFIX_update, PREFIX_trace, PREFIX_memory, PREFIX_close. */
+#define BENCH_METHOD_FUNCTIONS(m, prefix)                                                                \
+    ((m).open = prefix##_open, (m).build = prefix##_build, (m).update = prefix##_update,             \
+     (m).trace = prefix##_trace, (m).memory_bytes = prefix##_memory, (m).close = prefix##_close)
+
 /* The methods, each in its own file; a file whose package is missing still
    defines its adder, and its open() says why it cannot run. Each adds zero
    or more methods to the list and returns how many. */

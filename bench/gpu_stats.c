@@ -45,12 +45,12 @@
 #endif
 #define LINEAR_RT_IMPLEMENTATION
 #include "../linear_rt.h"
+#include "../linear_rt_vk_util.h" /* the loader, a device with one queue */
 
 #ifdef GPU_STATS_HAVE_PEERS
 #include "bench_vk_spv.h" /* vkp_spv_<kernel>: bench/shaders/vkp_<kernel>.comp, as make bench compiles them */
 #endif
 
-#include <dlfcn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -392,20 +392,12 @@ static int gs_open(gs_vk *g)
     VkInstanceCreateInfo ii;
     VkPhysicalDevice pds[16];
     uint32_t n = 16, i;
-    void *sym;
     VkResult r;
     memset(g, 0, sizeof *g);
-    g->lib = dlopen("libvulkan.so.1", RTLD_NOW | RTLD_LOCAL);
-    if (!g->lib) {
+    if (!(g->lib = lrt_vku_open_loader(&g->gipa))) {
         printf("no Vulkan loader (libvulkan.so.1)\n");
         return GS_SKIP;
     }
-    sym = dlsym(g->lib, "vkGetInstanceProcAddr");
-    if (!sym) {
-        printf("no vkGetInstanceProcAddr in libvulkan.so.1\n");
-        return GS_SKIP;
-    }
-    memcpy(&g->gipa, &sym, sizeof g->gipa); /* ISO C has no object-to-function pointer cast */
     create_instance = (PFN_vkCreateInstance)g->gipa(VK_NULL_HANDLE, "vkCreateInstance");
     if (!create_instance) return GS_SKIP;
     memset(&app, 0, sizeof app);
@@ -473,7 +465,7 @@ static void gs_close(gs_vk *g)
         PFN_vkDestroyInstance destroy = (PFN_vkDestroyInstance)g->gipa(g->instance, "vkDestroyInstance");
         if (destroy) destroy(g->instance, NULL);
     }
-    if (g->lib) dlclose(g->lib);
+    lrt_vku_close_loader(g->lib);
     memset(g, 0, sizeof *g);
 }
 
@@ -481,7 +473,7 @@ enum { GS_DEVICE_LIBRARY, GS_DEVICE_PEERS, GS_DEVICE_RAY_QUERY };
 
 /* A device as its user makes it, with pipelineExecutableInfo on as well:
    the library's (lrt_vk_get_requirements: its features and extension, as
-   linear_rt.h's device helper enables them), the peers' (no feature, as
+   lrt_vku_device_create enables them), the peers' (no feature, as
    bench/m_vk_peers.c), the ray-query peers' (bufferDeviceAddress,
    accelerationStructure, rayQuery and their three extensions, as it). */
 static VkResult gs_device(const gs_vk *g, int kind, VkDevice *out, char *why, size_t n)
@@ -498,12 +490,9 @@ static VkResult gs_device(const gs_vk *g, int kind, VkDevice *out, char *why, si
     VkPhysicalDeviceAccelerationStructureFeaturesKHR fas;
     VkPhysicalDeviceRayQueryFeaturesKHR frq;
     VkQueueFamilyProperties fams[32];
-    VkDeviceQueueCreateInfo qi;
-    VkDeviceCreateInfo di;
     const char *exts[4];
     uint32_t ne = 0, nf = 32, fam;
     lrt_vk_requirements req;
-    const float priority = 1.0f;
     VkResult r;
     if (!get_features || !create || !get_families) return VK_ERROR_INITIALIZATION_FAILED;
     memset(&f, 0, sizeof f);
@@ -569,19 +558,7 @@ static VkResult gs_device(const gs_vk *g, int kind, VkDevice *out, char *why, si
         snprintf(why, n, "no compute queue");
         return VK_ERROR_FEATURE_NOT_PRESENT;
     }
-    memset(&qi, 0, sizeof qi);
-    qi.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
-    qi.queueFamilyIndex = fam;
-    qi.queueCount = 1;
-    qi.pQueuePriorities = &priority;
-    memset(&di, 0, sizeof di);
-    di.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
-    di.pNext = &on;
-    di.queueCreateInfoCount = 1;
-    di.pQueueCreateInfos = &qi;
-    di.enabledExtensionCount = ne;
-    di.ppEnabledExtensionNames = exts;
-    if ((r = create(g->pd, &di, NULL, out)) != VK_SUCCESS) {
+    if ((r = lrt_vku_create_vk_device(create, g->pd, fam, &on, exts, ne, out)) != VK_SUCCESS) {
         *out = VK_NULL_HANDLE;
         snprintf(why, n, "vkCreateDevice: %s", gs_vk_result(r));
     }

@@ -91,6 +91,7 @@
 
 #ifndef BENCH_HAVE_EMBREE
 
+/* says why the method is skipped: the harness calls nothing else of it */
 static int emb_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *why, size_t n)
 {
     (void)m;
@@ -100,32 +101,6 @@ static int emb_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *
     bmc_why(why, n, "Embree 3 is not installed (Debian: libembree-dev)");
     return 1;
 }
-static int emb_build(bench_method *m, const bench_scene *sc, double *ms, char *why, size_t n)
-{
-    (void)m;
-    (void)sc;
-    *ms = 0.0;
-    bmc_why(why, n, "Embree 3 is not installed (Debian: libembree-dev)");
-    return 1;
-}
-static int emb_trace(bench_method *m, const bench_scene *sc, const bench_rays *rs, lrt_hit *hits, double *ms,
-                     char *why, size_t n)
-{
-    (void)m;
-    (void)sc;
-    (void)rs;
-    (void)hits;
-    *ms = 0.0;
-    bmc_why(why, n, "Embree 3 is not installed (Debian: libembree-dev)");
-    return 1;
-}
-static size_t emb_memory(bench_method *m)
-{
-    (void)m;
-    return 0u;
-}
-static void emb_close(bench_method *m) { m->impl = NULL; }
-#define emb_update emb_build
 
 #else /* BENCH_HAVE_EMBREE */
 
@@ -837,12 +812,9 @@ int bench_add_embree(bench_method *out, int max)
         e->threads = 1;
         out[0].impl = e;
     }
-#endif
+    BENCH_METHOD_FUNCTIONS(out[0], emb);
+#else
     out[0].open = emb_open;
-    out[0].build = emb_build;
-    out[0].update = emb_update;
-    out[0].trace = emb_trace;
-    out[0].memory_bytes = emb_memory;
-    out[0].close = emb_close;
+#endif
     return 1;
 }

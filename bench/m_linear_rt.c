@@ -16,12 +16,11 @@
 #endif
 #ifdef BENCH_HAVE_VULKAN
 #define LINEAR_RT_VULKAN
-#define LINEAR_RT_VULKAN_DEVICE_HELPER
 #endif
 #define LINEAR_RT_IMPLEMENTATION
 #include "bench.h"
+#include "../examples/trace_threads.h" /* equal slices on c->threads threads */
 
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,22 +38,6 @@ typedef struct lrt_cpu {
     int built;
 } lrt_cpu;
 
-typedef struct lrt_cpu_slice {
-    const lrt_bvh *bvh;
-    const lrt_depth *depth;
-    const lrt_ray *rays;
-    lrt_hit *hits;
-    size_t first, end;
-    uint32_t flags;
-} lrt_cpu_slice;
-
-static void *lrt_cpu_worker(void *p)
-{
-    lrt_cpu_slice *s = (lrt_cpu_slice *)p;
-    (void)lrt_trace_range(s->bvh, s->depth, s->rays, s->hits, s->first, s->end, s->flags);
-    return NULL;
-}
-
 static int cpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *why, size_t n)
 {
     lrt_cpu *c = (lrt_cpu *)m->impl;
@@ -62,7 +45,7 @@ static int cpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *
     (void)h;
     (void)why;
     (void)n;
-    c->threads = threads < 1 ? 1 : threads > 64 ? 64 : threads;
+    c->threads = threads < 1 ? 1 : threads > TRACE_THREADS_MAX ? TRACE_THREADS_MAX : threads;
     return 0;
 }
 
@@ -105,27 +88,14 @@ static int cpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *r
                      char *why, size_t n)
 {
     lrt_cpu *c = (lrt_cpu *)m->impl;
-    lrt_cpu_slice sl[64];
-    pthread_t th[64];
     uint32_t flags = LRT_TRACE_BUDGET(c->budget); /* closest hit for every set: the first hit the walk finds is the closest */
-    int k, t = c->threads;
     double t0 = bench_now_ms();
-    for (k = 0; k < t; ++k) {
-        sl[k].bvh = &c->bvh;
-        sl[k].depth = bench_lrt_depth(sc);
-        sl[k].rays = rs->rays;
-        sl[k].hits = hits;
-        sl[k].first = rs->count * (size_t)k / (size_t)t;
-        sl[k].end = rs->count * (size_t)(k + 1) / (size_t)t;
-        sl[k].flags = flags;
-        if (k > 0 && pthread_create(&th[k], NULL, lrt_cpu_worker, &sl[k]) != 0) {
-            snprintf(why, n, "pthread_create failed");
-            return 1;
-        }
-    }
-    lrt_cpu_worker(&sl[0]);
-    for (k = 1; k < t; ++k) pthread_join(th[k], NULL);
+    lrt_result r = trace_threads(&c->bvh, bench_lrt_depth(sc), rs->rays, hits, rs->count, flags, c->threads);
     *ms = bench_now_ms() - t0;
+    if (r != LRT_SUCCESS) {
+        snprintf(why, n, "lrt_trace_range: %s", lrt_result_string(r));
+        return 1;
+    }
     return 0;
 }
 
@@ -161,12 +131,7 @@ int bench_add_linear_rt_cpu(bench_method *out, int max)
         out[i].exact = i < 2;
         out[i].budgeted = i >= 2;
         out[i].impl = c;
-        out[i].open = cpu_open;
-        out[i].build = cpu_build;
-        out[i].update = cpu_update;
-        out[i].trace = cpu_trace;
-        out[i].memory_bytes = cpu_memory;
-        out[i].close = cpu_close;
+        BENCH_METHOD_FUNCTIONS(out[i], cpu);
     }
     return i;
 }
@@ -176,7 +141,7 @@ int bench_add_linear_rt_cpu(bench_method *out, int max)
 typedef struct lrt_gpu {
     uint32_t node_bits;
     uint32_t budget; /* LRT_TRACE_BUDGET's steps, 0: the exact walk */
-    lrt_vk_device dev;
+    lrt_vku_device dev;
     lrt_vku t;
     lrt_vk_context *ctx;
     lrt_vk_bvh bvh;
@@ -200,7 +165,7 @@ static void gpu_release(lrt_gpu *g)
     if (g->has_bvh) lrt_vk_bvh_destroy(g->ctx, &g->bvh);
     if (g->ctx) lrt_vk_context_destroy(g->ctx);
     if (g->has_t) lrt_vku_free(&g->t);
-    if (g->has_dev) lrt_vk_device_destroy(&g->dev);
+    if (g->has_dev) lrt_vku_device_destroy(&g->dev);
     memset(g, 0, sizeof *g);
 }
 
@@ -217,7 +182,7 @@ static int gpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *
     gpu_release(g);
     g->node_bits = bits;
     g->budget = budget;
-    if ((r = lrt_vk_device_create(&g->dev, 0)) != LRT_SUCCESS) {
+    if ((r = lrt_vku_device_create(&g->dev, 0)) != LRT_SUCCESS) {
         snprintf(why, n, "no Vulkan device: %s", lrt_result_string(r));
         return 1;
     }
@@ -396,12 +361,7 @@ int bench_add_linear_rt_vulkan(bench_method *out, int max)
             g->node_bits = i == 1 ? 8u : 16u;
             g->budget = i < 2 ? 0u : 4u << (i - 2);
             out[i].impl = g;
-            out[i].open = gpu_open;
-            out[i].build = gpu_build;
-            out[i].update = gpu_update;
-            out[i].trace = gpu_trace;
-            out[i].memory_bytes = gpu_memory;
-            out[i].close = gpu_close;
+            BENCH_METHOD_FUNCTIONS(out[i], gpu);
         }
 #endif
     }

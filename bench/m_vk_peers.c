@@ -90,8 +90,9 @@ static const char *const vkp_names[VKP_KINDS] = {"rq aabb vulkan", "rq triangles
 #ifndef VK_NO_PROTOTYPES
 #define VK_NO_PROTOTYPES
 #endif
-#include <vulkan/vulkan.h>
-#include <dlfcn.h>
+#define LINEAR_RT_VULKAN /* linear_rt.h again, with its Vulkan declarations: linear_rt_vk_util.h needs them */
+#include "../linear_rt.h"
+#include "../linear_rt_vk_util.h" /* the loader, a device with one queue */
 
 #include "bench_vk_spv.h" /* vkp_spv_<kernel>[]: bench/shaders/vkp_<kernel>.comp, compiled by make bench */
 
@@ -348,9 +349,31 @@ static void vkp_release(vkp *p)
     }
     if (p->messenger && p->destroy_messenger) p->destroy_messenger(p->inst, p->messenger, NULL);
     if (p->inst) p->vkDestroyInstance(p->inst, NULL);
-    if (p->lib) dlclose(p->lib);
+    lrt_vku_close_loader(p->lib);
     memset(p, 0, sizeof *p);
     p->kind = kind;
+}
+
+/* The features the ray-query peers need, as one pNext chain: features 2
+   -> 1.2 (bufferDeviceAddress) -> acceleration structure -> ray query. */
+typedef struct vkp_rt_chain {
+    VkPhysicalDeviceFeatures2 f2;
+    VkPhysicalDeviceVulkan12Features f12;
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR fas;
+    VkPhysicalDeviceRayQueryFeaturesKHR frq;
+} vkp_rt_chain;
+
+/* every feature off, the chain linked */
+static void vkp_rt_chain_init(vkp_rt_chain *c)
+{
+    memset(c, 0, sizeof *c);
+    c->f2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
+    c->f2.pNext = &c->f12;
+    c->f12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
+    c->f12.pNext = &c->fas;
+    c->fas.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR;
+    c->fas.pNext = &c->frq;
+    c->frq.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR;
 }
 
 /* Is this physical device fit? 0 if so, else 1 with the reason in why. */
@@ -377,10 +400,7 @@ static int vkp_device_fit(vkp *p, VkPhysicalDevice pd, uint32_t *family, char *w
     *family = f;
     if (vkp_is_rt(p)) {
         VkExtensionProperties *exts;
-        VkPhysicalDeviceFeatures2 f2;
-        VkPhysicalDeviceVulkan12Features f12;
-        VkPhysicalDeviceAccelerationStructureFeaturesKHR fas;
-        VkPhysicalDeviceRayQueryFeaturesKHR frq;
+        vkp_rt_chain c;
         uint32_t ne = 0;
         if (p->vkEnumerateDeviceExtensionProperties(pd, NULL, &ne, NULL) != VK_SUCCESS) ne = 0;
         exts = (VkExtensionProperties *)calloc(ne ? ne : 1, sizeof *exts);
@@ -397,22 +417,12 @@ static int vkp_device_fit(vkp *p, VkPhysicalDevice pd, uint32_t *family, char *w
             }
         }
         free(exts);
-        memset(&f2, 0, sizeof f2);
-        memset(&f12, 0, sizeof f12);
-        memset(&fas, 0, sizeof fas);
-        memset(&frq, 0, sizeof frq);
-        f2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
-        f12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
-        fas.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR;
-        frq.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR;
-        f2.pNext = &f12;
-        f12.pNext = &fas;
-        fas.pNext = &frq;
-        p->vkGetPhysicalDeviceFeatures2(pd, &f2);
-        if (!f12.bufferDeviceAddress || !fas.accelerationStructure || !frq.rayQuery) {
+        vkp_rt_chain_init(&c);
+        p->vkGetPhysicalDeviceFeatures2(pd, &c.f2);
+        if (!c.f12.bufferDeviceAddress || !c.fas.accelerationStructure || !c.frq.rayQuery) {
             snprintf(why, n, "%.128s lacks %s", props.deviceName,
-                     !f12.bufferDeviceAddress ? "bufferDeviceAddress"
-                     : !fas.accelerationStructure ? "the accelerationStructure feature"
+                     !c.f12.bufferDeviceAddress ? "bufferDeviceAddress"
+                     : !c.fas.accelerationStructure ? "the accelerationStructure feature"
                                                   : "the rayQuery feature");
             return 1;
         }
@@ -431,33 +441,22 @@ static int vkp_create_device(vkp *p, char *why, size_t n)
                                            VK_KHR_RAY_QUERY_EXTENSION_NAME,
                                            VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
     const int validate = vkp_validation_wanted();
-    void *sym;
     VkApplicationInfo app;
     VkInstanceCreateInfo ii;
     VkDebugUtilsMessengerCreateInfoEXT mi;
     VkPhysicalDevice devices[16];
     uint32_t nd = 16, i;
-    VkPhysicalDeviceFeatures2 f2;
-    VkPhysicalDeviceVulkan12Features f12;
-    VkPhysicalDeviceAccelerationStructureFeaturesKHR fas;
-    VkPhysicalDeviceRayQueryFeaturesKHR frq;
+    vkp_rt_chain c;
     VkPhysicalDeviceProperties props;
-    VkDeviceQueueCreateInfo qi;
-    VkDeviceCreateInfo di;
     VkQueueFamilyProperties fams[32];
     uint32_t nf = 32;
-    const float priority = 1.0f;
     char reason[256];
     VkResult r;
 
-    p->lib = dlopen("libvulkan.so.1", RTLD_NOW | RTLD_LOCAL);
-    if (!p->lib) p->lib = dlopen("libvulkan.so", RTLD_NOW | RTLD_LOCAL);
-    sym = p->lib ? dlsym(p->lib, "vkGetInstanceProcAddr") : NULL;
-    if (!sym) {
+    if (!(p->lib = lrt_vku_open_loader(&p->gipa))) {
         snprintf(why, n, "no Vulkan loader (libvulkan.so.1)");
         return 1;
     }
-    memcpy(&p->gipa, &sym, sizeof p->gipa); /* object to function pointer without the cast ISO C forbids */
 #define VKP_LOAD_G(name)                                                                                           \
     if (!(p->name = (PFN_##name)p->gipa(VK_NULL_HANDLE, #name))) return vkp_fail(why, n, "loading " #name, VK_SUCCESS);
     VKP_GLOBAL_FUNCS(VKP_LOAD_G)
@@ -477,12 +476,7 @@ static int vkp_create_device(vkp *p, char *why, size_t n)
     app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
     app.pApplicationName = "linear_rt bench";
     app.apiVersion = VK_API_VERSION_1_2;
-    memset(&mi, 0, sizeof mi);
-    mi.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
-    mi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-    mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                     VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
-    mi.pfnUserCallback = vkp_on_message;
+    lrt_vku_messenger_info(&mi, vkp_on_message, NULL);
     memset(&ii, 0, sizeof ii);
     ii.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
     ii.pApplicationInfo = &app;
@@ -547,35 +541,13 @@ static int vkp_create_device(vkp *p, char *why, size_t n)
     p->tick_mask = fams[p->family].timestampValidBits >= 64 ? ~0ull : (1ull << fams[p->family].timestampValidBits) - 1ull;
     p->scratch_align = 256;
 
-    memset(&f2, 0, sizeof f2);
-    memset(&f12, 0, sizeof f12);
-    memset(&fas, 0, sizeof fas);
-    memset(&frq, 0, sizeof frq);
-    f2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
-    f12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
-    fas.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR;
-    frq.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR;
-    memset(&qi, 0, sizeof qi);
-    qi.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
-    qi.queueFamilyIndex = p->family;
-    qi.queueCount = 1;
-    qi.pQueuePriorities = &priority;
-    memset(&di, 0, sizeof di);
-    di.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
-    di.queueCreateInfoCount = 1;
-    di.pQueueCreateInfos = &qi;
+    vkp_rt_chain_init(&c);
     if (vkp_is_rt(p)) {
         VkPhysicalDeviceProperties2 pp;
         VkPhysicalDeviceAccelerationStructurePropertiesKHR asp;
-        f2.pNext = &f12;
-        f12.pNext = &fas;
-        fas.pNext = &frq;
-        f12.bufferDeviceAddress = VK_TRUE;
-        fas.accelerationStructure = VK_TRUE;
-        frq.rayQuery = VK_TRUE;
-        di.pNext = &f2;
-        di.enabledExtensionCount = 3;
-        di.ppEnabledExtensionNames = rt_exts;
+        c.f12.bufferDeviceAddress = VK_TRUE;
+        c.fas.accelerationStructure = VK_TRUE;
+        c.frq.rayQuery = VK_TRUE;
         memset(&pp, 0, sizeof pp);
         memset(&asp, 0, sizeof asp);
         pp.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
@@ -585,7 +557,9 @@ static int vkp_create_device(vkp *p, char *why, size_t n)
         if (asp.minAccelerationStructureScratchOffsetAlignment > p->scratch_align)
             p->scratch_align = asp.minAccelerationStructureScratchOffsetAlignment;
     }
-    if ((r = p->vkCreateDevice(p->pd, &di, NULL, &p->dev)) != VK_SUCCESS) {
+    r = vkp_is_rt(p) ? lrt_vku_create_vk_device(p->vkCreateDevice, p->pd, p->family, &c.f2, rt_exts, 3, &p->dev)
+                     : lrt_vku_create_vk_device(p->vkCreateDevice, p->pd, p->family, NULL, NULL, 0, &p->dev);
+    if (r != VK_SUCCESS) {
         p->dev = VK_NULL_HANDLE;
         return vkp_fail(why, n, "vkCreateDevice", r);
     }
@@ -673,6 +647,9 @@ static int vkp_pipeline(vkp *p, const uint32_t *code, size_t size, VkPipeline *o
     return 0;
 }
 
+/* bench/gpu_stats.c makes these layouts again (gs_peer_row), a program of
+   its own that weighs the kernels on RADV: the copy there must stay in step
+   with this one. */
 static int vkp_create_pipelines(vkp *p, char *why, size_t n)
 {
     VkDescriptorSetLayoutBinding b[6];
@@ -1468,12 +1445,7 @@ int bench_add_vulkan_peers(bench_method *out, int max)
         out[i].device = "vulkan";
         out[i].exact = vkp_is_rt(p);
         out[i].impl = p;
-        out[i].open = vkp_open;
-        out[i].build = vkp_build;
-        out[i].update = vkp_update;
-        out[i].trace = vkp_trace;
-        out[i].memory_bytes = vkp_memory;
-        out[i].close = vkp_close;
+        BENCH_METHOD_FUNCTIONS(out[i], vkp);
     }
     return i;
 }

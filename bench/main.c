@@ -272,20 +272,13 @@ static int camera_ray(const scene *sc, int kind, size_t k, lrt_ray *ray)
         d = surface_dot(v, n);
         for (c = 0; c < 3; ++c) to[c] = p[c] + (v[c] - 2.0f * d * n[c]) * 1e4f;
     } else if (kind == SET_AO) {
-        float a[3] = {0.0f, 0.0f, 0.0f}, t[3], b[3];
+        float t[3], b[3];
         float u = rnd01(), r = sqrtf(u), phi = 6.2831853f * rnd01();
         float e[3];
         e[0] = r * cosf(phi);
         e[1] = r * sinf(phi);
         e[2] = sqrtf(1.0f - u);
-        a[fabsf(n[0]) < 0.6f ? 0 : 1] = 1.0f; /* ao.c's ao__frame */
-        t[0] = a[1] * n[2] - a[2] * n[1];
-        t[1] = a[2] * n[0] - a[0] * n[2];
-        t[2] = a[0] * n[1] - a[1] * n[0];
-        surface_normalize(t);
-        b[0] = n[1] * t[2] - n[2] * t[1];
-        b[1] = n[2] * t[0] - n[0] * t[2];
-        b[2] = n[0] * t[1] - n[1] * t[0];
+        surface_frame(n, t, b); /* the frame of examples/ao.c */
         for (c = 0; c < 3; ++c) to[c] = p[c] + CAMERA_AO_RADIUS * (e[0] * t[c] + e[1] * b[c] + e[2] * n[c]);
     } else { /* SET_SHADOW */
         const float *m = sc->view_from_world;

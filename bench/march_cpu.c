@@ -62,6 +62,19 @@ typedef struct march_job {
     lrt_hit *hits;
 } march_job;
 
+/* m's job over the scene's maps: rays into hits (NULL: the caller keeps its
+   own, as bench/wave.c does) */
+static void march_job_init(march_job *jb, const march *m, const bench_scene *sc, const lrt_ray *rays, lrt_hit *hits)
+{
+    jb->m = m;
+    jb->map.depth = sc->depth;
+    jb->map.back = sc->back;
+    jb->map.w = sc->width;
+    jb->map.h = sc->height;
+    jb->rays = rays;
+    jb->hits = hits;
+}
+
 /* ---- fixed-step linear march with binary refinement: examples/march.h ---------------- */
 static void linear_one(const march_job *jb, const lrt_ray *r, lrt_hit *hit)
 {
@@ -413,13 +426,7 @@ static int march_trace(bench_method *bm, const bench_scene *sc, const bench_rays
         bmc_why(why, n, "Hi-Z: trace before build, or the scene changed size");
         return 1;
     }
-    jb.m = m;
-    jb.map.depth = sc->depth;
-    jb.map.back = sc->back;
-    jb.map.w = sc->width;
-    jb.map.h = sc->height;
-    jb.rays = rs->rays;
-    jb.hits = hits;
+    march_job_init(&jb, m, sc, rs->rays, hits);
     /* any-hit rays (BENCH_ANY_HIT) take the same walk: the first hit is one */
     t0 = bench_now_ms();
     (void)bmc_parallel(march_range, &jb, rs->count, m->threads);
@@ -466,12 +473,7 @@ int bench_add_march_cpu(bench_method *out, int max)
         out[count].device = "cpu";
         out[count].exact = 0;
         out[count].impl = m;
-        out[count].open = march_open;
-        out[count].build = march_build;
-        out[count].update = march_update;
-        out[count].trace = march_trace;
-        out[count].memory_bytes = march_memory;
-        out[count].close = march_close;
+        BENCH_METHOD_FUNCTIONS(out[count], march);
         ++count;
     }
     return count;

@@ -15,8 +15,8 @@
 #define LINEAR_RT_IMPLEMENTATION
 #include LRT_HEADER
 #include "../examples/scene.h"
+#include "../examples/trace_threads.h"
 
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,43 +35,15 @@ static int cmp_double(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-typedef struct job {
-    const lrt_bvh *bvh;
-    const lrt_depth *depth;
-    const lrt_ray *rays;
-    lrt_hit *hits;
-    size_t first, end;
-} job;
-
-static void *run_job(void *arg)
-{
-    job *j = (job *)arg;
-    if (lrt_trace_range(j->bvh, j->depth, j->rays, j->hits, j->first, j->end, 0) != LRT_SUCCESS) {
-        fprintf(stderr, "walk_rays: lrt_trace_range failed\n");
-        exit(1);
-    }
-    return NULL;
-}
-
 /* one batch on `threads` threads (at most 16), in equal slices; ms */
 static double trace(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays, lrt_hit *hits, size_t n,
                     int threads)
 {
-    job jobs[16];
-    pthread_t th[16];
     double t0 = now_ms();
-    int k;
-    for (k = 0; k < threads; ++k) {
-        jobs[k].bvh = bvh;
-        jobs[k].depth = depth;
-        jobs[k].rays = rays;
-        jobs[k].hits = hits;
-        jobs[k].first = n * (size_t)k / (size_t)threads;
-        jobs[k].end = n * (size_t)(k + 1) / (size_t)threads;
-        if (k > 0 && pthread_create(&th[k], NULL, run_job, &jobs[k]) != 0) exit(1);
+    if (trace_threads(bvh, depth, rays, hits, n, 0, threads) != LRT_SUCCESS) {
+        fprintf(stderr, "walk_rays: lrt_trace_range failed\n");
+        exit(1);
     }
-    run_job(&jobs[0]);
-    for (k = 1; k < threads; ++k) pthread_join(th[k], NULL);
     return now_ms() - t0;
 }
 

@@ -28,13 +28,7 @@ int bench_wave_march(const bench_scene *sc, const bench_rays *rs, int which, uin
     m.param = which == 0 ? 64 : which == 1 ? 1 : 64; /* the Vulkan peers: march64, dda stride 1, hiz64 */
     m.threads = 1;
     if (m.kind == MARCH_HIZ && hiz_build_chain(&m, sc, &ms, why, sizeof why)) return 1;
-    jb.m = &m;
-    jb.map.depth = sc->depth;
-    jb.map.back = sc->back;
-    jb.map.w = sc->width;
-    jb.map.h = sc->height;
-    jb.rays = rs->rays;
-    jb.hits = NULL;
+    march_job_init(&jb, &m, sc, rs->rays, NULL);
     for (q = 0; q < rs->count; ++q) {
         lrt_hit hit;
         wave_count = 0;

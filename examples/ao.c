@@ -12,30 +12,10 @@
 #define AO_RAYS 16
 #define AO_RADIUS 0.6f
 
-typedef struct ao__job {
-    const example_frame *f;
-    lrt_ray *rays; /* AO_RAYS per texel */
-    float radius;
-} ao__job;
-
-/* An orthonormal tangent frame (t, b) around the unit normal n. */
-static void ao__frame(const float n[3], float t[3], float b[3])
-{
-    float a[3] = {0.0f, 0.0f, 0.0f};
-    a[fabsf(n[0]) < 0.6f ? 0 : 1] = 1.0f;
-    t[0] = a[1] * n[2] - a[2] * n[1];
-    t[1] = a[2] * n[0] - a[0] * n[2];
-    t[2] = a[0] * n[1] - a[1] * n[0];
-    surface_normalize(t);
-    b[0] = n[1] * t[2] - n[2] * t[1];
-    b[1] = n[2] * t[0] - n[0] * t[2];
-    b[2] = n[0] * t[1] - n[1] * t[0];
-}
-
 static void ao__rays_row(void *ctx, uint32_t j)
 {
     static const uint8_t dither[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
-    const ao__job *job = (const ao__job *)ctx;
+    const example_rays_job *job = (const example_rays_job *)ctx; /* AO_RAYS rays a texel; length: the radius */
     const example_frame *f = job->f;
     const float golden = 2.39996323f, pi = 3.14159265358979f;
     float disc[4][AO_RAYS][3]; /* the 4 turns of this row's dither, each a spiral of AO_RAYS points */
@@ -60,12 +40,12 @@ static void ao__rays_row(void *ctx, uint32_t j)
             for (s = 0; s < AO_RAYS; ++s) lrt_camera_segment(NULL, NULL, NULL, &rays[s]);
             continue;
         }
-        ao__frame(n, t, b);
+        surface_frame(n, t, b);
         for (s = 0; s < AO_RAYS; ++s) {
             const float *d = disc[i & 3][s];
             float to[3];
             int c;
-            for (c = 0; c < 3; ++c) to[c] = p[c] + job->radius * (d[0] * t[c] + d[1] * b[c] + d[2] * n[c]);
+            for (c = 0; c < 3; ++c) to[c] = p[c] + job->length * (d[0] * t[c] + d[1] * b[c] + d[2] * n[c]);
             lrt_camera_surface_ray(&f->camera, p, n, to, f->lift[k], &rays[s]);
         }
     }
@@ -74,11 +54,7 @@ static void ao__rays_row(void *ctx, uint32_t j)
 /* AO_RAYS rays per texel, texel by texel in row order. */
 EXAMPLE_FN void ao_make_rays(const example_frame *f, lrt_ray *rays, float radius, int threads)
 {
-    ao__job job;
-    job.f = f;
-    job.rays = rays;
-    job.radius = radius;
-    example_parallel_rows(f->h, threads, NULL, ao__rays_row, &job);
+    example_make_rays(f, rays, radius, threads, ao__rays_row);
 }
 
 /* Occlusion of each texel (0 open .. 1 closed) before smoothing; -1 for sky. */
@@ -129,41 +105,23 @@ EXAMPLE_FN void ao_picture(const example_frame *f, const float *occ, uint8_t *gr
 #ifndef EXAMPLE_NO_MAIN
 int main(int argc, char **argv)
 {
-    example_options o;
-    example_frame f;
-    lrt_ray *rays;
-    lrt_hit *hits;
+    example_run r;
     float *occ, radius = AO_RADIUS;
-    uint8_t *grey;
     size_t n;
-    double t0, t1, t2;
-    int rc;
-    if ((rc = example_parse_args(&o, argc, argv, "--radius", &radius)) != EXAMPLE_EXIT_OK) return rc;
-    if ((rc = example_frame_load(&f, &o)) != EXAMPLE_EXIT_OK) return rc;
-    n = (size_t)f.w * f.h;
-    rays = (lrt_ray *)malloc(n * AO_RAYS * sizeof *rays);
-    hits = (lrt_hit *)malloc(n * AO_RAYS * sizeof *hits);
-    occ = (float *)malloc(n * sizeof *occ);
-    grey = (uint8_t *)malloc(n);
-    if (!rays || !hits || !occ || !grey) {
+    int rc = example_start(&r, argc, argv, "--radius", &radius, AO_RAYS, ao__rays_row, "ao trace", 1);
+    if (rc != EXAMPLE_EXIT_OK) return rc;
+    n = (size_t)r.f.w * r.f.h;
+    if (!(occ = (float *)malloc(n * sizeof *occ))) {
         fprintf(stderr, "out of memory\n");
         return EXAMPLE_EXIT_FAILED;
     }
-    t0 = example_now_ms();
-    ao_make_rays(&f, rays, radius, o.threads);
-    t1 = example_now_ms();
-    example_trace(&f, rays, hits, (size_t)f.w * AO_RAYS, 0, o.threads, "ao trace");
-    t2 = example_now_ms();
-    ao_occlusion(&f, hits, occ);
-    ao_picture(&f, occ, grey);
-    printf("ao: %ux%u, %zu rays (%d per texel, radius %g): set-up %.1f ms, trace %.1f ms on %d threads\n", f.w, f.h,
-           n * AO_RAYS, AO_RAYS, (double)radius, t1 - t0, t2 - t1, o.threads);
-    rc = example_write_png(o.out_dir, "ao.png", f.w, f.h, 1, grey) ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
-    free(rays);
-    free(hits);
+    ao_occlusion(&r.f, r.hits, occ);
+    ao_picture(&r.f, occ, r.picture);
+    printf("ao: %ux%u, %zu rays (%d per texel, radius %g): set-up %.1f ms, trace %.1f ms on %d threads\n", r.f.w, r.f.h,
+           n * AO_RAYS, AO_RAYS, (double)radius, r.setup_ms, r.trace_ms, r.o.threads);
+    rc = example_write_png(r.o.out_dir, "ao.png", r.f.w, r.f.h, 1, r.picture) ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
     free(occ);
-    free(grey);
-    example_frame_free(&f);
+    example_end(&r);
     return rc;
 }
 #endif

@@ -43,15 +43,14 @@
 #include "ssr.c"
 #include "ao.c"
 #include "shadows.c"
+#include "trace_threads.h" /* the timed traces: 1 or 2 threads, each a half of the batch */
 #ifdef LINEAR_RT_VULKAN
-#include "../linear_rt_vk_util.h" /* buffers, one command buffer, submit and wait, barriers, timestamps */
+#include "../linear_rt_vk_util.h" /* the device, buffers, one command buffer, submit and wait, barriers, timestamps */
 #endif
 
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #ifndef DEMO_CFLAGS
 #define DEMO_CFLAGS "(not given: build with make demo)"
@@ -61,14 +60,7 @@
 #define UPDATE_RUNS 9
 #define TRACE_RUNS 5
 
-/* ---- timing ---------------------------------------------------------------- */
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
-
+/* ---- timing (example_now_ms: CLOCK_MONOTONIC) --------------------------------- */
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -79,52 +71,6 @@ static double median(double *v, int n)
 {
     qsort(v, (size_t)n, sizeof *v, cmp_double);
     return (n & 1) ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-/* ---- tracing on 1 or 2 threads ------------------------------------------- */
-typedef struct job {
-    const lrt_bvh *bvh;
-    const lrt_depth *depth;
-    const lrt_ray *rays;
-    lrt_hit *hits;
-    size_t first, end;
-    lrt_result result;
-} job;
-
-static void *run_job(void *arg)
-{
-    job *j = (job *)arg;
-    j->result = lrt_trace_range(j->bvh, j->depth, j->rays, j->hits, j->first, j->end, 0);
-    return NULL;
-}
-
-/* Trace the whole batch on `threads` (1 or 2) threads: the calling thread
-   takes the first half, a second thread the other. */
-static lrt_result trace(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
-                        lrt_hit *hits, size_t count, int threads)
-{
-    job a, b;
-    pthread_t th;
-    a.bvh = b.bvh = bvh;
-    a.depth = b.depth = depth;
-    a.rays = b.rays = rays;
-    a.hits = b.hits = hits;
-    if (threads < 2) {
-        a.first = 0;
-        a.end = count;
-        run_job(&a);
-        return a.result;
-    }
-    a.first = 0;
-    a.end = b.first = count / 2;
-    b.end = count;
-    if (pthread_create(&th, NULL, run_job, &b) != 0) {
-        fprintf(stderr, "pthread_create failed\n");
-        exit(1);
-    }
-    run_job(&a);
-    pthread_join(th, NULL);
-    return a.result != LRT_SUCCESS ? a.result : b.result;
 }
 
 static void must(lrt_result r, const char *what)
@@ -143,12 +89,12 @@ static double time_trace(lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *ra
     double ms[TRACE_RUNS];
     int k;
     if (with_update) must(lrt_bvh_update(bvh, depth, NULL), "lrt_bvh_update");
-    must(trace(bvh, depth, rays, hits, count, threads), "lrt_trace_range");
+    must(trace_threads(bvh, depth, rays, hits, count, 0, threads), "lrt_trace_range");
     for (k = 0; k < TRACE_RUNS; ++k) {
-        double t0 = now_ms();
+        double t0 = example_now_ms();
         if (with_update) must(lrt_bvh_update(bvh, depth, NULL), "lrt_bvh_update");
-        must(trace(bvh, depth, rays, hits, count, threads), "lrt_trace_range");
-        ms[k] = now_ms() - t0;
+        must(trace_threads(bvh, depth, rays, hits, count, 0, threads), "lrt_trace_range");
+        ms[k] = example_now_ms() - t0;
     }
     return median(ms, TRACE_RUNS);
 }
@@ -165,18 +111,18 @@ static bvh_stats measure_bvh(const lrt_depth *depth, uint32_t node_bits, lrt_bvh
     memset(&opt, 0, sizeof opt);
     opt.node_bits = node_bits;
     for (k = -1; k < BUILD_RUNS; ++k) { /* k = -1: warm-up */
-        double t0 = now_ms();
+        double t0 = example_now_ms();
         must(lrt_bvh_build(&bvh, depth, &opt, NULL), "lrt_bvh_build");
-        if (k >= 0) ms[k] = now_ms() - t0;
+        if (k >= 0) ms[k] = example_now_ms() - t0;
         lrt_bvh_destroy(&bvh);
     }
     s.build_ms = median(ms, BUILD_RUNS);
     must(lrt_bvh_build(&bvh, depth, &opt, NULL), "lrt_bvh_build");
     must(lrt_bvh_update(&bvh, depth, NULL), "lrt_bvh_update"); /* warm-up */
     for (k = 0; k < UPDATE_RUNS; ++k) {
-        double t0 = now_ms();
+        double t0 = example_now_ms();
         must(lrt_bvh_update(&bvh, depth, NULL), "lrt_bvh_update");
-        ms[k] = now_ms() - t0;
+        ms[k] = example_now_ms() - t0;
     }
     s.update_ms = median(ms, UPDATE_RUNS);
     s.bytes_per_texel = (double)bvh.layout.bytes / ((double)depth->width * (double)depth->height);
@@ -297,7 +243,7 @@ static int gpu_frame(lrt_vku *t, lrt_vk_context *ctx, lrt_vk_bvh *bvh, const lrt
 static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, const lrt_hit *prim_cpu,
                        const lrt_ray *seg, const lrt_hit *seg_cpu, size_t n)
 {
-    static lrt_vk_device dev; /* stays put while it lives */
+    static lrt_vku_device dev; /* stays put while it lives */
     lrt_vk_context *ctx = NULL;
     lrt_vk_bvh bvh = {0};
     lrt_vk_bvh_desc bd;
@@ -313,9 +259,9 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
     memset(&bvh, 0, sizeof bvh);
     memset(&db, 0, sizeof db); /* what was never made is not destroyed */
     rb = hb = sb = shb = db;
-    r = lrt_vk_device_create(&dev, 0);
+    r = lrt_vku_device_create(&dev, 0);
     if (r != LRT_SUCCESS) {
-        snprintf(g->why, sizeof g->why, "lrt_vk_device_create: %s", lrt_result_string(r));
+        snprintf(g->why, sizeof g->why, "lrt_vku_device_create: %s", lrt_result_string(r));
         return;
     }
     snprintf(g->device, sizeof g->device, "%s, Vulkan %u.%u.%u", dev.properties.deviceName,
@@ -325,7 +271,7 @@ static void run_vulkan(gpu_run *g, const lrt_depth *depth, const lrt_ray *prim, 
         snprintf(g->why, sizeof g->why, "Vulkan set-up failed: %s", lrt_result_string(r));
         lrt_vku_free(&t);
         lrt_vk_context_destroy(ctx);
-        lrt_vk_device_destroy(&dev);
+        lrt_vku_device_destroy(&dev);
         return;
     }
     if (n > 0xffffffffu || lrt_vku_buffer_create_in(&t, depth_bytes, 1, &db) || lrt_vku_buffer_create_in(&t, n * sizeof *prim, 1, &rb) ||
@@ -385,7 +331,7 @@ done:
     }
     lrt_vku_free(&t);
     lrt_vk_context_destroy(ctx);
-    lrt_vk_device_destroy(&dev);
+    lrt_vku_device_destroy(&dev);
     if (!g->ran && !g->why[0]) snprintf(g->why, sizeof g->why, "a Vulkan call failed (see above)");
 }
 #endif

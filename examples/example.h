@@ -418,6 +418,74 @@ EXAMPLE_FN void example_trace(const example_frame *f, const lrt_ray *rays, lrt_h
     example_parallel_rows(f->h, threads, what, example__trace_row, &t);
 }
 
+/* What an effect's rays_row(job, j) gets: the frame, the rays to fill (in
+   row order, each texel's together) and the effect's one length (the AO
+   radius, the shadow length; reflections have none). */
+typedef struct example_rays_job {
+    const example_frame *f;
+    lrt_ray *rays;
+    float length;
+} example_rays_job;
+
+/* The frame's rays, row by row on `threads` threads: rays_row fills a row's. */
+EXAMPLE_FN void example_make_rays(const example_frame *f, lrt_ray *rays, float length, int threads,
+                                  example_rows_fn rays_row)
+{
+    example_rays_job job;
+    job.f = f;
+    job.rays = rays;
+    job.length = length;
+    example_parallel_rows(f->h, threads, NULL, rays_row, &job);
+}
+
+/* An example's run up to its shading (example_start), freed by example_end. */
+typedef struct example_run {
+    example_options o;
+    example_frame f;
+    lrt_ray *rays; /* each texel's rays together, in row order */
+    lrt_hit *hits;
+    uint8_t *picture; /* for the shading: its bytes a texel */
+    double setup_ms, trace_ms;
+} example_run;
+
+/* An example's main up to its shading: its options (its own one, `name`
+   into *value, the rays' length; NULL: none), the frame, per_texel rays a
+   texel made by rays_row and traced (`what`: the progress line), and a
+   picture of picture_bytes a texel. EXAMPLE_EXIT_OK, else the exit code. */
+EXAMPLE_FN int example_start(example_run *r, int argc, char **argv, const char *name, float *value, size_t per_texel,
+                             example_rows_fn rays_row, const char *what, size_t picture_bytes)
+{
+    size_t n;
+    double t0, t1;
+    int rc;
+    memset(r, 0, sizeof *r);
+    if ((rc = example_parse_args(&r->o, argc, argv, name, value)) != EXAMPLE_EXIT_OK) return rc;
+    if ((rc = example_frame_load(&r->f, &r->o)) != EXAMPLE_EXIT_OK) return rc;
+    n = (size_t)r->f.w * r->f.h * per_texel;
+    r->rays = (lrt_ray *)malloc(n * sizeof *r->rays);
+    r->hits = (lrt_hit *)malloc(n * sizeof *r->hits);
+    r->picture = (uint8_t *)malloc((size_t)r->f.w * r->f.h * picture_bytes);
+    if (!r->rays || !r->hits || !r->picture) {
+        fprintf(stderr, "out of memory\n");
+        return EXAMPLE_EXIT_FAILED;
+    }
+    t0 = example_now_ms();
+    example_make_rays(&r->f, r->rays, value ? *value : 0.0f, r->o.threads, rays_row);
+    t1 = example_now_ms();
+    example_trace(&r->f, r->rays, r->hits, (size_t)r->f.w * per_texel, 0, r->o.threads, what);
+    r->setup_ms = t1 - t0;
+    r->trace_ms = example_now_ms() - t1;
+    return EXAMPLE_EXIT_OK;
+}
+
+EXAMPLE_FN void example_end(example_run *r)
+{
+    free(r->rays);
+    free(r->hits);
+    free(r->picture);
+    example_frame_free(&r->f);
+}
+
 /* ---- pictures --------------------------------------------------------------------------- */
 /* Writes DIR/NAME (a PNG of w x h with 1 or 3 channels); 0 on success. */
 EXAMPLE_FN int example_write_png(const char *dir, const char *name, uint32_t w, uint32_t h, int channels,

@@ -23,15 +23,9 @@ static void shadows__light(const example_frame *f, float l[3])
     surface_normalize(l);
 }
 
-typedef struct shadows__job {
-    const example_frame *f;
-    lrt_ray *rays;
-    float length;
-} shadows__job;
-
 static void shadows__rays_row(void *ctx, uint32_t j)
 {
-    const shadows__job *job = (const shadows__job *)ctx;
+    const example_rays_job *job = (const example_rays_job *)ctx;
     const example_frame *f = job->f;
     float l[3];
     uint32_t i;
@@ -55,11 +49,7 @@ static void shadows__rays_row(void *ctx, uint32_t j)
 /* One shadow ray per texel, row by row. */
 EXAMPLE_FN void shadows_make_rays(const example_frame *f, lrt_ray *rays, float length, int threads)
 {
-    shadows__job job;
-    job.f = f;
-    job.rays = rays;
-    job.length = length;
-    example_parallel_rows(f->h, threads, NULL, shadows__rays_row, &job);
+    example_make_rays(f, rays, length, threads, shadows__rays_row);
 }
 
 /* Lit colour: albedo * (ambient + sun * max(n.l, 0) * unshadowed). */
@@ -84,39 +74,20 @@ EXAMPLE_FN void shadows_shade(const example_frame *f, const lrt_hit *hits, uint8
 #ifndef EXAMPLE_NO_MAIN
 int main(int argc, char **argv)
 {
-    example_options o;
-    example_frame f;
-    lrt_ray *rays;
-    lrt_hit *hits;
+    example_run r;
     uint8_t *out;
     float length = SHADOW_LENGTH;
     size_t n, k, shadowed = 0;
-    double t0, t1, t2;
-    int rc;
-    if ((rc = example_parse_args(&o, argc, argv, "--length", &length)) != EXAMPLE_EXIT_OK) return rc;
-    if ((rc = example_frame_load(&f, &o)) != EXAMPLE_EXIT_OK) return rc;
-    n = (size_t)f.w * f.h;
-    rays = (lrt_ray *)malloc(n * sizeof *rays);
-    hits = (lrt_hit *)malloc(n * sizeof *hits);
-    out = (uint8_t *)malloc(n * 3);
-    if (!rays || !hits || !out) {
-        fprintf(stderr, "out of memory\n");
-        return EXAMPLE_EXIT_FAILED;
-    }
-    t0 = example_now_ms();
-    shadows_make_rays(&f, rays, length, o.threads);
-    t1 = example_now_ms();
-    example_trace(&f, rays, hits, f.w, 0, o.threads, "shadow trace");
-    t2 = example_now_ms();
-    shadows_shade(&f, hits, out);
-    for (k = 0; k < n; ++k) shadowed += hits[k].kind == LRT_HIT;
+    int rc = example_start(&r, argc, argv, "--length", &length, 1, shadows__rays_row, "shadow trace", 3);
+    if (rc != EXAMPLE_EXIT_OK) return rc;
+    n = (size_t)r.f.w * r.f.h;
+    out = r.picture;
+    shadows_shade(&r.f, r.hits, out);
+    for (k = 0; k < n; ++k) shadowed += r.hits[k].kind == LRT_HIT;
     printf("shadows: %ux%u, %zu rays of length %g: set-up %.1f ms, trace %.1f ms on %d threads, %.1f%% in shadow\n",
-           f.w, f.h, n, (double)length, t1 - t0, t2 - t1, o.threads, 100.0 * (double)shadowed / (double)n);
-    rc = example_write_png(o.out_dir, "shadows.png", f.w, f.h, 3, out) ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
-    free(rays);
-    free(hits);
-    free(out);
-    example_frame_free(&f);
+           r.f.w, r.f.h, n, (double)length, r.setup_ms, r.trace_ms, r.o.threads, 100.0 * (double)shadowed / (double)n);
+    rc = example_write_png(r.o.out_dir, "shadows.png", r.f.w, r.f.h, 3, out) ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
+    example_end(&r);
     return rc;
 }
 #endif

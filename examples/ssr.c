@@ -48,14 +48,9 @@ static int ssr__reflect(const example_frame *f, size_t k, float r[3], float v[3]
     return 1;
 }
 
-typedef struct ssr__job {
-    const example_frame *f;
-    lrt_ray *rays;
-} ssr__job;
-
 static void ssr__rays_row(void *ctx, uint32_t j)
 {
-    ssr__job *job = (ssr__job *)ctx;
+    const example_rays_job *job = (const example_rays_job *)ctx;
     const example_frame *f = job->f;
     uint32_t i;
     for (i = 0; i < f->w; ++i) {
@@ -80,10 +75,7 @@ static void ssr__rays_row(void *ctx, uint32_t j)
 /* One reflection ray per texel, row by row (rays[j * w + i]). */
 EXAMPLE_FN void ssr_make_rays(const example_frame *f, lrt_ray *rays, int threads)
 {
-    ssr__job job;
-    job.f = f;
-    job.rays = rays;
-    example_parallel_rows(f->h, threads, NULL, ssr__rays_row, &job);
+    example_make_rays(f, rays, 0.0f, threads, ssr__rays_row);
 }
 
 /* The frame's colour with the reflections the hits found mixed in. */
@@ -126,50 +118,31 @@ EXAMPLE_FN void ssr_faces(const example_frame *f, const lrt_hit *hits, uint8_t *
 #ifndef EXAMPLE_NO_MAIN
 int main(int argc, char **argv)
 {
-    example_options o;
-    example_frame f;
-    lrt_ray *rays;
-    lrt_hit *hits;
+    example_run r;
     uint8_t *out;
     size_t n, k, hit_count = 0, top_count = 0;
-    double t0, t1, t2;
-    int rc;
-    if ((rc = example_parse_args(&o, argc, argv, NULL, NULL)) != EXAMPLE_EXIT_OK) return rc;
-    if ((rc = example_frame_load(&f, &o)) != EXAMPLE_EXIT_OK) return rc;
-    n = (size_t)f.w * f.h;
-    rays = (lrt_ray *)malloc(n * sizeof *rays);
-    hits = (lrt_hit *)malloc(n * sizeof *hits);
-    out = (uint8_t *)malloc(n * 3);
-    if (!rays || !hits || !out) {
-        fprintf(stderr, "out of memory\n");
-        return EXAMPLE_EXIT_FAILED;
-    }
-    t0 = example_now_ms();
-    ssr_make_rays(&f, rays, o.threads);
-    t1 = example_now_ms();
-    example_trace(&f, rays, hits, f.w, 0, o.threads, "ssr trace");
-    t2 = example_now_ms();
-    ssr_shade(&f, hits, out);
+    int rc = example_start(&r, argc, argv, NULL, NULL, 1, ssr__rays_row, "ssr trace", 3);
+    if (rc != EXAMPLE_EXIT_OK) return rc;
+    n = (size_t)r.f.w * r.f.h;
+    out = r.picture;
+    ssr_shade(&r.f, r.hits, out);
     for (k = 0; k < n; ++k) {
-        hit_count += hits[k].kind == LRT_HIT;
-        top_count += hits[k].kind == LRT_HIT && hits[k].face == LRT_FACE_TOP;
+        hit_count += r.hits[k].kind == LRT_HIT;
+        top_count += r.hits[k].kind == LRT_HIT && r.hits[k].face == LRT_FACE_TOP;
     }
     printf("ssr: %ux%u, %zu reflection rays: set-up %.1f ms, trace %.1f ms on %d threads, %.1f%% hit (%.1f%% on a top face)\n",
-           f.w, f.h, n, t1 - t0, t2 - t1, o.threads, 100.0 * (double)hit_count / (double)n,
+           r.f.w, r.f.h, n, r.setup_ms, r.trace_ms, r.o.threads, 100.0 * (double)hit_count / (double)n,
            100.0 * (double)top_count / (double)n);
     {
-        const char *tag = o.thickness_back ? "_back" : o.thickness_relative ? "_relative" : o.thickness > 0.0f ? "_thick" : "";
+        const char *tag = r.o.thickness_back ? "_back" : r.o.thickness_relative ? "_relative" : r.o.thickness > 0.0f ? "_thick" : "";
         char name[32];
         snprintf(name, sizeof name, "ssr%s.png", tag);
-        rc = example_write_png(o.out_dir, name, f.w, f.h, 3, out) ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
-        ssr_faces(&f, hits, out);
+        rc = example_write_png(r.o.out_dir, name, r.f.w, r.f.h, 3, out) ? EXAMPLE_EXIT_FAILED : EXAMPLE_EXIT_OK;
+        ssr_faces(&r.f, r.hits, out);
         snprintf(name, sizeof name, "ssr%s_faces.png", tag);
-        if (rc == EXAMPLE_EXIT_OK && example_write_png(o.out_dir, name, f.w, f.h, 3, out)) rc = EXAMPLE_EXIT_FAILED;
+        if (rc == EXAMPLE_EXIT_OK && example_write_png(r.o.out_dir, name, r.f.w, r.f.h, 3, out)) rc = EXAMPLE_EXIT_FAILED;
     }
-    free(rays);
-    free(hits);
-    free(out);
-    example_frame_free(&f);
+    example_end(&r);
     return rc;
 }
 #endif

@@ -24,6 +24,21 @@ static inline void surface_normalize(float *v)
     }
 }
 
+/* An orthonormal tangent frame (t, b) around the unit normal n: the
+   hemisphere of ambient occlusion's rays (examples/ao.c, bench/main.c). */
+static inline void surface_frame(const float n[3], float t[3], float b[3])
+{
+    float a[3] = {0.0f, 0.0f, 0.0f};
+    a[fabsf(n[0]) < 0.6f ? 0 : 1] = 1.0f;
+    t[0] = a[1] * n[2] - a[2] * n[1];
+    t[1] = a[2] * n[0] - a[0] * n[2];
+    t[2] = a[0] * n[1] - a[1] * n[0];
+    surface_normalize(t);
+    b[0] = n[1] * t[2] - n[2] * t[1];
+    b[1] = n[2] * t[0] - n[0] * t[2];
+    b[2] = n[0] * t[1] - n[1] * t[0];
+}
+
 /* Row j: pos[3k..3k+2] = the view-space point at each texel's centre and
    depth (0 0 0 for the sky, depth 1). */
 static inline void surface_positions_row(const lrt_camera *cam, const float *depth, uint32_t w, uint32_t j, float *pos)

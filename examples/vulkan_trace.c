@@ -1,5 +1,5 @@
 /* examples/vulkan_trace.c - the plain GPU trace, as a user writes it: a
-   device (the header's device helper) with the validation layer and its
+   device (linear_rt_vk_util.h's) with the validation layer and its
    synchronization validation, which checks the barriers; the library's
    context; a depth map in a VkBuffer, lrt_vk_cmd_build, then
    lrt_vk_cmd_trace of a few thousand rays with the barriers of the header's
@@ -10,11 +10,8 @@
    77 no Vulkan loader or device (1 under CI=true). */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #define LINEAR_RT_IMPLEMENTATION
-#ifndef LINEAR_RT_VULKAN /* the Makefile defines these three; cc vulkan_trace.c -lm -ldl needs none */
+#ifndef LINEAR_RT_VULKAN /* the Makefile defines these two; cc vulkan_trace.c -lm -ldl needs neither */
 #define LINEAR_RT_VULKAN
-#endif
-#ifndef LINEAR_RT_VULKAN_DEVICE_HELPER
-#define LINEAR_RT_VULKAN_DEVICE_HELPER
 #endif
 #ifndef VK_NO_PROTOTYPES /* our vk* calls go through function pointers (linear_rt_vk_util.h), not the loader's symbols */
 #define VK_NO_PROTOTYPES
@@ -27,7 +24,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "../linear_rt_vk_util.h" /* host-visible buffers, one command buffer submitted and waited for, a barrier */
+#include "../linear_rt_vk_util.h" /* the device, host-visible buffers, one command buffer submitted and waited for, a barrier */
 
 enum { W = 256, H = 256, RAYS = 4096 };
 
@@ -61,7 +58,7 @@ static double now_ms(void)
 
 int main(void)
 {
-    static lrt_vk_device dev; /* stays put: the validation callback counts into it */
+    static lrt_vku_device dev; /* stays put: the validation callback counts into it */
     const char *ci = getenv("CI");
     lrt_vk_context *ctx = NULL;
     /* every library struct by field name: fields added later stay 0 */
@@ -78,7 +75,7 @@ int main(void)
     char name[VK_MAX_PHYSICAL_DEVICE_NAME_SIZE];
     double t0, context_ms = 0, record_ms = 0;
     int x, y, k, hit_count = 0, equal = 0, done_ok = 0;
-    lrt_result r = lrt_vk_device_create(&dev, LRT_VK_DEVICE_VALIDATION | LRT_VK_DEVICE_SYNC_VALIDATION);
+    lrt_result r = lrt_vku_device_create(&dev, LRT_VKU_DEVICE_VALIDATION | LRT_VKU_DEVICE_SYNC_VALIDATION);
 
     if (r == LRT_ERROR_NO_VULKAN_LOADER || r == LRT_ERROR_NO_VULKAN_DEVICE || r == LRT_ERROR_MISSING_VULKAN_FEATURE) {
         printf("vulkan_trace: %s: %s\n", ci && !strcmp(ci, "true") ? "FAIL under CI=true" : "skipped",
@@ -153,7 +150,7 @@ done:
     lrt_vku_free(&vk);
     lrt_vk_bvh_destroy(ctx, &bvh);
     lrt_vk_context_destroy(ctx);
-    lrt_vk_device_destroy(&dev); /* the layer's last messages (leaks) are counted too */
+    lrt_vku_device_destroy(&dev); /* the layer's last messages (leaks) are counted too */
     if (!done_ok) return 1;
     printf("vulkan_trace: %s: %d rays, %d hits, %d equal (GPU == CPU: %s), %u validation messages; "
            "lrt_vk_context_create %.0f ms, the first build and trace recorded in %.0f ms\n", name, RAYS, hit_count,

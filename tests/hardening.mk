@@ -132,23 +132,24 @@ $(B)/test_core_m32: tests/test_core.c $(LIB) $(REF) $(SCENE) $(RAYS) | deps $(B)
 	$(GCC) $(STD) $(WARN) $(CFLAGS) $(M32) $< -o $@ $(LDLIBS)
 
 # 32-bit size_t: test_limits and test_core run; the Vulkan implementation
-# compiles warning-free (no 32-bit Vulkan driver to run it on)
+# and linear_rt_vk_util.h compile warning-free (no 32-bit Vulkan driver to run them on)
 test-m32: | $(B)
 	@$(HAVE_M32); \
 	$(call run32,$(B)/probe_m32_$@); \
 	$(MAKE) --no-print-directory $(B)/test_limits_m32 $(B)/test_core_m32 && \
 	$$run32 $(B)/test_limits_m32 && $$run32 $(B)/test_core_m32 && \
 	if [ "$(HAVE_VULKAN)" = 1 ]; then \
-	  printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n' > $(B)/m32_vk_tu.c; \
+	  printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n#include "../$(VK_UTIL)"\n' > $(B)/m32_vk_tu.c; \
 	  echo "  $(GCC) $(M32) $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/m32_vk_tu.c"; \
 	  $(GCC) $(M32) $(STD) $(STRICT) $(VK_FLAGS) -c $(B)/m32_vk_tu.c -o $(B)/m32_vk_tu.o; \
 	fi
 
 # ---- static checks of linear_rt.h's implementation ------------------------------------
-$(B)/static_tu.c: | $(B)
-	@printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n' > $@
+# with Vulkan, linear_rt_vk_util.h too (the device and the rest tools use)
+$(B)/static_tu.c: tests/hardening.mk | $(B)
+	@printf '#define LINEAR_RT_IMPLEMENTATION\n#include "../linear_rt.h"\n#ifdef LINEAR_RT_VULKAN\n#include "../$(VK_UTIL)"\n#endif\n' > $@
 
-# C99 with SSE2, without SIMD, with AVX2, with Vulkan and its device helper; C++11.
+# C99 with SSE2, without SIMD, with AVX2, with Vulkan and linear_rt_vk_util.h; C++11.
 # cppcheck is given no system include path: it checks the header's own code.
 # The Vulkan run skips shaders_spv.h (its guard defined): cppcheck 2.10's
 # value flow spent 86 of this test's 90 s on its 1.3 MB of generated words,

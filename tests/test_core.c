@@ -597,11 +597,7 @@ static void test_compact_boundaries(void)
                 map[(size_t)(y + (s >> 2)) * w + x + (s & 3u)] = (uint16_t)(j + s - 2u < m ? gs[j + s - 2u] : d);
         }
     }
-    memset(&dm, 0, sizeof dm);
-    dm.data = map;
-    dm.width = w;
-    dm.height = h;
-    dm.format = LRT_FORMAT_UNORM16;
+    dm = packed_depth(map, w, h, LRT_FORMAT_UNORM16);
     memset(&opt, 0, sizeof opt);
     opt.node_bits = 8;
     CHECK(lrt_bvh_build(&b8, &dm, &opt, NULL) == LRT_SUCCESS, "compact boundaries: 8-bit build");
@@ -813,11 +809,7 @@ static void test_model_back_codes(void)
                 opt.thickness_value = models[m][1];
                 opt.near_z = models[m][2];
                 opt.far_z = models[m][3];
-                memset(&dm, 0, sizeof dm);
-                dm.data = row;
-                dm.width = count;
-                dm.height = 1;
-                dm.format = format;
+                dm = packed_depth(row, count, 1, format);
                 dm.flags = reversed ? LRT_DEPTH_REVERSED_Z : 0u;
                 CHECK(lrt__options_layout(16, 16, format, &opt, &L) == LRT_SUCCESS, "model back codes: layout of model %u", m);
                 lrt__row_model_back_codes(&L, &dm, (size_t)count * bpp, 0, 0, count, 65535u, lanes, NULL);
@@ -856,11 +848,7 @@ static void test_bad_arguments(void)
     size_t bytes;
     int user = 0;
     unsigned char sentinel[sizeof(lrt_bvh)];
-    memset(&dm, 0, sizeof dm);
-    dm.data = d;
-    dm.width = 3;
-    dm.height = 2;
-    dm.format = LRT_FORMAT_FLOAT32;
+    dm = packed_depth(d, 3, 2, LRT_FORMAT_FLOAT32);
     memset(&opt, 0, sizeof opt);
     memset(&untouched, 0xab, sizeof untouched);
     memcpy(sentinel, &untouched, sizeof sentinel);
@@ -956,11 +944,7 @@ static void test_bad_arguments(void)
         lrt_depth flat, pair[2];
         lrt_bvh thick = {0};
         int model;
-        memset(&flat, 0, sizeof flat);
-        flat.data = zero;
-        flat.width = 3;
-        flat.height = 2;
-        flat.format = LRT_FORMAT_FLOAT32;
+        flat = packed_depth(zero, 3, 2, LRT_FORMAT_FLOAT32);
         pair[0] = flat;
         pair[0].back = &pair[1];
         pair[1] = flat;

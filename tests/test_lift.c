@@ -36,12 +36,12 @@ static float rnd01(void) { return (float)rand() / ((float)RAND_MAX + 1.0f); }
 
 static float dot3(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-/* a direction of the hemisphere around n, cosine-weighted, in examples/ao.c's frame */
+/* a direction of the hemisphere around n, cosine-weighted, in examples/ao.c's frame (surface_frame) */
 static void hemisphere(const float n[3], float out[3])
 {
     float t[3], b[3], u = rnd01(), phi = 6.2831853f * rnd01(), r = sqrtf(u), z = sqrtf(1.0f - u);
     int k;
-    ao__frame(n, t, b);
+    surface_frame(n, t, b);
     for (k = 0; k < 3; ++k) out[k] = r * cosf(phi) * t[k] + r * sinf(phi) * b[k] + z * n[k];
 }
 

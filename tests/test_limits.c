@@ -241,11 +241,7 @@ static void test_impossible_sizes(void)
     { /* a dirty rect whose end wraps around uint32_t */
         float t4[4] = {0.5f, 0.5f, 0.5f, 0.5f};
         lrt_rect rect;
-        memset(&d, 0, sizeof d);
-        d.data = t4;
-        d.width = 4;
-        d.height = 1;
-        d.format = LRT_FORMAT_FLOAT32;
+        d = packed_depth(t4, 4, 1, LRT_FORMAT_FLOAT32);
         lrt_bvh_build(&small, &d, NULL, NULL);
         rect.x = 1; rect.y = 0; rect.width = 0xffffffffu; rect.height = 1;
         CHECK(lrt_bvh_update(&small, &d, &rect) == LRT_ERROR_INVALID_RECT, "rect x + width wraps");
@@ -417,11 +413,7 @@ static void test_thin_updates(void)
         lrt_depth dm;
         lrt_bvh live = {0}, fresh = {0};
         int same = 1, ok = 1;
-        memset(&dm, 0, sizeof dm);
-        dm.data = d;
-        dm.width = (uint32_t)w;
-        dm.height = (uint32_t)h;
-        dm.format = LRT_FORMAT_FLOAT32;
+        dm = packed_depth(d, (uint32_t)w, (uint32_t)h, LRT_FORMAT_FLOAT32);
         paint_frame(d, w, h, 0);
         ok &= lrt_bvh_build(&live, &dm, NULL, NULL) == LRT_SUCCESS;
         for (frame = 1; ok && frame < 6; ++frame) {
@@ -533,11 +525,7 @@ static void test_ray_counts(void)
     unsigned char before[sizeof io];
     const size_t over = (size_t)LINEAR_RT_MAX_RAYS_PER_CALL + 1;
     size_t i;
-    memset(&dm, 0, sizeof dm);
-    dm.data = d4;
-    dm.width = 2;
-    dm.height = 2;
-    dm.format = LRT_FORMAT_FLOAT32;
+    dm = packed_depth(d4, 2, 2, LRT_FORMAT_FLOAT32);
     CHECK(lrt_bvh_build(&bvh, &dm, NULL, NULL) == LRT_SUCCESS, "build 2x2");
     memset(&io, 0x5a, sizeof io);
     for (i = 0; i < 4; ++i) io.rays[i] = primary_ray((uint32_t)(i & 1), (uint32_t)(i >> 1));

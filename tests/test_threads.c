@@ -28,6 +28,7 @@
 #include "../linear_rt.h"
 #include "support/reference.h"
 #include "../examples/scene.h"
+#include "../examples/trace_threads.h"
 #include "support/rays.h"
 #include "support/check.h"
 
@@ -57,27 +58,22 @@ static const char *flag_name(uint32_t f) { return f ? "flags?" : "closest"; }
 /* Workers only write their own job (and their slice of hits): CHECK and
    the random numbers of rays.h belong to the main thread. */
 typedef struct job {
-    const lrt_bvh *bvh;
-    const lrt_depth *depth;
-    const lrt_ray *rays;
-    lrt_hit *hits;
-    size_t first, end;
+    trace_slice s;     /* examples/trace_threads.h: the slice and its result */
     size_t chunk;      /* 0: the slice in one call, else calls of this many rays */
-    uint32_t flags;
-    lrt_result result;
 } job;
 
 static void run_job(job *j)
 {
-    size_t a = j->first;
+    trace_slice *s = &j->s;
+    size_t a = s->first;
     if (!j->chunk) {
-        j->result = lrt_trace_range(j->bvh, j->depth, j->rays, j->hits, j->first, j->end, j->flags);
+        trace_slice_run(s);
         return;
     }
-    j->result = LRT_SUCCESS;
-    while (a < j->end && j->result == LRT_SUCCESS) {
-        size_t b = j->end - a > j->chunk ? a + j->chunk : j->end;
-        j->result = lrt_trace_range(j->bvh, j->depth, j->rays, j->hits, a, b, j->flags);
+    s->result = LRT_SUCCESS;
+    while (a < s->end && s->result == LRT_SUCCESS) {
+        size_t b = s->end - a > j->chunk ? a + j->chunk : s->end;
+        s->result = lrt_trace_range(s->bvh, s->depth, s->rays, s->hits, a, b, s->flags);
         a = b;
     }
 }
@@ -133,13 +129,13 @@ static void *pool_worker(void *arg)
         seen = p->frame;
         if (p->queue) {
             job *q = p->queue;
-            while (p->next < q->end) {
-                size_t a = p->next, b = q->end - a > q->chunk ? a + q->chunk : q->end;
+            while (p->next < q->s.end) {
+                size_t a = p->next, b = q->s.end - a > q->chunk ? a + q->chunk : q->s.end;
                 lrt_result r;
                 p->next = b;
                 ++p->taken[w->index];
                 pthread_mutex_unlock(&p->lock);
-                r = lrt_trace_range(q->bvh, q->depth, q->rays, q->hits, a, b, q->flags);
+                r = lrt_trace_range(q->s.bvh, q->s.depth, q->s.rays, q->s.hits, a, b, q->s.flags);
                 pthread_mutex_lock(&p->lock);
                 if (r != LRT_SUCCESS) p->queue_result = r;
             }
@@ -179,7 +175,7 @@ static void pool_run(pool *p, job *jobs, int njobs, job *queue)
     p->jobs = jobs;
     p->njobs = njobs;
     p->queue = queue;
-    p->next = queue ? queue->first : 0;
+    p->next = queue ? queue->s.first : 0;
     p->queue_result = LRT_SUCCESS;
     p->busy = p->count;
     ++p->frame;
@@ -226,15 +222,15 @@ static void make_jobs(job *jobs, const lrt_bvh *bvh, const lrt_depth *depth, con
     int k;
     split(n, THREADS, cuts);
     for (k = 0; k < THREADS; ++k) {
-        jobs[k].bvh = bvh;
-        jobs[k].depth = depth;
-        jobs[k].rays = rays;
-        jobs[k].hits = hits;
-        jobs[k].first = cuts[k];
-        jobs[k].end = cuts[k + 1];
+        jobs[k].s.bvh = bvh;
+        jobs[k].s.depth = depth;
+        jobs[k].s.rays = rays;
+        jobs[k].s.hits = hits;
+        jobs[k].s.first = cuts[k];
+        jobs[k].s.end = cuts[k + 1];
         jobs[k].chunk = 0;
-        jobs[k].flags = flags;
-        jobs[k].result = LRT_ERROR_INVALID_BVH;
+        jobs[k].s.flags = flags;
+        jobs[k].s.result = LRT_ERROR_INVALID_BVH;
     }
 }
 
@@ -248,7 +244,7 @@ static int same_hits(const lrt_hit *got, const lrt_hit *expect, size_t n, const 
     if (differ) {
         int owner = -1;
         for (k = 0; k < njobs; ++k)
-            if (first >= jobs[k].first && first < jobs[k].end) owner = k;
+            if (first >= jobs[k].s.first && first < jobs[k].s.end) owner = k;
         printf("  %s: %zu of %zu hits differ from one thread's; the first, ray %zu (thread %d): kind %u t %.9g (%u,%u), "
                "single-threaded kind %u t %.9g (%u,%u)\n",
                what, differ, n, first, owner, got[first].kind, (double)got[first].t, got[first].x, got[first].y,
@@ -314,7 +310,7 @@ static void slices_case(int w, int h, int shape, lrt_format format, int reversed
             for (k = 0; k < THREADS; ++k)
                 jobs[k].chunk = (size_t)(k & 1) * (1 + (size_t)rndi(100)); /* odd threads: many small calls */
             CHECK(run_joined(jobs, THREADS), "%s: pthread_create failed", what);
-            for (k = 0; k < THREADS; ++k) ok &= jobs[k].result == LRT_SUCCESS;
+            for (k = 0; k < THREADS; ++k) ok &= jobs[k].s.result == LRT_SUCCESS;
             CHECK(ok, "%s: a thread's lrt_trace_range failed", what);
             CHECK(same_hits(hits, expect, n, jobs, THREADS, what), "%s: threads differ from one thread", what);
             CHECK(judge_sample(&m.ref, rays, hits, n, flags, (size_t)f, what) == 0, "%s: wrong by the reference", what);
@@ -386,19 +382,19 @@ static void frames_case(int sync, uint32_t bits, pool *p)
         make_jobs(jobs, &live, &m.depth, rays, hits, n, flags);
         for (k = 0; k < THREADS; ++k) jobs[k].chunk = (size_t)(frame & 1) * 50;
         queue = jobs[0];
-        queue.first = 0;
-        queue.end = n;
+        queue.s.first = 0;
+        queue.s.end = n;
         queue.chunk = 64 + (size_t)rndi(64);
         if (sync == SYNC_JOIN) {
             failed += !run_joined(jobs, THREADS);
         } else if (sync == SYNC_POOL) {
             pool_run(p, jobs, THREADS, NULL);
         } else {
-            for (k = 0; k < THREADS; ++k) jobs[k].result = LRT_SUCCESS; /* unused: one queue */
+            for (k = 0; k < THREADS; ++k) jobs[k].s.result = LRT_SUCCESS; /* unused: one queue */
             pool_run(p, NULL, 0, &queue);
             failed += p->queue_result != LRT_SUCCESS; /* the workers are parked: no lock needed */
         }
-        for (k = 0; k < THREADS; ++k) failed += jobs[k].result != LRT_SUCCESS;
+        for (k = 0; k < THREADS; ++k) failed += jobs[k].s.result != LRT_SUCCESS;
         differ += !same_hits(hits, expect, n, jobs, sync == SYNC_QUEUE ? 0 : THREADS, what);
         wrong += judge_sample(&m.ref, rays, hits, n, flags, (size_t)frame, what);
         free(rays);
@@ -498,21 +494,21 @@ static void test_at_once(void)
         hits[k] = (lrt_hit *)malloc(sizeof(lrt_hit) * n);
         memset(hits[k], 0xff, sizeof(lrt_hit) * n);
         lrt_trace(&trees[k & 1], &m.depth, rays, expect[k], n, g_flag_sets[k >> 1]);
-        jobs[k].bvh = &trees[k & 1];
-        jobs[k].depth = &m.depth;
-        jobs[k].rays = rays;
-        jobs[k].hits = hits[k];
-        jobs[k].first = 0;
-        jobs[k].end = n;
+        jobs[k].s.bvh = &trees[k & 1];
+        jobs[k].s.depth = &m.depth;
+        jobs[k].s.rays = rays;
+        jobs[k].s.hits = hits[k];
+        jobs[k].s.first = 0;
+        jobs[k].s.end = n;
         jobs[k].chunk = (size_t)k * 33;
-        jobs[k].flags = g_flag_sets[k >> 1];
-        jobs[k].result = LRT_ERROR_INVALID_BVH;
+        jobs[k].s.flags = g_flag_sets[k >> 1];
+        jobs[k].s.result = LRT_ERROR_INVALID_BVH;
     }
     CHECK(run_joined(jobs, THREADS), "at once: pthread_create failed");
     for (k = 0; k < THREADS; ++k) {
         char what[96];
         snprintf(what, sizeof what, "at once: thread %d, %u-bit tree, %s", k, 8u << (k & 1), flag_name(g_flag_sets[k >> 1]));
-        CHECK(jobs[k].result == LRT_SUCCESS, "%s: lrt_trace_range failed", what);
+        CHECK(jobs[k].s.result == LRT_SUCCESS, "%s: lrt_trace_range failed", what);
         CHECK(same_hits(hits[k], expect[k], n, jobs + k, 1, what), "%s: differs from one thread", what);
         CHECK(judge_sample(&m.ref, rays, hits[k], n, g_flag_sets[k >> 1], (size_t)k, what) == 0, "%s: wrong by the reference",
               what);
@@ -563,14 +559,14 @@ static int break_rule(void)
     u.bvh = &bvh;
     u.depth = &m.depth;
     for (k = 0; k < 2; ++k) {
-        jobs[k].bvh = &bvh;
-        jobs[k].depth = &m.depth;
-        jobs[k].rays = rays;
-        jobs[k].hits = hits + n * (size_t)k;
-        jobs[k].first = 0;
-        jobs[k].end = n;
+        jobs[k].s.bvh = &bvh;
+        jobs[k].s.depth = &m.depth;
+        jobs[k].s.rays = rays;
+        jobs[k].s.hits = hits + n * (size_t)k;
+        jobs[k].s.first = 0;
+        jobs[k].s.end = n;
         jobs[k].chunk = 0;
-        jobs[k].flags = 0;
+        jobs[k].s.flags = 0;
         pthread_create(&t[k], NULL, job_thread, &jobs[k]);
     }
     pthread_create(&t[2], NULL, update_thread, &u);

@@ -1,7 +1,7 @@
 /* tests/test_vulkan.c - the Vulkan path of linear_rt.h (the kernels of
    shaders/, embedded in shaders_spv.h) against the CPU path and docs/MODEL.md.
 
-   On the first device lrt_vk_device_create finds (lavapipe on the project's
+   On the first device lrt_vku_device_create finds (lavapipe on the project's
    machines), with the Khronos validation layer on, synchronization
    validation too (the barriers linear_rt.h documents, and its own): any
    validation message fails the test.
@@ -38,9 +38,6 @@
 #ifndef LINEAR_RT_VULKAN
 #define LINEAR_RT_VULKAN
 #endif
-#ifndef LINEAR_RT_VULKAN_DEVICE_HELPER
-#define LINEAR_RT_VULKAN_DEVICE_HELPER
-#endif
 #ifdef TEST_HLSL /* test_vulkan_hlsl: the trace kernels compiled from HLSL (tests/hlsl/lrt_trace.hlsl) */
 #include "test_vulkan_hlsl_spv.h"
 #define LRT__VK_TRACE_BUFFER_SPV lrt_hlsl_trace_buffer
@@ -66,7 +63,7 @@
 #include <math.h>
 
 
-static lrt_vk_device g_dev;  /* stays put: the validation callback counts into it */
+static lrt_vku_device g_dev;  /* stays put: the validation callback counts into it */
 static lrt_vku g_t;
 static lrt_vk_context *g_ctx;
 static VkPhysicalDeviceLimits g_limits;
@@ -534,11 +531,7 @@ static void update_case(lrt_format format, uint32_t bits, int source, uint32_t t
     gpu_depth g;
     char what[160];
     int frame, same_rect = 1, same_full = 1;
-    memset(&dm, 0, sizeof dm);
-    dm.data = bytes;
-    dm.width = (uint32_t)w;
-    dm.height = (uint32_t)h;
-    dm.format = format;
+    dm = packed_depth(bytes, (uint32_t)w, (uint32_t)h, format);
     memset(&opt, 0, sizeof opt);
     opt.node_bits = bits;
     opt.thickness = thick;
@@ -679,11 +672,7 @@ static void test_2d_dispatch(void)
             gpu_depth g;
             size_t i;
             for (i = 0; i < (size_t)w * h; ++i) bytes[i] = (uint8_t)(rnd() & 0xff);
-            memset(&dm, 0, sizeof dm);
-            dm.data = bytes;
-            dm.width = (uint32_t)w;
-            dm.height = (uint32_t)h;
-            dm.format = LRT_FORMAT_UNORM8;
+            dm = packed_depth(bytes, (uint32_t)w, (uint32_t)h, LRT_FORMAT_UNORM8);
             lrt_bvh_build(&cpu, &dm, &opt, NULL);
             memset(&gpu, 0, sizeof gpu);
             if (gpu_depth_create(&dm, SRC_PACKED, VK_FORMAT_UNDEFINED, &g) == 0 && gpu_build(&dm, 8, &g, &gpu, "2D refit") == 0)
@@ -714,7 +703,7 @@ static void test_bad_arguments_no_device(void)
     lrt_vk_bvh_desc bd;
     lrt_vk_bvh bvh = {0};
     lrt_vk_depth depth;
-    lrt_vk_device dev;
+    lrt_vku_device dev;
     lrt_vk_requirements req;
     VkDeviceSize a, b;
     lrt_rect rect = {0, 0, 1, 1};
@@ -770,14 +759,14 @@ static void test_bad_arguments_no_device(void)
     CHECK(lrt_vk_cmd_update(NULL, NULL, &bvh, &depth, &rect) == LRT_ERROR_NULL_POINTER, "update: null context");
     CHECK(lrt_vk_cmd_trace(NULL, NULL, &bvh, &depth, VK_NULL_HANDLE, 0, VK_NULL_HANDLE, 0, 1, 0) == LRT_ERROR_NULL_POINTER,
           "trace: null context");
-    CHECK(lrt_vk_device_create(NULL, 0) == LRT_ERROR_NULL_POINTER, "device: null out");
+    CHECK(lrt_vku_device_create(NULL, 0) == LRT_ERROR_NULL_POINTER, "device: null out");
     memset(&dev, 0x5a, sizeof dev);
-    CHECK(lrt_vk_device_create(&dev, 0x80) == LRT_ERROR_INVALID_OPTION, "device: unknown flag");
-    CHECK(lrt_vk_device_create(&dev, 4) == LRT_ERROR_INVALID_OPTION, "device: flag 4");
+    CHECK(lrt_vku_device_create(&dev, 0x80) == LRT_ERROR_INVALID_OPTION, "device: unknown flag");
+    CHECK(lrt_vku_device_create(&dev, 4) == LRT_ERROR_INVALID_OPTION, "device: flag 4");
     CHECK(((unsigned char *)&dev)[0] == 0x5a, "device: written on a bad argument");
-    lrt_vk_device_destroy(NULL);
+    lrt_vku_device_destroy(NULL);
     memset(&dev, 0, sizeof dev);
-    lrt_vk_device_destroy(&dev); /* a zeroed one */
+    lrt_vku_device_destroy(&dev); /* a zeroed one */
     CHECK(strcmp(lrt_result_string(LRT_ERROR_MISALIGNED), "unknown result code") != 0 &&
               strcmp(lrt_result_string(LRT_ERROR_VULKAN), "unknown result code") != 0,
           "result strings of the Vulkan codes");
@@ -797,11 +786,7 @@ static void test_bad_arguments(void)
     const VkDeviceSize align = g_limits.minStorageBufferOffsetAlignment < 4 ? 4 : g_limits.minStorageBufferOffsetAlignment;
     VkCommandBuffer cmd;
     int k;
-    memset(&dm, 0, sizeof dm);
-    dm.data = texels;
-    dm.width = 3;
-    dm.height = 2;
-    dm.format = LRT_FORMAT_FLOAT32;
+    dm = packed_depth(texels, 3, 2, LRT_FORMAT_FLOAT32);
     memset(&bd, 0, sizeof bd);
     bd.width = 3;
     bd.height = 2;
@@ -935,11 +920,11 @@ static void test_bad_arguments(void)
     }
     { /* a tree of another VkDevice: refused before anything is recorded, both ways; destroy with the wrong
          context frees nothing, the right one frees it (the validation layer of both devices watches) */
-        static lrt_vk_device other; /* stays put: its validation callback counts into it */
+        static lrt_vku_device other; /* stays put: its validation callback counts into it */
         lrt_vk_context *other_ctx = NULL;
         lrt_vk_bvh theirs, before;
         memset(&theirs, 0, sizeof theirs);
-        CHECK(lrt_vk_device_create(&other, LRT_VK_DEVICE_VALIDATION) == LRT_SUCCESS &&
+        CHECK(lrt_vku_device_create(&other, LRT_VKU_DEVICE_VALIDATION) == LRT_SUCCESS &&
                   lrt_vk_context_create(&other.desc, &other_ctx) == LRT_SUCCESS &&
                   lrt_vk_bvh_create(other_ctx, &bd, &theirs) == LRT_SUCCESS,
               "a second device, its context and a tree on it");
@@ -957,7 +942,7 @@ static void test_bad_arguments(void)
             CHECK(theirs.created == 0, "destroy with its own context");
         }
         lrt_vk_context_destroy(other_ctx);
-        lrt_vk_device_destroy(&other);
+        lrt_vku_device_destroy(&other);
         CHECK(other.message_count == 0, "%u validation messages of the second device", other.message_count);
     }
     bad = g.depth; bad.buffer = VK_NULL_HANDLE;
@@ -1466,22 +1451,10 @@ static void test_device_without_extension(void)
     const lrt_vk_context_desc *d = &g_dev.desc;
     PFN_vkCreateDevice create = (PFN_vkCreateDevice)d->get_instance_proc_addr(d->instance, "vkCreateDevice");
     PFN_vkDestroyDevice destroy;
-    VkDeviceQueueCreateInfo qi;
-    VkDeviceCreateInfo di;
     lrt_vk_context_desc cd = *d;
     lrt_vk_context *ctx = NULL;
-    const float priority = 1.0f;
     VkDevice bare;
-    memset(&qi, 0, sizeof qi);
-    qi.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
-    qi.queueFamilyIndex = g_dev.queue_family;
-    qi.queueCount = 1;
-    qi.pQueuePriorities = &priority;
-    memset(&di, 0, sizeof di);
-    di.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
-    di.queueCreateInfoCount = 1;
-    di.pQueueCreateInfos = &qi;
-    if (!create || create(d->physical_device, &di, NULL, &bare) != VK_SUCCESS) {
+    if (!create || lrt_vku_create_vk_device(create, d->physical_device, g_dev.queue_family, NULL, NULL, 0, &bare) != VK_SUCCESS) {
         CHECK(0, "could not create a second device");
         return;
     }
@@ -1553,7 +1526,7 @@ int main(int argc, char **argv)
 #endif
     }
     RUN_TEST(test_bad_arguments_no_device);
-    r = lrt_vk_device_create(&g_dev, LRT_VK_DEVICE_VALIDATION | LRT_VK_DEVICE_SYNC_VALIDATION);
+    r = lrt_vku_device_create(&g_dev, LRT_VKU_DEVICE_VALIDATION | LRT_VKU_DEVICE_SYNC_VALIDATION);
     if (r == LRT_ERROR_NO_VULKAN_LOADER || r == LRT_ERROR_NO_VULKAN_DEVICE || r == LRT_ERROR_MISSING_VULKAN_FEATURE) {
         printf("test-vulkan: %s: %s (%s)\n", in_ci ? "FAIL under CI=true" : "skipped", lrt_result_string(r),
                r == LRT_ERROR_MISSING_VULKAN_FEATURE ? "the validation layer VK_LAYER_KHRONOS_validation is not installed"
@@ -1561,7 +1534,7 @@ int main(int argc, char **argv)
         printf("%d passed, %d failed\n", g_pass, g_fail + in_ci);
         return in_ci || g_fail ? 1 : 0;
     }
-    CHECK(r == LRT_SUCCESS, "lrt_vk_device_create: %s (VkResult %d)", lrt_result_string(r), (int)g_dev.vk_result);
+    CHECK(r == LRT_SUCCESS, "lrt_vku_device_create: %s (VkResult %d)", lrt_result_string(r), (int)g_dev.vk_result);
     if (r != LRT_SUCCESS) {
         printf("%d passed, %d failed\n", g_pass, g_fail);
         return 1;
@@ -1596,7 +1569,7 @@ int main(int argc, char **argv)
     }
     lrt_vku_free(&g_t);
     lrt_vk_context_destroy(g_ctx);
-    lrt_vk_device_destroy(&g_dev);
+    lrt_vku_device_destroy(&g_dev);
     CHECK(g_dev.message_count == 0, "%u validation messages (printed above)", g_dev.message_count);
     return check_summary();
 }

@@ -30,9 +30,6 @@
 #ifndef LINEAR_RT_VULKAN
 #define LINEAR_RT_VULKAN
 #endif
-#ifndef LINEAR_RT_VULKAN_DEVICE_HELPER
-#define LINEAR_RT_VULKAN_DEVICE_HELPER
-#endif
 #define LINEAR_RT_IMPLEMENTATION
 #include "../linear_rt.h"
 #include "support/reference.h"
@@ -49,7 +46,7 @@
 
 enum { WORKERS = 4, FRAMES = 9 };
 
-static lrt_vk_device g_dev; /* stays put: the validation callback counts into it */
+static lrt_vku_device g_dev; /* stays put: the validation callback counts into it */
 static lrt_vk_context *g_ctx;
 static pthread_mutex_t g_queue_lock = PTHREAD_MUTEX_INITIALIZER;
 
@@ -419,7 +416,7 @@ int main(int argc, char **argv)
         printf("usage: %s [--no-validation]\n", argv[0]);
         return 2;
     }
-    r = lrt_vk_device_create(&g_dev, validation ? LRT_VK_DEVICE_VALIDATION | LRT_VK_DEVICE_SYNC_VALIDATION : 0u);
+    r = lrt_vku_device_create(&g_dev, validation ? LRT_VKU_DEVICE_VALIDATION | LRT_VKU_DEVICE_SYNC_VALIDATION : 0u);
     if (r == LRT_ERROR_NO_VULKAN_LOADER || r == LRT_ERROR_NO_VULKAN_DEVICE || r == LRT_ERROR_MISSING_VULKAN_FEATURE) {
         printf("test-vulkan-threads: %s: %s (%s)\n", in_ci ? "FAIL under CI=true" : "skipped", lrt_result_string(r),
                r == LRT_ERROR_MISSING_VULKAN_FEATURE ? "the validation layer VK_LAYER_KHRONOS_validation is not installed"
@@ -427,7 +424,7 @@ int main(int argc, char **argv)
         printf("%d passed, %d failed\n", g_pass, g_fail + in_ci);
         return in_ci ? 1 : 0;
     }
-    CHECK(r == LRT_SUCCESS, "lrt_vk_device_create: %s (VkResult %d)", lrt_result_string(r), (int)g_dev.vk_result);
+    CHECK(r == LRT_SUCCESS, "lrt_vku_device_create: %s (VkResult %d)", lrt_result_string(r), (int)g_dev.vk_result);
     if (r != LRT_SUCCESS) return check_summary();
     printf("device: %s, %s; %d threads, %d frames each\n", g_dev.properties.deviceName,
            validation ? "validation and synchronization validation on"
@@ -437,7 +434,7 @@ int main(int argc, char **argv)
     CHECK(r == LRT_SUCCESS, "lrt_vk_context_create: %s", lrt_result_string(r));
     if (r == LRT_SUCCESS) test_threads();
     lrt_vk_context_destroy(g_ctx);
-    lrt_vk_device_destroy(&g_dev);
+    lrt_vku_device_destroy(&g_dev);
     CHECK(g_dev.message_count == 0, "%u validation messages (printed above)", g_dev.message_count);
     return check_summary();
 }

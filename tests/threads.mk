@@ -37,7 +37,7 @@ TSAN := -fsanitize=thread -fno-omit-frame-pointer -O1 -g
 # report fails its target; suppressions only where the file exists
 TSAN_SUPP := tools/tsan.supp
 TSAN_ENV = TSAN_OPTIONS=halt_on_error=1:exitcode=66:second_deadlock_stack=1$(if $(wildcard $(TSAN_SUPP)),:suppressions=$(CURDIR)/$(TSAN_SUPP))
-THREADS_DEPS := tests/test_threads.c $(LIB) $(REF) $(SCENE) $(RAYS)
+THREADS_DEPS := tests/test_threads.c examples/trace_threads.h $(LIB) $(REF) $(SCENE) $(RAYS)
 VK_THREADS_DEPS := tests/test_vulkan_threads.c $(LIB) $(SPV_H) $(REF) $(SCENE) $(RAYS) $(VK_UTIL)
 
 THREADS_TESTS := test-threads test-threads-tsan test-vulkan-threads test-vulkan-threads-tsan test-soak

@@ -32,14 +32,14 @@ FUZZ_PROBE = printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned
 $(FB):
 	@mkdir -p $(FB)
 
-$(FB)/fuzz_core: tests/fuzz/fuzz_core.c $(LIB) $(REF) | $(FB)
+$(FB)/fuzz_core: tests/fuzz/fuzz_core.c tests/fuzz/fuzz_common.h $(LIB) $(REF) | $(FB)
 	$(FUZZ_CC) $(FUZZ_FLAGS) $< -o $@ $(LDLIBS)
 
-$(FB)/fuzz_vk_args: tests/fuzz/fuzz_vk_args.c $(LIB) $(SPV_H) | $(FB)
+$(FB)/fuzz_vk_args: tests/fuzz/fuzz_vk_args.c tests/fuzz/fuzz_common.h $(LIB) $(SPV_H) | $(FB)
 	$(FUZZ_CC) $(FUZZ_FLAGS) $< -o $@ $(LDLIBS)
 
 # stb_image is third-party: UBSan leaves it alone (ASan does not), see the list
-$(FB)/fuzz_files: tests/fuzz/fuzz_files.c examples/depth_file.h tests/fuzz/ubsan-ignore.txt | $(FB)
+$(FB)/fuzz_files: tests/fuzz/fuzz_files.c tests/fuzz/fuzz_common.h examples/depth_file.h tests/fuzz/ubsan-ignore.txt | $(FB)
 	$(FUZZ_CC) $(FUZZ_FLAGS) -fsanitize-ignorelist=tests/fuzz/ubsan-ignore.txt $< -o $@ $(LDLIBS)
 
 fuzz-build: $(addprefix $(FB)/,$(FUZZERS))

@@ -40,6 +40,7 @@
 #define LINEAR_RT_IMPLEMENTATION
 #include "../../linear_rt.h"
 #include "../support/reference.h"
+#include "fuzz_common.h"
 
 #include <float.h>
 #include <math.h>
@@ -314,18 +315,9 @@ static lrt_ray make_ray(input *in, const ref_map *m)
 static unsigned long g_judged;
 
 /* how many answers were judged, printed when a run ends */
-static void print_judged(void)
+static void fuzz_print_counts(void)
 {
     fprintf(stderr, "fuzz_core: %lu answers judged by the reference\n", g_judged);
-}
-
-int LLVMFuzzerInitialize(int *argc, char ***argv);
-int LLVMFuzzerInitialize(int *argc, char ***argv)
-{
-    (void)argc;
-    (void)argv;
-    atexit(print_judged);
-    return 0;
 }
 
 /* For a failure message: the depths (and backs) around the exact hit of a ray. */

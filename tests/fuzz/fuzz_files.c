@@ -13,6 +13,7 @@
    - colour: on success an RGB buffer of exactly width x height x 3 bytes
      (every byte read, so ASan sees a short one), else NULL and a reason. */
 #include "../../examples/depth_file.h"
+#include "fuzz_common.h"
 
 #include <float.h>
 #include <math.h>
@@ -90,19 +91,10 @@ static int png_too_big(const unsigned char *b, size_t n)
 /* decodes by kind (PNG, PFM, raw, other) that succeeded or failed, and
    colour PNGs read, printed when a run ends */
 static unsigned long g_ok[4], g_refused[4], g_colour;
-static void print_counts(void)
+static void fuzz_print_counts(void)
 {
     fprintf(stderr, "fuzz_files: decoded PNG %lu (refused %lu), PFM %lu (%lu), raw %lu (%lu), bad kind refused %lu; colour %lu\n",
             g_ok[0], g_refused[0], g_ok[1], g_refused[1], g_ok[2], g_refused[2], g_refused[3], g_colour);
-}
-
-int LLVMFuzzerInitialize(int *argc, char ***argv);
-int LLVMFuzzerInitialize(int *argc, char ***argv)
-{
-    (void)argc;
-    (void)argv;
-    atexit(print_counts);
-    return 0;
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

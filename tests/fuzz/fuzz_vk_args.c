@@ -21,6 +21,7 @@
 #define LINEAR_RT_VULKAN
 #define LINEAR_RT_IMPLEMENTATION
 #include "../../linear_rt.h"
+#include "fuzz_common.h"
 
 #include <stdint.h>
 #include <stdio.h>
@@ -594,7 +595,7 @@ static void read_depth(input *in, const lrt_vk_bvh *bvh, lrt_vk_depth *d)
 
 /* what the calls answered, printed when a run ends */
 static unsigned long g_ok[8], g_err[8], g_contexts;
-static void print_counts(void)
+static void fuzz_print_counts(void)
 {
     static const char *names[8] = {"buffer_sizes", "bvh_create", "bvh_create", "cmd_build", "cmd_update",
                                    "cmd_update", "cmd_trace", "cmd_trace"};
@@ -605,15 +606,6 @@ static void print_counts(void)
             fprintf(stderr, " %s %lu ok %lu refused;", names[k], g_ok[k] + g_ok[k + (k == 1 || k == 4 || k == 6)],
                     g_err[k] + g_err[k + (k == 1 || k == 4 || k == 6)]);
     fputc('\n', stderr);
-}
-
-int LLVMFuzzerInitialize(int *argc, char ***argv);
-int LLVMFuzzerInitialize(int *argc, char ***argv)
-{
-    (void)argc;
-    (void)argv;
-    atexit(print_counts);
-    return 0;
 }
 
 /* ---- one input ------------------------------------------------------------------------ */

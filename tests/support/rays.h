@@ -194,6 +194,18 @@ RAYS_MAYBE_UNUSED static const char *model_name(const test_map *m)
 }
 
 /* The maps to build, update and trace m with: the pair with a back map. */
+/* An lrt_depth over data: w x h texels of `format`, packed rows, standard
+   Z, no back map; a test sets what else it needs. */
+RAYS_MAYBE_UNUSED static lrt_depth packed_depth(const void *data, uint32_t w, uint32_t h, lrt_format format)
+{
+    lrt_depth d = {0}; /* row_stride 0: packed; flags 0: standard Z; no back */
+    d.data = data;
+    d.width = w;
+    d.height = h;
+    d.format = format;
+    return d;
+}
+
 RAYS_MAYBE_UNUSED static const lrt_depth *test_map_depth(const test_map *m)
 {
     return m->back_storage ? m->pair : &m->depth;

@@ -670,14 +670,20 @@ static double ref__back(const ref_map *m, int i, int j)
     return m->b ? m->b[(size_t)j * (size_t)m->w + (size_t)i] : 1.0;
 }
 
+/* texel (i, j)'s box: [i, i+1] x [j, j+1] x [d, b] */
+static void ref__texel_box(const ref_map *m, int i, int j, double lo[3], double hi[3])
+{
+    lo[0] = i; lo[1] = j; lo[2] = m->d[(size_t)j * (size_t)m->w + (size_t)i];
+    hi[0] = i + 1.0; hi[1] = j + 1.0; hi[2] = ref__back(m, i, j);
+}
+
 /* exact test of one texel's box [d, b] against the ray, t in [*t0, *t1] */
 static int ref__texel(const ref_map *m, int i, int j, const double o[3],
                       const double v[3], const ref__ev *t0, const ref__ev *t1,
                       ref__ev *enter, int *face)
 {
     double lo3[3], hi3[3];
-    lo3[0] = i; lo3[1] = j; lo3[2] = m->d[(size_t)j * (size_t)m->w + (size_t)i];
-    hi3[0] = i + 1.0; hi3[1] = j + 1.0; hi3[2] = ref__back(m, i, j);
+    ref__texel_box(m, i, j, lo3, hi3);
     return ref__box(o, v, lo3, hi3, t0, t1, enter, NULL, face);
 }
 
@@ -908,9 +914,7 @@ static int ref__match(const ref_map *m, const double o[3], const double v[3], do
                           m->w, m->h);
         return 0;
     }
-    lo[0] = got->x; lo[1] = got->y;
-    lo[2] = m->d[(size_t)got->y * (size_t)m->w + (size_t)got->x];
-    hi[0] = got->x + 1.0; hi[1] = got->y + 1.0; hi[2] = ref__back(m, got->x, got->y);
+    ref__texel_box(m, got->x, got->y, lo, hi);
     for (c = 0; c < 3; c++) {
         double p = o[c] + t * v[c];
         double e = po[c] + E->t * pv[c];
@@ -1249,9 +1253,7 @@ REF_FUNC int ref_check(const ref_map *m, const ref_ray *caller_ray, const ref_an
                 ref__why(why, why_size, msg);
                 return 0;
             }
-            lo[0] = got->x; lo[1] = got->y;
-            lo[2] = m->d[(size_t)got->y * (size_t)m->w + (size_t)got->x];
-            hi[0] = got->x + 1.0; hi[1] = got->y + 1.0; hi[2] = ref__back(m, got->x, got->y);
+            ref__texel_box(m, got->x, got->y, lo, hi);
             for (c = 0; c < 3; c++) {
                 double p = o[c] + t * v[c];
                 double tol = 1e-5 * (1 + fabs(o[c]) + fabs(t * v[c]));
