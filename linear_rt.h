@@ -3989,10 +3989,10 @@ LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *
      lrt__walk_origin ~ lrt_walk_origin      lrt__walk_cells ~ lrt_walk_cells
      lrt__cell_axis ~ lrt_cell_axis          lrt__cross_texel ~ lrt_cross_texel
      lrt__split_level ~ lrt_split_level_x    lrt__in_grid_plane ~ lrt_in_grid_plane
-     lrt__test_texel ~ lrt_test_texel        lrt__kernel_first_texel ~ lrt_first_texel
+     lrt__test_texel ~ lrt_test_texel        lrt__first_texel ~ lrt_first_texel
      lrt__report_hit ~ lrt_report_hit        lrt__report_budget ~ lrt_budget_t
-     lrt__kernel_cull_setup ~ lrt_cull_setup lrt__kernel_cull_children ~ lrt_cull_children
-     lrt__kernel_cull_slab ~ lrt_cull_slab   lrt__cull_axis ~ lrt_cull_axis
+     lrt__cull_setup ~ lrt_cull_setup        lrt__kernel_cull_children ~ lrt_cull_children
+     lrt__cull_slab ~ lrt_cull_slab          lrt__cull_axis ~ lrt_cull_axis
      lrt__start_node ~ lrt_start_node        lrt__setup_ray ~ lrt_setup_ray
      lrt__setup_rare ~ lrt_setup_rare        lrt__far_origin ~ lrt_far_origin
      lrt__child ~ lrt_child                  lrt__child_slot ~ lrt_child_slot
@@ -4047,7 +4047,7 @@ LRT__FORCE_INLINE int lrt__from_origin(const lrt__walk *w, const lrt__ray_setup 
 #else
 #define LRT__AS_KERNELS 0
 #endif
-static int lrt__kernel_first_texel(float o, float v, float iv, uint32_t neg, float t_lo, int size)
+static int lrt__first_texel(float o, float v, float iv, uint32_t neg, float t_lo, int size)
 {
     float p = o + t_lo * v;
     int c;
@@ -4082,14 +4082,14 @@ LRT__FORCE_INLINE void lrt__child(uint32_t lv, uint32_t *nx, uint32_t *ny, uint3
    kernels' steps, not only give their answers: its node test above level 1
    culls with shaders/linear_rt.glsl's lrt_cull_children float for float
    (its planes p * iv + c as a product, then a sum), on every ISA. */
-typedef struct lrt__kernel_cull { /* the kernels' LrtCull */
+typedef struct lrt__cull { /* the kernels' LrtCull */
     float iv[2], en[2], ex[2]; /* x and y: plane p is entered at p * iv + en, left at p * iv + ex */
     float za, zb, ba, bb;      /* a child's depth plane: code * za + zb; its back plane: back code * ba + bb */
     float lo, hi;              /* t_lo, and t_hi widened */
-} lrt__kernel_cull;
+} lrt__cull;
 
 /* the kernels' lrt_cull_setup */
-static void lrt__kernel_cull_setup(const lrt__walk *w, const lrt__ray_setup *s, lrt__kernel_cull *c)
+static void lrt__cull_setup(const lrt__walk *w, const lrt__ray_setup *s, lrt__cull *c)
 {
     float za, en, ex;
     int axis;
@@ -4108,7 +4108,7 @@ static void lrt__kernel_cull_setup(const lrt__walk *w, const lrt__ray_setup *s, 
 }
 
 /* the entering and leaving t of column (row) [a, a + step], clamped (the kernels' lrt_cull_slab) */
-LRT__FORCE_INLINE void lrt__kernel_cull_slab(const lrt__kernel_cull *c, int axis, float a, float step, uint32_t neg, float *en,
+LRT__FORCE_INLINE void lrt__cull_slab(const lrt__cull *c, int axis, float a, float step, uint32_t neg, float *en,
                                              float *ex)
 {
     float ta = a * c->iv[axis], tb = (a + step) * c->iv[axis], e, x;
@@ -4129,7 +4129,7 @@ LRT__FORCE_INLINE void lrt__kernel_cull_slab(const lrt__kernel_cull *c, int axis
 #else
 #define LRT__ROUNDED8(x) ((void)0)
 #endif
-LRT__FORCE_INLINE uint32_t lrt__kernel_cull_children(const lrt__walk *w, const lrt__ray_setup *s, const lrt__kernel_cull *c,
+LRT__FORCE_INLINE uint32_t lrt__kernel_cull_children(const lrt__walk *w, const lrt__ray_setup *s, const lrt__cull *c,
                                                      uint32_t lv, uint32_t nx, uint32_t ny, size_t slot0, uint32_t neg_z)
 {
     const lrt__walk_level *v = &w->lv[lv];
@@ -4168,7 +4168,7 @@ LRT__FORCE_INLINE uint32_t lrt__kernel_cull_children(const lrt__walk *w, const l
     return (uint32_t)_mm256_movemask_ps(_mm256_cmp_ps(en, ex, _CMP_LE_OQ));
 }
 #else
-static uint32_t lrt__kernel_cull_children(const lrt__walk *w, const lrt__ray_setup *s, const lrt__kernel_cull *c, uint32_t lv,
+static uint32_t lrt__kernel_cull_children(const lrt__walk *w, const lrt__ray_setup *s, const lrt__cull *c, uint32_t lv,
                                           uint32_t nx, uint32_t ny, size_t slot0, uint32_t neg_z)
 {
     const lrt__walk_level *v = &w->lv[lv];
@@ -4181,8 +4181,8 @@ static uint32_t lrt__kernel_cull_children(const lrt__walk *w, const lrt__ray_set
     for (slot = 0; slot < 8u; ++slot) {
         const uint32_t col = tall ? slot & 1u : slot & 3u, row = tall ? slot >> 1 : slot >> 2;
         float ce, cx, re, rx, tz, tb, en, ex;
-        lrt__kernel_cull_slab(c, 0, x0 + sw * (float)col, sw, s->neg_x, &ce, &cx);
-        lrt__kernel_cull_slab(c, 1, y0 + sh * (float)row, sh, s->neg_y, &re, &rx);
+        lrt__cull_slab(c, 0, x0 + sw * (float)col, sw, s->neg_x, &ce, &cx);
+        lrt__cull_slab(c, 1, y0 + sh * (float)row, sh, s->neg_y, &re, &rx);
         tz = (float)codes[slot] * c->za;
         LRT__ROUNDED(tz);
         tz += c->zb;
@@ -4263,14 +4263,14 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
     uint32_t lv = top, eligible = 0xffu, reached, busy = 0u, steps = 0u;
     uint8_t masks[LINEAR_RT_MAX_LEVELS + 2];
     size_t slot0;
-    lrt__kernel_cull kc; /* a budgeted walk's node test (lrt__kernel_cull_children) */
-    if (budgeted) lrt__kernel_cull_setup(w, s, &kc);
+    lrt__cull kc; /* a budgeted walk's node test (lrt__kernel_cull_children) */
+    if (budgeted) lrt__cull_setup(w, s, &kc);
     /* a budgeted walk (and profiling) starts as the kernels' walk
        (lrt_walk_origin) does: at the level-1 node of the texel where the
        segment starts */
     if (budgeted || LRT__AS_KERNELS) {
-        px = (uint32_t)lrt__kernel_first_texel(s->o[0], s->v[0], s->iv[0], s->neg_x, s->t_lo, (int)w->L->width);
-        py = (uint32_t)lrt__kernel_first_texel(s->o[1], s->v[1], s->iv[1], s->neg_y, s->t_lo, (int)w->L->height);
+        px = (uint32_t)lrt__first_texel(s->o[0], s->v[0], s->iv[0], s->neg_x, s->t_lo, (int)w->L->width);
+        py = (uint32_t)lrt__first_texel(s->o[1], s->v[1], s->iv[1], s->neg_y, s->t_lo, (int)w->L->height);
         lv = 1u;
         nx = px >> 2;
         ny = py >> 1;
@@ -4482,7 +4482,7 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
    step (shaders/linear_rt.glsl, lrt_walk_cells, which says why its answer
    is the walk above's: the first texel hit in the same visiting order).
    This is that walk step for step, its floats the kernels' (a cell's code
-   plane lrt__kernel_cull_setup's, a texel's test lrt__test_texel), for the
+   plane lrt__cull_setup's, a texel's test lrt__test_texel), for the
    benchmark's count of what a GPU wave pays (bench/visits.c), the tests,
    which hold its hits to lrt_trace's, and a budgeted trace of an infinite
    tree (lrt__walk_cells_takes), whose budget counts the kernels' steps.
@@ -4541,11 +4541,11 @@ static uint32_t lrt__walk_cells(const lrt__walk *w, const lrt__ray_setup *s, uin
                                 float *ht, float hplanes[2], size_t counts[2])
 {
     const lrt_layout *L = w->L;
-    lrt__kernel_cull c;
+    lrt__cull c;
     int x, y, lv = 0, pend = 0;
     uint32_t steps = 0, found = LRT__WALK_MISS;
     float free_t = s->t_lo; /* no hit before it */
-    lrt__kernel_cull_setup(w, s, &c);
+    lrt__cull_setup(w, s, &c);
     x = lrt__cross_texel(s->o[0], s->v[0], s->iv[0], s->neg_x, s->t_lo, 0, (int)L->width - 1, (int)s->o[0]);
     y = lrt__cross_texel(s->o[1], s->v[1], s->iv[1], s->neg_y, s->t_lo, 0, (int)L->height - 1, (int)s->o[1]);
     *hx = *hy = 0;
@@ -6643,9 +6643,9 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace_compacted(lrt_vk_context *ctx, VkComma
 #define lrt__ray_setup lrt__ray_setup_avx2
 #define lrt__report_hit lrt__report_hit_avx2
 #define lrt__report_budget lrt__report_budget_avx2
-#define lrt__kernel_cull lrt__kernel_cull_avx2
-#define lrt__kernel_cull_setup lrt__kernel_cull_setup_avx2
-#define lrt__kernel_cull_slab lrt__kernel_cull_slab_avx2
+#define lrt__cull lrt__cull_avx2
+#define lrt__cull_setup lrt__cull_setup_avx2
+#define lrt__cull_slab lrt__cull_slab_avx2
 #define lrt__kernel_cull_children lrt__kernel_cull_children_avx2
 #define lrt__ray_t lrt__ray_t_avx2
 #define lrt__set_direction lrt__set_direction_avx2
@@ -6678,7 +6678,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace_compacted(lrt_vk_context *ctx, VkComma
 #define lrt__walk_up_budget lrt__walk_up_budget_avx2
 #define lrt__walk_down_budget lrt__walk_down_budget_avx2
 #define lrt__from_origin lrt__from_origin_avx2
-#define lrt__kernel_first_texel lrt__kernel_first_texel_avx2
+#define lrt__first_texel lrt__first_texel_avx2
 #define lrt__walk_setup lrt__walk_setup_avx2
 #define lrt__widen8 lrt__widen8_avx2
 #define lrt__z_plane8 lrt__z_plane8_avx2
