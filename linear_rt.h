@@ -277,8 +277,8 @@ int main(void)
 #define LRT_K_VK_BINDING_BACK_IMAGE 7u
 #define LRT_K_VK_BINDING_NODE_TEXELS 8u /* the nodes again, as R32G32B32A32_UINT texels: the trace's reads */
 #define LRT_K_VK_BINDING_SCRATCH 9u     /* a compacted trace's lists (lrt_vk_cmd_trace_compacted) */
-#define LRT_K_VK_TRACE_ROUNDS 6u        /* a compacted trace's dispatches: slices of 16, 32, 64, 128, 256 */
-#define LRT_K_VK_TRACE_SLICE 16u        /* steps, then no limit (shaders/lrt_trace.comp) */
+#define LRT_K_VK_TRACE_ROUNDS 8u        /* a compacted trace's dispatches: slices of 2, 4, ..., 128 cell */
+#define LRT_K_VK_TRACE_SLICE 2u         /* steps, then no limit (bench/compaction.py chose them) */
 /* The push constants of every kernel, in this order (92 bytes), U32 and
    F32 being the language's 32-bit unsigned and float types: the map
    (texels, format, flags, node bits, levels; a buffer depth's byte offset
