@@ -6538,10 +6538,8 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace_compacted(lrt_vk_context *ctx, VkComma
     if (ctx->limits.maxComputeWorkGroupCount[0] < LRT__VK_GROUPS_PER_ROW)
         per_round = ctx->limits.maxComputeWorkGroupCount[0] * LRT__VK_GROUP;
     if (per_round == 0) return LRT_ERROR_LIMIT_EXCEEDED;
-    for (k = 0; k < LRT_K_VK_TRACE_ROUNDS - 1u; ++k) { /* each list empty: no groups, no rays */
-        header[4 * k] = header[4 * k + 3] = 0;
-        header[4 * k + 1] = header[4 * k + 2] = 1;
-    }
+    for (k = 0; k < 4u * (LRT_K_VK_TRACE_ROUNDS - 1u); ++k) /* each list empty: (0, 1, 1) groups, no rays */
+        header[k] = (k & 3u) == 1u || (k & 3u) == 2u;
     for (done = 0; done < count; done += per_round) {
         const uint32_t n = count - done < per_round ? count - done : per_round;
         lrt__vk_trace_call c = t;
@@ -6565,7 +6563,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace_compacted(lrt_vk_context *ctx, VkComma
             }
             lrt__vk_barrier(ctx, cmd, compute, VK_ACCESS_SHADER_WRITE_BIT, compute_indirect, use);
             ctx->p_vkCmdPushConstants(cmd, ctx->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, (uint32_t)sizeof c.pc, &c.pc);
-            ctx->p_vkCmdDispatchIndirect(cmd, scratch->buffer, scratch->offset + 16u * (k - 1u));
+            ctx->p_vkCmdDispatchIndirect(cmd, scratch->buffer, scratch->offset + (VkDeviceSize)16u * (k - 1u));
         }
     }
     lrt__vk_rare_pass(ctx, cmd, rare, bvh, &t);

@@ -141,11 +141,12 @@ int bench_add_linear_rt_cpu(bench_method *out, int max)
 typedef struct lrt_gpu {
     uint32_t node_bits;
     uint32_t budget; /* LRT_TRACE_BUDGET's steps, 0: the exact walk */
+    int compacted;   /* lrt_vk_cmd_trace_compacted, in a context of two passes (a CPU device's too) */
     lrt_vku_device dev;
     lrt_vku t;
     lrt_vk_context *ctx;
     lrt_vk_bvh bvh;
-    lrt_vku_buffer depth, rays, hits;
+    lrt_vku_buffer depth, rays, hits, scratch;
     VkQueryPool pool;
     double period_ns;
     int has_dev, has_t, has_bvh, has_depth;
@@ -159,6 +160,7 @@ static void gpu_release(lrt_gpu *g)
         g->t.vkDeviceWaitIdle(g->t.device);
         if (g->rays.buffer) lrt_vku_buffer_destroy(&g->t, &g->rays);
         if (g->hits.buffer) lrt_vku_buffer_destroy(&g->t, &g->hits);
+        if (g->scratch.buffer) lrt_vku_buffer_destroy(&g->t, &g->scratch);
         if (g->has_depth) lrt_vku_buffer_destroy(&g->t, &g->depth);
         if (g->pool) g->t.vkDestroyQueryPool(g->t.device, g->pool, NULL);
     }
@@ -173,6 +175,7 @@ static int gpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *
 {
     lrt_gpu *g = (lrt_gpu *)m->impl;
     uint32_t bits = g->node_bits, budget = g->budget;
+    int compacted = g->compacted;
     VkQueryPoolCreateInfo qi;
     lrt_result r;
     (void)w;
@@ -182,11 +185,13 @@ static int gpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *
     gpu_release(g);
     g->node_bits = bits;
     g->budget = budget;
+    g->compacted = compacted;
     if ((r = lrt_vku_device_create(&g->dev, 0)) != LRT_SUCCESS) {
         snprintf(why, n, "no Vulkan device: %s", lrt_result_string(r));
         return 1;
     }
     g->has_dev = 1;
+    if (compacted) g->dev.desc.flags = LRT_VK_TRACE_TWO_PASSES;
     if ((r = lrt_vk_context_create(&g->dev.desc, &g->ctx)) != LRT_SUCCESS || lrt_vku_init(&g->t, &g->dev)) {
         snprintf(why, n, "linear_rt Vulkan context: %s", lrt_result_string(r));
         return 1;
@@ -247,8 +252,17 @@ static int gpu_run(lrt_gpu *g, const bench_scene *sc, gpu_op op, uint32_t count,
     else
         for (i = 0; i < repeat && r == LRT_SUCCESS; ++i) {
             if (i) lrt_vku_compute_barrier(&g->t); /* the same hits written again */
-            r = lrt_vk_cmd_trace(g->ctx, g->t.cmd, &g->bvh, d, g->rays.buffer, 0, g->hits.buffer, 0, count,
-                                 LRT_TRACE_BUDGET(g->budget));
+            if (g->compacted) {
+                lrt_vk_scratch sc;
+                sc.buffer = g->scratch.buffer;
+                sc.offset = 0;
+                sc.size = g->scratch.size;
+                r = lrt_vk_cmd_trace_compacted(g->ctx, g->t.cmd, &g->bvh, d, g->rays.buffer, 0, g->hits.buffer, 0,
+                                               count, LRT_TRACE_BUDGET(g->budget), &sc);
+            } else {
+                r = lrt_vk_cmd_trace(g->ctx, g->t.cmd, &g->bvh, d, g->rays.buffer, 0, g->hits.buffer, 0, count,
+                                     LRT_TRACE_BUDGET(g->budget));
+            }
         }
     g->t.vkCmdWriteTimestamp(g->t.cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->pool, 1);
     lrt_vku_host_barrier(&g->t);
@@ -314,11 +328,15 @@ static int gpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *r
     if (rs->count > g->ray_cap) {
         if (g->rays.buffer) lrt_vku_buffer_destroy(&g->t, &g->rays);
         if (g->hits.buffer) lrt_vku_buffer_destroy(&g->t, &g->hits);
+        if (g->scratch.buffer) lrt_vku_buffer_destroy(&g->t, &g->scratch);
         memset(&g->rays, 0, sizeof g->rays);
         memset(&g->hits, 0, sizeof g->hits);
+        memset(&g->scratch, 0, sizeof g->scratch);
         g->ray_cap = 0;
         if (lrt_vku_buffer_create_in(&g->t, rs->count * sizeof(lrt_ray), 1, &g->rays) ||
-            lrt_vku_buffer_create_in(&g->t, rs->count * sizeof(lrt_hit), 1, &g->hits)) {
+            lrt_vku_buffer_create_in(&g->t, rs->count * sizeof(lrt_hit), 1, &g->hits) ||
+            (g->compacted &&
+             lrt_vku_buffer_create_in(&g->t, lrt_vk_trace_scratch_size((uint32_t)rs->count), 1, &g->scratch))) {
             snprintf(why, n, "ray buffers");
             return 1;
         }
@@ -345,21 +363,25 @@ static void gpu_close(bench_method *m)
 #ifndef BENCH_NATIVE_TWIN
 int bench_add_linear_rt_vulkan(bench_method *out, int max)
 {
-    static const char *names[6] = {"linear_rt vulkan 16",          "linear_rt vulkan 8",          "linear_rt vulkan 16 budget 4",
-                                   "linear_rt vulkan 16 budget 8", "linear_rt vulkan 16 budget 16", "linear_rt vulkan 16 budget 32"};
+    /* the last: compacted rounds, which a GPU context runs and a CPU device's (lavapipe: one pass)
+       does not, run here in a context of two passes to measure them */
+    static const char *names[7] = {"linear_rt vulkan 16",          "linear_rt vulkan 8",          "linear_rt vulkan 16 budget 4",
+                                   "linear_rt vulkan 16 budget 8", "linear_rt vulkan 16 budget 16", "linear_rt vulkan 16 budget 32",
+                                   "linear_rt vulkan 16 compacted"};
     int i;
-    for (i = 0; i < 6 && i < max; ++i) {
+    for (i = 0; i < 7 && i < max; ++i) {
         memset(&out[i], 0, sizeof out[i]);
         out[i].name = names[i];
         out[i].device = "vulkan";
-        out[i].exact = i < 2;
-        out[i].budgeted = i >= 2;
+        out[i].exact = i < 2 || i == 6;
+        out[i].budgeted = i >= 2 && i < 6;
 #ifdef BENCH_HAVE_VULKAN
         {
             lrt_gpu *g = (lrt_gpu *)calloc(1, sizeof *g);
             if (!g) return i;
             g->node_bits = i == 1 ? 8u : 16u;
-            g->budget = i < 2 ? 0u : 4u << (i - 2);
+            g->budget = i < 2 || i == 6 ? 0u : 4u << (i - 2);
+            g->compacted = i == 6;
             out[i].impl = g;
             BENCH_METHOD_FUNCTIONS(out[i], gpu);
         }

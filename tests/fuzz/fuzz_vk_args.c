@@ -335,6 +335,21 @@ static VKAPI_ATTR void VKAPI_CALL m_CmdDispatch(VkCommandBuffer c, uint32_t x, u
     ++g.commands;
 }
 
+static VKAPI_ATTR void VKAPI_CALL m_CmdDispatchIndirect(VkCommandBuffer c, VkBuffer b, VkDeviceSize off)
+{
+    (void)c, (void)b, (void)off;
+    ++g.commands;
+}
+
+static VKAPI_ATTR void VKAPI_CALL m_CmdUpdateBuffer(VkCommandBuffer c, VkBuffer b, VkDeviceSize off, VkDeviceSize size,
+                                                    const void *data)
+{
+    (void)c, (void)b, (void)data;
+    if (off % 4u || size % 4u || size == 0 || size > 65536u) FAIL("vkCmdUpdateBuffer at %llu, %llu bytes",
+                                                                  (unsigned long long)off, (unsigned long long)size);
+    ++g.commands;
+}
+
 static VKAPI_ATTR void VKAPI_CALL m_CmdFillBuffer(VkCommandBuffer c, VkBuffer b, VkDeviceSize off, VkDeviceSize size,
                                                   uint32_t data)
 {
@@ -377,6 +392,7 @@ static PFN_vkVoidFunction lookup(const char *name)
         FN(CreateBuffer), FN(DestroyBuffer), FN(CreateBufferView), FN(DestroyBufferView), FN(GetBufferMemoryRequirements), FN(AllocateMemory), FN(FreeMemory),
         FN(BindBufferMemory), FN(MapMemory), FN(UnmapMemory), FN(CmdBindPipeline), FN(CmdPushDescriptorSetKHR),
         FN(CmdPushConstants), FN(CmdDispatch), FN(CmdFillBuffer), FN(CmdPipelineBarrier), FN(GetDeviceProcAddr),
+        FN(CmdDispatchIndirect), FN(CmdUpdateBuffer),
 #undef FN
     };
     size_t k;
@@ -910,7 +926,23 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 else cmust |= dispatch_limit(count, &cmay);
             }
             calls0 = g.calls, allocs0 = g.allocs;
-            r = lrt_vk_cmd_trace(ctx, cmd, (op & 8) && (op & 0x40) ? NULL : b, &d, rays, ro, hits, ho, count, flags);
+            if (s & 0x80) { /* compacted: a scratch of the input's making, checked after the trace's arguments */
+                lrt_vk_scratch sc;
+                const uint8_t t = u8(&in);
+                sc.buffer = (t & 1) ? VK_NULL_HANDLE : (VkBuffer)(uintptr_t)0xf0;
+                sc.offset = (t & 2) ? offset(&in) : (VkDeviceSize)(u8(&in) & 3) * 256u;
+                sc.size = (t & 4) ? offset(&in) : lrt_vk_trace_scratch_size(count);
+                if (count && cmust == 0 && !((op & 8) && (op & 0x40))) {
+                    if (sc.buffer == VK_NULL_HANDLE) cmust |= CODE(LRT_ERROR_NULL_POINTER);
+                    else if (sc.offset % a) cmust |= CODE(LRT_ERROR_MISALIGNED);
+                    else if (sc.size < lrt_vk_trace_scratch_size(count)) cmust |= CODE(LRT_ERROR_BUFFER_TOO_SMALL);
+                }
+                r = lrt_vk_cmd_trace_compacted(ctx, cmd, (op & 8) && (op & 0x40) ? NULL : b, &d, rays, ro, hits, ho, count,
+                                               flags, (t & 8) ? NULL : &sc);
+                if ((t & 8) && count && cmust == 0 && !((op & 8) && (op & 0x40))) cmust |= CODE(LRT_ERROR_NULL_POINTER);
+            } else {
+                r = lrt_vk_cmd_trace(ctx, cmd, (op & 8) && (op & 0x40) ? NULL : b, &d, rays, ro, hits, ho, count, flags);
+            }
             if ((op & 8) && (op & 0x40)) cmust |= CODE(LRT_ERROR_NULL_POINTER);
             injected(calls0, allocs0, &cmust);
             expect("lrt_vk_cmd_trace", r, cmust, cmay);
