@@ -4492,25 +4492,26 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
 /* lrt_split_level_x (rows 0) and lrt_split_level_y (rows 1) */
 LRT__UNUSED static int lrt__split_level(int a, int b, int rows)
 {
-    uint32_t d = (uint32_t)(a ^ b);
+    const uint32_t d = (uint32_t)(a ^ b);
     int m = 31;
-    if (!d) return -1;
-    while (!(d >> m)) --m;
-    return (2 * m + rows) / 3;
+    while (m > 0 && !(d >> m)) --m;
+    return d ? (2 * m + rows) / 3 : -1;
 }
 
 /* lrt_cross_texel */
 LRT__UNUSED static int lrt__cross_texel(float o, float v, float iv, uint32_t neg, float t, int lo, int hi, int cur)
 {
-    float q, e;
-    int c, b;
-    if (v == 0.0f) return cur;
-    q = o + t * v;
-    q = q < (float)lo ? (float)lo : q > (float)hi ? (float)hi : q;
-    c = (int)floorf(q);
-    b = neg ? c + 1 : c - 1;
-    e = ((float)(neg ? c + 1 : c) - o) * iv;
-    return (b >= lo && b <= hi && t <= lrt__widen(e)) ? b : c;
+    int c = cur;
+    if (v != 0.0f) {
+        float q = o + t * v, e;
+        int b;
+        q = q < (float)lo ? (float)lo : q > (float)hi ? (float)hi : q;
+        c = (int)floorf(q);
+        b = neg ? c + 1 : c - 1;
+        e = ((float)(neg ? c + 1 : c) - o) * iv;
+        c = (b >= lo && b <= hi && t <= lrt__widen(e)) ? b : c;
+    }
+    return c;
 }
 
 /* lrt_cell_axis */
@@ -6474,29 +6475,35 @@ static void lrt__vk_rare_pass(lrt_vk_context *ctx, VkCommandBuffer cmd, VkPipeli
     lrt__vk_record(ctx, cmd, rare, 1, bvh, &t->src, t->io, lrt__vk_trace_bindings, 3, &t->pc, t->gx, t->gy);
 }
 
+/* The one-dispatch trace: the ordinary pass and the rare pass, or one pass. */
+static lrt_result lrt__vk_trace_passes(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
+                                       lrt__vk_trace_call *t)
+{
+    VkPipeline ordinary, rare = VK_NULL_HANDLE;
+    lrt_result r;
+    if (!ctx->two_passes) { /* the whole kernel, every ray */
+        if ((r = lrt__vk_pipeline(ctx, t->src.image ? LRT__VK_WHOLE_IMAGE : LRT__VK_WHOLE_BUFFER, bvh, &ordinary)) !=
+            LRT_SUCCESS)
+            return r;
+    } else if ((r = lrt__vk_pipeline(ctx, t->pc.trace_flags ? (t->src.image ? LRT__VK_BUDGET_IMAGE : LRT__VK_BUDGET_BUFFER)
+                                                           : (t->src.image ? LRT__VK_TRACE_IMAGE : LRT__VK_TRACE_BUFFER),
+                                     bvh, &ordinary)) != LRT_SUCCESS ||
+               (r = lrt__vk_pipeline(ctx, t->src.image ? LRT__VK_RARE_IMAGE : LRT__VK_RARE_BUFFER, bvh, &rare)) !=
+                   LRT_SUCCESS) {
+        return r;
+    }
+    lrt__vk_record(ctx, cmd, ordinary, 1, bvh, &t->src, t->io, lrt__vk_trace_bindings, 3, &t->pc, t->gx, t->gy);
+    if (ctx->two_passes) lrt__vk_rare_pass(ctx, cmd, rare, bvh, t);
+    return LRT_SUCCESS;
+}
+
 LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace(lrt_vk_context *ctx, VkCommandBuffer cmd, const lrt_vk_bvh *bvh,
                                           const lrt_vk_depth *depth, VkBuffer rays, VkDeviceSize rays_offset,
                                           VkBuffer hits, VkDeviceSize hits_offset, uint32_t count, uint32_t flags)
 {
-    VkPipeline ordinary, rare = VK_NULL_HANDLE;
     lrt__vk_trace_call t;
-    lrt_result r;
-    if ((r = lrt__vk_trace_prepare(ctx, cmd, bvh, depth, rays, rays_offset, hits, hits_offset, count, flags, &t)) !=
-            LRT_SUCCESS ||
-        t.none)
-        return r;
-    if (!ctx->two_passes) { /* the whole kernel, every ray */
-        if ((r = lrt__vk_pipeline(ctx, t.src.image ? LRT__VK_WHOLE_IMAGE : LRT__VK_WHOLE_BUFFER, bvh, &ordinary)) != LRT_SUCCESS)
-            return r;
-    } else if ((r = lrt__vk_pipeline(ctx, flags ? (t.src.image ? LRT__VK_BUDGET_IMAGE : LRT__VK_BUDGET_BUFFER)
-                                                : (t.src.image ? LRT__VK_TRACE_IMAGE : LRT__VK_TRACE_BUFFER),
-                                     bvh, &ordinary)) != LRT_SUCCESS ||
-               (r = lrt__vk_pipeline(ctx, t.src.image ? LRT__VK_RARE_IMAGE : LRT__VK_RARE_BUFFER, bvh, &rare)) != LRT_SUCCESS) {
-        return r;
-    }
-    lrt__vk_record(ctx, cmd, ordinary, 1, bvh, &t.src, t.io, lrt__vk_trace_bindings, 3, &t.pc, t.gx, t.gy);
-    if (ctx->two_passes) lrt__vk_rare_pass(ctx, cmd, rare, bvh, &t);
-    return LRT_SUCCESS;
+    lrt_result r = lrt__vk_trace_prepare(ctx, cmd, bvh, depth, rays, rays_offset, hits, hits_offset, count, flags, &t);
+    return r != LRT_SUCCESS || t.none ? r : lrt__vk_trace_passes(ctx, cmd, bvh, &t);
 }
 
 /* Rays a round of a compacted trace takes at most: one row of groups (the
@@ -6520,17 +6527,13 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace_compacted(lrt_vk_context *ctx, VkComma
     uint32_t header[4 * (LRT_K_VK_TRACE_ROUNDS - 1u)], k, done, per_round;
     VkPipeline round, rare;
     lrt__vk_trace_call t;
-    lrt_result r;
-    if ((r = lrt__vk_trace_prepare(ctx, cmd, bvh, depth, rays, rays_offset, hits, hits_offset, count, flags, &t)) !=
-            LRT_SUCCESS ||
-        t.none)
-        return r;
+    lrt_result r = lrt__vk_trace_prepare(ctx, cmd, bvh, depth, rays, rays_offset, hits, hits_offset, count, flags, &t);
+    if (r != LRT_SUCCESS || t.none) return r;
     if (!scratch || scratch->buffer == VK_NULL_HANDLE) return LRT_ERROR_NULL_POINTER;
     if (scratch->offset % lrt__vk_storage_alignment(ctx)) return LRT_ERROR_MISALIGNED;
     if (scratch->size < lrt_vk_trace_scratch_size(count)) return LRT_ERROR_BUFFER_TOO_SMALL;
     /* a thickness tree's walk is the 8-child walk, and a CPU device traces in one pass */
-    if (bvh->layout.back_codes || !ctx->two_passes)
-        return lrt_vk_cmd_trace(ctx, cmd, bvh, depth, rays, rays_offset, hits, hits_offset, count, flags);
+    if (bvh->layout.back_codes || !ctx->two_passes) return lrt__vk_trace_passes(ctx, cmd, bvh, &t);
     if ((r = lrt__vk_pipeline(ctx, t.src.image ? LRT__VK_ROUND_IMAGE : LRT__VK_ROUND_BUFFER, bvh, &round)) != LRT_SUCCESS ||
         (r = lrt__vk_pipeline(ctx, t.src.image ? LRT__VK_RARE_IMAGE : LRT__VK_RARE_BUFFER, bvh, &rare)) != LRT_SUCCESS)
         return r;
