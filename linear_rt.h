@@ -140,9 +140,11 @@ int main(void)
    lrt_vk_context_desc filled), with the rest such programs need: buffers,
    depth images, one-shot submits, barriers, timestamps.
 
-   BARRIERS. The library records two barriers, inside build (its fill of the
-   counters -> its dispatch) and inside a trace of two passes (the ordinary
-   pass -> the rare pass, which reads the hits the first marked); you record every other one,
+   BARRIERS. The library records its own barriers inside build (its fill of
+   the counters -> its dispatch), inside a trace of two passes (the
+   ordinary pass -> the rare pass, which reads the hits the first marked)
+   and inside a compacted trace (around its scratch: earlier use -> its
+   header's update -> each round -> the next); you record every other one,
    as with VMA. Below,
    CS is VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, accesses lose VK_ACCESS_ and
    _BIT, and "src -> dst" is (stage, access) -> (stage, access). The tree is

@@ -30,12 +30,14 @@ layout(constant_id = 3) const uint lrt_trace_pass = 0u;
 const uint LRT_RARE_MARK = 0xffffffffu;
 
 // A compacted trace's lists (pass 4; other passes bind some buffer here and
-// never read it): q[r], r < LRT_K_VK_TRACE_ROUNDS - 1, the rays round r
+// never read it). Not coherent: within a round invocations meet only in
+// the atomics, and a round reads what the one before wrote after a
+// barrier. q[r], r < LRT_K_VK_TRACE_ROUNDS - 1, the rays round r
 // left for round r + 1 as (workgroups, 1, 1, count), the arguments of that
 // round's indirect dispatch and its count; then two lists of
 // pc.ray_count entries, the rounds taking turns: a ray's index and its
 // walk's state (lrt_list_entry)
-layout(set = 0, binding = LRT_K_VK_BINDING_SCRATCH, std430) coherent buffer LrtScratch { uvec4 q[]; } lrt_scratch;
+layout(set = 0, binding = LRT_K_VK_BINDING_SCRATCH, std430) buffer LrtScratch { uvec4 q[]; } lrt_scratch;
 const uint LRT_LISTS = LRT_K_VK_TRACE_ROUNDS - 1u; // q's first list entry
 
 // the ray of hit i (a slice's index), traced by the pass's function

@@ -43,7 +43,7 @@ struct LrtRayIn {
 [[vk::binding(4, 0)]] StructuredBuffer<LrtRayIn> lrt_rays;
 [[vk::binding(5, 0)]] RWStructuredBuffer<uint4> lrt_hits;
 // a compacted trace's lists (lrt_trace.comp's LrtScratch: q[k] at byte 16 k)
-[[vk::binding(9, 0)]] globallycoherent RWByteAddressBuffer lrt_scratch;
+[[vk::binding(9, 0)]] RWByteAddressBuffer lrt_scratch;
 
 [[vk::constant_id(0)]] const bool lrt_back_trees = false;
 [[vk::constant_id(1)]] const uint lrt_back_node_bits = 16u;
