@@ -67,9 +67,9 @@ typedef struct mock {
     uint32_t gx, gy, gz;
     lrt__vk_push pc;
     uint32_t writes;
-    VkDescriptorBufferInfo buf[9]; /* by binding */
+    VkDescriptorBufferInfo buf[10]; /* by binding */
     VkBufferView view;             /* binding 8, the nodes' texels */
-    int has[9];
+    int has[10];
     VkDeviceSize fill_offset, fill_size;
 } mock;
 static mock g;
@@ -300,7 +300,7 @@ static VKAPI_ATTR void VKAPI_CALL m_CmdPushDescriptorSetKHR(VkCommandBuffer c, V
     g.writes = n;
     for (k = 0; k < n; ++k) {
         uint32_t b = w[k].dstBinding;
-        if (b >= 9 || w[k].descriptorCount != 1) FAIL("descriptor write to binding %u, count %u", b, w[k].descriptorCount);
+        if (b >= 10 || w[k].descriptorCount != 1) FAIL("descriptor write to binding %u, count %u", b, w[k].descriptorCount);
         if (g.has[b]) FAIL("binding %u written twice", b);
         g.has[b] = 1;
         if (b == 1 || b == 7) { /* the depth image, the back map's image */
@@ -955,6 +955,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             check_dispatch("lrt_vk_cmd_trace", count);
             check_binding("lrt_vk_cmd_trace", 4);
             check_binding("lrt_vk_cmd_trace", 5);
+            check_binding("lrt_vk_cmd_trace", 9); /* the scratch, or the hits where a pass has none */
             if (!g.has[8] || g.view != b->node_texels) FAIL("lrt_vk_cmd_trace: the nodes' texel view is not bound");
             if (g.pc.ray_count != count || g.pc.trace_flags != flags ||
                 g.buf[4].offset + g.pc.ray_first * sizeof(lrt_ray) != ro ||
