@@ -2513,9 +2513,8 @@ LRT__FORCE_INLINE float lrt__scale_t(float t, int e)
 /* (p - o) / (v 2^-e), each step rounded once; +-inf past the float range */
 static float lrt__plane_t(float p, float o, float v, int e)
 {
-    float n = p - o;
-    if (n == 0.0f) return 0.0f;
-    return ldexpf(lrt__signif(n) / lrt__signif(v), lrt__ilogb(n) - lrt__ilogb(v) + e);
+    const float n = p - o;
+    return n == 0.0f ? 0.0f : ldexpf(lrt__signif(n) / lrt__signif(v), lrt__ilogb(n) - lrt__ilogb(v) + e);
 }
 
 /* 2^-77 */
@@ -2542,12 +2541,10 @@ static float lrt__plane_t(float p, float o, float v, int e)
    hi when it runs backwards) was entered later: returns it, or -1. */
 static int lrt__entered_later(const float n[3], const float v[3], const float hi[3], int axis)
 {
-    int k;
-    for (k = 0; k < 3; ++k) {
-        if (k == axis || v[k] == 0.0f) continue;
-        if (lrt__sign_bit(v[k]) ? n[k] > hi[k] : n[k] < 0.0f) return k;
-    }
-    return -1;
+    int k, later = -1;
+    for (k = 0; k < 3 && later < 0; ++k)
+        if (k != axis && v[k] != 0.0f && (lrt__sign_bit(v[k]) ? n[k] > hi[k] : n[k] < 0.0f)) later = k;
+    return later;
 }
 
 /* An origin so far from the screen that (plane - o) loses the screen's
@@ -2563,8 +2560,8 @@ LRT__FORCE_INLINE int lrt__far_origin(const float o[3], uint32_t width, uint32_t
    point just past it along a direction of sign neg (zero: none) does. */
 static int lrt__point_in(float o, uint32_t neg, int zero, float hi, int past)
 {
-    if (!past) return o >= 0.0f && o <= hi;
-    return (o > 0.0f || (o == 0.0f && (!neg || zero))) && (o < hi || (o == hi && (neg || zero)));
+    return past ? (o > 0.0f || (o == 0.0f && (!neg || zero))) && (o < hi || (o == hi && (neg || zero)))
+                : o >= 0.0f && o <= hi;
 }
 
 /* The lowest set bit of m (m != 0). */
@@ -3621,12 +3618,14 @@ LRT__FORCE_INLINE uint32_t lrt__cull_children(const lrt__walk *w, const lrt__ray
 static LRT__NOINLINE float lrt__back_plane(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty)
 {
     const lrt_format format = w->depth->format;
-    uint32_t raw, bits;
-    if (w->L->thickness == LRT_THICKNESS_BACK_MAP)
-        return lrt__depth_plane(s, format, lrt__back_raw(w->depth, w->stride, w->back_stride, tx, ty));
-    raw = lrt__depth_raw(w->depth, w->stride, tx, ty);
-    bits = lrt__model_back_bits(w->L, format, raw);
-    return bits == ~0u ? lrt__depth_plane(s, format, raw) : lrt__depth_plane(s, LRT_FORMAT_FLOAT32, bits);
+    float plane;
+    if (w->L->thickness == LRT_THICKNESS_BACK_MAP) {
+        plane = lrt__depth_plane(s, format, lrt__back_raw(w->depth, w->stride, w->back_stride, tx, ty));
+    } else {
+        const uint32_t raw = lrt__depth_raw(w->depth, w->stride, tx, ty), bits = lrt__model_back_bits(w->L, format, raw);
+        plane = bits == ~0u ? lrt__depth_plane(s, format, raw) : lrt__depth_plane(s, LRT_FORMAT_FLOAT32, bits);
+    }
+    return plane;
 }
 
 /* The exact test of one candidate texel against its true depth. planes:
@@ -4058,8 +4057,7 @@ static int lrt__first_texel(float o, float v, float iv, uint32_t neg, float t_lo
     c = (int)floorf(p);
     if (v == 0.0f) c -= (neg == 0u && (float)c == o) ? 1 : 0; /* on an edge: the first in order */
     c = c < 0 ? 0 : c > size - 1 ? size - 1 : c;
-    if (v == 0.0f) return c;
-    for (;;) { /* while the texel behind it is touched at t_lo */
+    while (v != 0.0f) { /* while the texel behind it is touched at t_lo */
         const int b = neg ? c + 1 : c - 1;
         float e;
         if (b < 0 || b >= size) break;
