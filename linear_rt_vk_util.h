@@ -669,16 +669,24 @@ LRT_VKU_FN int lrt_vku_submit(lrt_vku *t)
     return 0;
 }
 
-/* A global memory barrier: what linear_rt.h's BARRIERS asks of its callers. */
-LRT_VKU_FN void lrt_vku_barrier(lrt_vku *t, VkPipelineStageFlags src_stage, VkAccessFlags src_access, VkPipelineStageFlags dst_stage,
-                        VkAccessFlags dst_access)
+/* A global memory barrier recorded through barrier (a program's own
+   vkCmdPipelineBarrier: the benchmark's peers keep theirs) */
+LRT_VKU_FN void lrt_vku_memory_barrier(PFN_vkCmdPipelineBarrier barrier, VkCommandBuffer cmd, VkPipelineStageFlags src_stage,
+                               VkAccessFlags src_access, VkPipelineStageFlags dst_stage, VkAccessFlags dst_access)
 {
     VkMemoryBarrier b;
     memset(&b, 0, sizeof b);
     b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
     b.srcAccessMask = src_access;
     b.dstAccessMask = dst_access;
-    t->vkCmdPipelineBarrier(t->cmd, src_stage, dst_stage, 0, 1, &b, 0, NULL, 0, NULL);
+    barrier(cmd, src_stage, dst_stage, 0, 1, &b, 0, NULL, 0, NULL);
+}
+
+/* A global memory barrier: what linear_rt.h's BARRIERS asks of its callers. */
+LRT_VKU_FN void lrt_vku_barrier(lrt_vku *t, VkPipelineStageFlags src_stage, VkAccessFlags src_access, VkPipelineStageFlags dst_stage,
+                        VkAccessFlags dst_access)
+{
+    lrt_vku_memory_barrier(t->vkCmdPipelineBarrier, t->cmd, src_stage, src_access, dst_stage, dst_access);
 }
 
 /* compute writes (a build, update or trace) -> the next linear_rt command

@@ -766,12 +766,7 @@ static void vkp_write_set(vkp *p)
 static void vkp_barrier(vkp *p, VkPipelineStageFlags src, VkAccessFlags src_access, VkPipelineStageFlags dst,
                         VkAccessFlags dst_access)
 {
-    VkMemoryBarrier mb;
-    memset(&mb, 0, sizeof mb);
-    mb.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-    mb.srcAccessMask = src_access;
-    mb.dstAccessMask = dst_access;
-    p->vkCmdPipelineBarrier(p->cmd, src, dst, 0, 1, &mb, 0, NULL, 0, NULL);
+    lrt_vku_memory_barrier(p->vkCmdPipelineBarrier, p->cmd, src, src_access, dst, dst_access);
 }
 
 /* Begins the command buffer: the last submission's writes -> everything
