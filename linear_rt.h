@@ -977,8 +977,11 @@ LINEAR_RT_API lrt_result lrt_vk_cmd_trace_compacted(lrt_vk_context *ctx, VkComma
    bytes). Subnormals flushed by the includer's start-up code (fast-math's
    FTZ / DAZ) change nothing: the model reads them as 0 (docs/MODEL.md). */
 #include <float.h>
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0
-#error "linear_rt.h: floats evaluated in a wider format (FLT_EVAL_METHOD != 0: x87 math, e.g. gcc -m32 without -mfpmath=sse) change its answers: build this file with -msse2 -mfpmath=sse"
+/* 16 and 32 (ISO/IEC TS 18661-3) evaluate float as float too: GCC says 16
+   where the target has AVX512-FP16 (-march=native on Sapphire Rapids), for
+   _Float16 only */
+#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0 && FLT_EVAL_METHOD != 16 && FLT_EVAL_METHOD != 32
+#error "linear_rt.h: floats evaluated in a wider format (FLT_EVAL_METHOD 1, 2 or -1: x87 math, e.g. gcc -m32 without -mfpmath=sse) change its answers: build this file with -msse2 -mfpmath=sse"
 #endif
 #if defined(__clang__) && ((defined(__apple_build_version__) && __clang_major__ < 13) || __clang_major__ < 12)
 /* before float_control (clang 12, Apple clang 13) only contraction can be undone */
