@@ -2674,16 +2674,19 @@ static float lrt__depth_plane_scaled(const lrt__ray_setup *s, lrt_format format,
 LRT__FORCE_INLINE float lrt__depth_plane(const lrt__ray_setup *s, lrt_format format, uint32_t raw)
 {
     const uint32_t vmax = format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
-    float p, e, n;
-    if (s->zk) return lrt__depth_plane_scaled(s, format, raw); /* rare */
-    if (format == LRT_FORMAT_FLOAT32 || raw == vmax) {
+    float p, e, n, t;
+    if (s->zk) {
+        t = lrt__depth_plane_scaled(s, format, raw); /* rare */
+    } else if (format == LRT_FORMAT_FLOAT32 || raw == vmax) {
         float d = 1.0f;
         if (format == LRT_FORMAT_FLOAT32) memcpy(&d, &raw, 4);
-        return (d - s->o[2]) * s->iv[2];
+        t = (d - s->o[2]) * s->iv[2];
+    } else {
+        lrt__two_prod(s->o[2], (float)vmax, &p, &e);
+        n = ((float)raw - p) - e;
+        t = (n * (vmax == 255u ? 1.0f / 255.0f : 1.0f / 65535.0f)) * s->iv[2];
     }
-    lrt__two_prod(s->o[2], (float)vmax, &p, &e);
-    n = ((float)raw - p) - e;
-    return (n * (vmax == 255u ? 1.0f / 255.0f : 1.0f / 65535.0f)) * s->iv[2];
+    return t;
 }
 
 /* Clips the ray to the screen rectangle and to 0 <= z <= 1 (nothing solid
@@ -2736,6 +2739,53 @@ LRT__FORCE_INLINE uint32_t lrt__clip(lrt__ray_setup *s, uint32_t width, uint32_t
      below every texel's scaled depth, so their culling stays conservative.
    The kind of a miss is decided exactly: is the caller's ray on the screen
    at tmax (docs/MODEL.md). Returns as lrt__setup_ray. */
+/* The restart of lrt__setup_rare's ray from a far-away origin where it
+   enters the screen box, with crossings that take every size. The entering
+   axis lands on its plane exactly, the others at the exact crossing rounded
+   once, so the new origin is off the exact entry point by a rounding of a
+   coordinate inside the screen, far below one float ulp of the old one
+   (docs/MODEL.md). Returns 0 when the ray enters past tmax, never, or
+   beyond the float range. */
+static int lrt__restart_far(const lrt_ray *ray, const float hi[3], int e, lrt__ray_setup *s, float *tmin, float *tmax)
+{
+    float te = *tmin, plane = 0.0f, n[3];
+    int axis = -1, tries, k, ok;
+    for (k = 0; k < 3; ++k) {
+        float p, en;
+        if (ray->dir[k] == 0.0f) continue;
+        p = lrt__sign_bit(ray->dir[k]) ? hi[k] : 0.0f;
+        en = lrt__plane_t(p, s->o[k], ray->dir[k], e);
+        if (en > te) {
+            te = en;
+            axis = k;
+            plane = p;
+        }
+    }
+    ok = te <= *tmax; /* enters past tmax, or never */
+    for (tries = 0; ok && tries < 3; ++tries) {
+        for (k = 0; k < 3; ++k) {
+            if (axis < 0) n[k] = lrt__crossing(s->o[k], 0.0f, ray->dir[k], 1.0f, 0.0f, 1, te, -e, k == 2);
+            else if (k == axis) n[k] = plane;
+            else n[k] = lrt__crossing(s->o[k], s->o[axis], ray->dir[k], ray->dir[axis], plane, 0, 0.0f, 0, k == 2);
+            ok &= lrt__finite(n[k]); /* beyond the float range there */
+        }
+        /* the last try keeps its axis: n and te must be the same
+           crossing's (crashes-found 19: a third switch left n at one
+           axis's plane and te at another's) */
+        if (!ok || axis < 0 || tries == 2 || (k = lrt__entered_later(n, ray->dir, hi, axis)) < 0) break;
+        axis = k; /* see lrt__entered_later */
+        plane = lrt__sign_bit(ray->dir[k]) ? hi[k] : 0.0f;
+        te = lrt__plane_t(plane, s->o[k], ray->dir[k], e);
+    }
+    if (ok) {
+        for (k = 0; k < 3; ++k) s->o[k] = n[k];
+        s->t_base = te;
+        *tmin = 0.0f;
+        *tmax = *tmax - te;
+    }
+    return ok;
+}
+
 static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *caller_ray, uint32_t width, uint32_t height, lrt__ray_setup *s,
                                          float *t_scale, uint32_t *kind)
 {
@@ -2743,120 +2793,79 @@ static LRT__NOINLINE int lrt__setup_rare(const lrt_ray *caller_ray, uint32_t wid
     lrt_ray flushed;
     const lrt_ray *ray = lrt__flush_ray(caller_ray, &flushed);
     float m = 0.0f, tmin = ray->tmin, tmax = ray->tmax;
-    int e, k, ev[3] = {0, 0, 0};
+    int e = 0, k, ok = lrt__finite(tmin) && lrt__finite(tmax) && tmin >= 0.0f && tmin <= tmax, ev[3] = {0, 0, 0};
     uint32_t deg = 0;
     for (k = 0; k < 3; ++k) {
-        if (!lrt__finite(ray->origin[k]) || !lrt__finite(ray->dir[k])) {
-            *kind = LRT_MISS_INVALID_RAY;
-            return 0;
-        }
+        ok &= lrt__finite(ray->origin[k]) && lrt__finite(ray->dir[k]);
         m = lrt__maxf(m, fabsf(ray->dir[k]));
     }
-    if (!lrt__finite(tmin) || !lrt__finite(tmax) || !(tmin >= 0.0f) || !(tmin <= tmax)) {
-        *kind = LRT_MISS_INVALID_RAY;
-        return 0;
-    }
-    *kind = lrt__on_screen_at_tmax(ray, width, height) ? LRT_MISS_TMAX : LRT_MISS_OFF_SCREEN;
-    e = m != 0.0f ? lrt__ilogb(m) : 0; /* v = 0 comes here for a tiny o */
-    e = e < -127 ? -127 : e;           /* so that t_scale = 2^-e is a float */
-    tmin = lrt__scale_t(tmin, e);
-    tmax = lrt__scale_t(tmax, e);
-    *t_scale = lrt__pow2(-e);
-    for (k = 0; k < 3; ++k) {
-        s->o[k] = ray->origin[k];
-        s->v[k] = ldexpf(ray->dir[k], -e); /* not times 2^-127: FTZ and DAZ read that as 0 */
-        if (ray->dir[k] != 0.0f) {
-            ev[k] = lrt__ilogb(ray->dir[k]) - e;
-            if (ev[k] < -126) deg |= 1u << k;
-        }
-    }
-    s->t_base = 0.0f;
-    s->zk = 0;
-    /* a far-away origin: restart where the ray enters the screen box, with
-       crossings that take every size. The entering axis lands on its plane
-       exactly, the others at the exact crossing rounded once, so the new
-       origin is off the exact entry point by a rounding of a coordinate
-       inside the screen, far below one float ulp of the old one (docs/MODEL.md). */
-    if (lrt__far_origin(s->o, width, height)) {
-        float te = tmin, plane = 0.0f, n[3];
-        int axis = -1, tries;
+    *kind = LRT_MISS_INVALID_RAY;
+    if (ok) {
+        *kind = lrt__on_screen_at_tmax(ray, width, height) ? LRT_MISS_TMAX : LRT_MISS_OFF_SCREEN;
+        e = m != 0.0f ? lrt__ilogb(m) : 0; /* v = 0 comes here for a tiny o */
+        e = e < -127 ? -127 : e;           /* so that t_scale = 2^-e is a float */
+        tmin = lrt__scale_t(tmin, e);
+        tmax = lrt__scale_t(tmax, e);
+        *t_scale = lrt__pow2(-e);
         for (k = 0; k < 3; ++k) {
-            float p, en;
-            if (ray->dir[k] == 0.0f) continue;
-            p = lrt__sign_bit(ray->dir[k]) ? hi[k] : 0.0f;
-            en = lrt__plane_t(p, s->o[k], ray->dir[k], e);
-            if (en > te) {
-                te = en;
-                axis = k;
-                plane = p;
+            s->o[k] = ray->origin[k];
+            s->v[k] = ldexpf(ray->dir[k], -e); /* not times 2^-127: FTZ and DAZ read that as 0 */
+            if (ray->dir[k] != 0.0f) {
+                ev[k] = lrt__ilogb(ray->dir[k]) - e;
+                if (ev[k] < -126) deg |= 1u << k;
             }
         }
-        if (!(te <= tmax)) return 0; /* enters past tmax, or never */
-        for (tries = 0; tries < 3; ++tries) {
-            for (k = 0; k < 3; ++k) {
-                if (axis < 0) n[k] = lrt__crossing(s->o[k], 0.0f, ray->dir[k], 1.0f, 0.0f, 1, te, -e, k == 2);
-                else if (k == axis) n[k] = plane;
-                else n[k] = lrt__crossing(s->o[k], s->o[axis], ray->dir[k], ray->dir[axis], plane, 0, 0.0f, 0, k == 2);
-                if (!lrt__finite(n[k])) return 0; /* beyond the float range there */
-            }
-            /* the last try keeps its axis: n and te must be the same
-               crossing's (crashes-found 19: a third switch left n at one
-               axis's plane and te at another's) */
-            if (axis < 0 || tries == 2 || (k = lrt__entered_later(n, ray->dir, hi, axis)) < 0) break;
-            axis = k; /* see lrt__entered_later */
-            plane = lrt__sign_bit(ray->dir[k]) ? hi[k] : 0.0f;
-            te = lrt__plane_t(plane, s->o[k], ray->dir[k], e);
-        }
-        for (k = 0; k < 3; ++k) s->o[k] = n[k];
-        s->t_base = te;
-        tmin = 0.0f;
-        tmax = tmax - te;
+        s->t_base = 0.0f;
+        s->zk = 0;
+        if (lrt__far_origin(s->o, width, height)) ok = lrt__restart_far(ray, hi, e, s, &tmin, &tmax);
     }
-    for (k = 0; k < 3; ++k) s->iv[k] = 1.0f / s->v[k];
-    for (k = 0; k < 2; ++k) { /* an x or y too slow to invert */
-        const float big = lrt__sign_bit(ray->dir[k]) ? -3.40282347e38f : 3.40282347e38f;
-        float o = s->o[k];
-        if (!(deg >> k & 1u)) continue;
-        s->iv[k] = big;
-        if (o != 0.0f && fabsf(o) < LRT__TINY_O) {
-            if (lrt__ilogb(o) - ev[k] >= 30) { /* |(0 - o) / v| > 2^29: leaves or enters long after */
-                s->o[k] = o < 0.0f ? -LRT__TINY_O : LRT__TINY_O;
-            } else { /* scale o_k and v_k alike: v_k in [2^-126, 2^-125) */
-                const int kb = -126 - ev[k];
-                s->v[k] = ldexpf(ray->dir[k], -126 - lrt__ilogb(ray->dir[k]));
-                s->o[k] = ldexpf(o, kb);
-                s->iv[k] = 1.0f / s->v[k];
+    if (ok) {
+        for (k = 0; k < 3; ++k) s->iv[k] = 1.0f / s->v[k];
+        for (k = 0; k < 2; ++k) { /* an x or y too slow to invert */
+            const float big = lrt__sign_bit(ray->dir[k]) ? -3.40282347e38f : 3.40282347e38f;
+            float o = s->o[k];
+            if (!(deg >> k & 1u)) continue;
+            s->iv[k] = big;
+            if (o != 0.0f && fabsf(o) < LRT__TINY_O) {
+                if (lrt__ilogb(o) - ev[k] >= 30) { /* |(0 - o) / v| > 2^29: leaves or enters long after */
+                    s->o[k] = o < 0.0f ? -LRT__TINY_O : LRT__TINY_O;
+                } else { /* scale o_k and v_k alike: v_k in [2^-126, 2^-125) */
+                    const int kb = -126 - ev[k];
+                    s->v[k] = ldexpf(ray->dir[k], -126 - lrt__ilogb(ray->dir[k]));
+                    s->o[k] = ldexpf(o, kb);
+                    s->iv[k] = 1.0f / s->v[k];
+                }
             }
         }
-    }
-    if (deg & 4u) { /* a z too slow to invert: scale z */
-        const int kz = -126 - ev[2] < 100 ? -126 - ev[2] : 100;
-        s->v[2] = ldexpf(ray->dir[2], kz - e);
-        s->o[2] = ldexpf(s->o[2], kz);
-        s->zk = kz;
-        s->iv[2] = 1.0f / s->v[2];
-        if (!lrt__finite(s->iv[2])) s->iv[2] = lrt__sign_bit(ray->dir[2]) ? -3.40282347e38f : 3.40282347e38f;
-    }
-    s->neg_x = lrt__sign_bit(s->v[0]);
-    s->neg_y = lrt__sign_bit(s->v[1]);
-    s->neg_z = lrt__sign_bit(s->v[2]);
-    (void)lrt__clip(s, width, height, tmin, tmax);
-    { /* A segment of no length is its one point: in the box or not by its
-         coordinates, not by planes' t, which may lie below 2^-126, where
-         x86's FTZ and DAZ modes (and a GPU that flushes) read them as 0
-         (found cases 13 and 19 of tests/support/rays.h). The point is o,
-         or where lrt__scale_t kept a positive t positive (the least float),
-         just past o along v (the kernels' lrt_point_in) */
-        uint32_t b0, b1;
-        memcpy(&b0, &tmin, 4);
-        memcpy(&b1, &tmax, 4);
-        if (!s->zk && b0 == b1 && (b1 & 0x7fffffffu) <= 1u) {
-            const uint32_t neg[3] = {s->neg_x, s->neg_y, s->neg_z};
-            for (k = 0; k < 3; ++k)
-                if (!lrt__point_in(s->o[k], neg[k], ray->dir[k] == 0.0f, hi[k], b1 == 1u)) return 0;
+        if (deg & 4u) { /* a z too slow to invert: scale z */
+            const int kz = -126 - ev[2] < 100 ? -126 - ev[2] : 100;
+            s->v[2] = ldexpf(ray->dir[2], kz - e);
+            s->o[2] = ldexpf(s->o[2], kz);
+            s->zk = kz;
+            s->iv[2] = 1.0f / s->v[2];
+            if (!lrt__finite(s->iv[2])) s->iv[2] = lrt__sign_bit(ray->dir[2]) ? -3.40282347e38f : 3.40282347e38f;
+        }
+        s->neg_x = lrt__sign_bit(s->v[0]);
+        s->neg_y = lrt__sign_bit(s->v[1]);
+        s->neg_z = lrt__sign_bit(s->v[2]);
+        (void)lrt__clip(s, width, height, tmin, tmax);
+        ok = s->t_lo <= s->t_hi;
+        { /* A segment of no length is its one point: in the box or not by its
+             coordinates, not by planes' t, which may lie below 2^-126, where
+             x86's FTZ and DAZ modes (and a GPU that flushes) read them as 0
+             (found cases 13 and 19 of tests/support/rays.h). The point is o,
+             or where lrt__scale_t kept a positive t positive (the least float),
+             just past o along v (the kernels' lrt_point_in) */
+            uint32_t b0, b1;
+            memcpy(&b0, &tmin, 4);
+            memcpy(&b1, &tmax, 4);
+            if (!s->zk && b0 == b1 && (b1 & 0x7fffffffu) <= 1u) {
+                const uint32_t neg[3] = {s->neg_x, s->neg_y, s->neg_z};
+                for (k = 0; k < 3; ++k) ok &= lrt__point_in(s->o[k], neg[k], ray->dir[k] == 0.0f, hi[k], b1 == 1u);
+            }
         }
     }
-    return s->t_lo <= s->t_hi;
+    return ok;
 }
 
 /* ---- ISA block: a direction, its inverse and its sign bits (SSE2 | scalar) -
@@ -2977,7 +2986,7 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
                           uint32_t *kind)
 {
     float v[3], tmin = ray->tmin, tmax = ray->tmax;
-    int k, rare;
+    int k, rare, ok = 0;
     *t_scale = 1.0f;
     rare = lrt__rare_bits(ray);
     /* a far-away origin restarts in lrt__setup_rare too (one restart for both
@@ -2991,27 +3000,30 @@ LRT__FORCE_INLINE int lrt__setup_ray(const lrt_ray *ray, uint32_t width, uint32_
             tmin = lrt__scale_t(tmin, e);
             tmax = lrt__scale_t(tmax, e);
             *t_scale = lrt__pow2(-e);
+            rare = 0;
         } else { /* through a copy, so that *s stays the caller's own (kept in registers) */
             lrt__ray_setup r;
             float ts = 1.0f;
             uint32_t kd = 0;
-            k = lrt__setup_rare(ray, width, height, &r, &ts, &kd);
+            ok = lrt__setup_rare(ray, width, height, &r, &ts, &kd);
             *s = r;
             *t_scale = ts;
             *kind = kd;
-            return k;
         }
     }
-    if (!(tmin >= 0.0f) || !(tmin <= tmax)) {
+    if (rare) {
+        /* set up by lrt__setup_rare */
+    } else if (!(tmin >= 0.0f) || !(tmin <= tmax)) {
         *kind = LRT_MISS_INVALID_RAY;
-        return 0;
+    } else {
+        for (k = 0; k < 3; ++k) s->o[k] = ray->origin[k];
+        s->zk = 0;
+        lrt__set_direction(s, v);
+        s->t_base = 0.0f;
+        *kind = lrt__clip(s, width, height, tmin, tmax);
+        ok = s->t_lo <= s->t_hi;
     }
-    for (k = 0; k < 3; ++k) s->o[k] = ray->origin[k];
-    s->zk = 0;
-    lrt__set_direction(s, v);
-    s->t_base = 0.0f;
-    *kind = lrt__clip(s, width, height, tmin, tmax);
-    return s->t_lo <= s->t_hi;
+    return ok;
 }
 
 /* Per-level constants of the walk, so the hot loop does shifts and adds.
@@ -3233,16 +3245,17 @@ LRT__FORCE_INLINE void lrt__texel_range(const lrt__walk *w, const lrt__ray_setup
 LRT__FORCE_INLINE uint32_t lrt__start_node(const lrt__walk *w, const lrt__ray_setup *s, uint32_t *sx, uint32_t *sy,
                                            uint32_t *px, uint32_t *py)
 {
-    uint32_t i0[2], i1[2];
+    uint32_t i0[2], i1[2], lv = 0u;
     if (s->v[0] == 0.0f && s->v[1] == 0.0f && (float)(int32_t)s->o[0] != s->o[0] && (float)(int32_t)s->o[1] != s->o[1]) {
         /* a camera ray inside one texel's column (the clip put o on the
            screen; off a texel edge, no neighbour's closed box is met) */
         *sx = *px = (uint32_t)(int32_t)s->o[0];
         *sy = *py = (uint32_t)(int32_t)s->o[1];
-        return 0;
+    } else {
+        lrt__texel_range(w, s, i0, i1);
+        lv = lrt__start_level(w, i0, i1, s->neg_x, s->neg_y, sx, sy, px, py);
     }
-    lrt__texel_range(w, s, i0, i1);
-    return lrt__start_level(w, i0, i1, s->neg_x, s->neg_y, sx, sy, px, py);
+    return lv;
 }
 
 /* First code of node (x, y) of level lv in the node array (code units):
@@ -3638,39 +3651,38 @@ static LRT__NOINLINE float lrt__back_plane(const lrt__walk *w, const lrt__ray_se
 LRT__FORCE_INLINE int lrt__test_texel(const lrt__walk *w, const lrt__ray_setup *s, uint32_t tx, uint32_t ty, float enter,
                            float exit, uint32_t code, float *t, float planes[2])
 {
-    uint32_t raw;
-    int hit;
-    float tz;
-    if (tx >= w->L->width || ty >= w->L->height) return 0; /* padding */
-    if (w->plain_float && !s->zk) { /* the common case, straight: lrt__depth_raw, then lrt__depth_plane */
-        float d;
-        memcpy(&d, (const unsigned char *)w->depth->data + w->stride * ty + 4 * (size_t)tx, 4);
-        d = lrt__clamp_depth(d);
-        tz = (d - s->o[2]) * s->iv[2];
-    } else if (w->exact_codes) { /* the code is the input's own integer, scaled by 65535/vmax (1 or 257) */
-        const uint32_t vmax = w->depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
-        raw = (65535u - code) / (65535u / vmax);
-        tz = lrt__depth_plane(s, w->depth->format, raw);
-    } else {
-        raw = lrt__depth_raw(w->depth, w->stride, tx, ty);
-        tz = lrt__depth_plane(s, w->depth->format, raw);
-    }
-    planes[0] = tz;
-    planes[1] = 0.0f;
-    if (s->neg_z) exit = LRT__MIN_KEEP(tz, exit);
-    else enter = LRT__MAX_KEEP(tz, enter);
-    hit = enter <= lrt__widen(exit);
-    /* the back plane (entered going up, v.z < 0; left going down) only
-       narrows [enter, exit]: not read after a miss, nor for a ray going
-       down that enters through the top, whose back plane comes no earlier */
-    if (hit && w->back_codes && (s->neg_z || enter != tz || !w->back_after_depth)) {
-        const float tb = lrt__back_plane(w, s, tx, ty);
-        planes[1] = tb;
-        if (s->neg_z) enter = LRT__MAX_KEEP(tb, enter);
-        else exit = LRT__MIN_KEEP(tb, exit);
+    int hit = 0;
+    planes[0] = planes[1] = 0.0f;
+    *t = 0.0f;
+    if (tx < w->L->width && ty < w->L->height) { /* not padding */
+        float tz;
+        if (w->plain_float && !s->zk) { /* the common case, straight: lrt__depth_raw, then lrt__depth_plane */
+            float d;
+            memcpy(&d, (const unsigned char *)w->depth->data + w->stride * ty + 4 * (size_t)tx, 4);
+            d = lrt__clamp_depth(d);
+            tz = (d - s->o[2]) * s->iv[2];
+        } else if (w->exact_codes) { /* the code is the input's own integer, scaled by 65535/vmax (1 or 257) */
+            const uint32_t vmax = w->depth->format == LRT_FORMAT_UNORM8 ? 255u : 65535u;
+            tz = lrt__depth_plane(s, w->depth->format, (65535u - code) / (65535u / vmax));
+        } else {
+            tz = lrt__depth_plane(s, w->depth->format, lrt__depth_raw(w->depth, w->stride, tx, ty));
+        }
+        planes[0] = tz;
+        if (s->neg_z) exit = LRT__MIN_KEEP(tz, exit);
+        else enter = LRT__MAX_KEEP(tz, enter);
         hit = enter <= lrt__widen(exit);
+        /* the back plane (entered going up, v.z < 0; left going down) only
+           narrows [enter, exit]: not read after a miss, nor for a ray going
+           down that enters through the top, whose back plane comes no earlier */
+        if (hit && w->back_codes && (s->neg_z || enter != tz || !w->back_after_depth)) {
+            const float tb = lrt__back_plane(w, s, tx, ty);
+            planes[1] = tb;
+            if (s->neg_z) enter = LRT__MAX_KEEP(tb, enter);
+            else exit = LRT__MIN_KEEP(tb, exit);
+            hit = enter <= lrt__widen(exit);
+        }
+        *t = enter;
     }
-    *t = enter;
     return hit;
 }
 
@@ -3686,12 +3698,13 @@ LRT__FORCE_INLINE uint32_t lrt__face(const lrt__walk *w, const lrt__ray_setup *s
        box through it onto a texel of depth 0 (lrt__clip's t0; the depth
        plane's own t, rounded otherwise, may lie an ulp before it:
        crashes-found 21) */
-    if (!s->neg_z && (planes[0] == t || (0.0f - s->o[2]) * s->iv[2] == t)) return LRT_FACE_TOP;
-    if (((float)(tx + s->neg_x) - s->o[0]) * s->iv[0] == t || ((float)(ty + s->neg_y) - s->o[1]) * s->iv[1] == t)
-        return LRT_FACE_SIDE;
-    if (s->neg_z && (w->back_codes ? planes[1] : lrt__depth_plane(s, LRT_FORMAT_FLOAT32, 0x3f800000u)) == t)
-        return LRT_FACE_BACK;
-    return LRT_FACE_INSIDE;
+    uint32_t face = LRT_FACE_INSIDE;
+    if (!s->neg_z && (planes[0] == t || (0.0f - s->o[2]) * s->iv[2] == t)) face = LRT_FACE_TOP;
+    else if (((float)(tx + s->neg_x) - s->o[0]) * s->iv[0] == t || ((float)(ty + s->neg_y) - s->o[1]) * s->iv[1] == t)
+        face = LRT_FACE_SIDE;
+    else if (s->neg_z && (w->back_codes ? planes[1] : lrt__depth_plane(s, LRT_FORMAT_FLOAT32, 0x3f800000u)) == t)
+        face = LRT_FACE_BACK;
+    return face;
 }
 
 /* A hit at t of the walked ray, told in the caller's ray: undo the restart
@@ -3947,7 +3960,7 @@ LRT__FORCE_INLINE int lrt__level1_codes_hit(const lrt__walk *w, const lrt__ray_s
    the same t, so the walk's visiting order is not their order along the
    ray (its first hit is the exact one of the ray moved off the plane by an
    ulp, docs/MODEL.md), and a budgeted walk proves nothing about the t of
-   what it has not tested (lrt__report_budget). */
+   what it has not tested (lrt__budget_t). */
 LRT__FORCE_INLINE int lrt__in_grid_plane(const lrt__ray_setup *s)
 {
     return (s->v[0] == 0.0f && floorf(s->o[0]) == s->o[0]) || (s->v[1] == 0.0f && floorf(s->o[1]) == s->o[1]);
@@ -3986,15 +3999,19 @@ LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *
      CPU trace with a step budget        lrt__trace_cells (infinite tree)  lrt__walk_cells
      GPU rare pass, one pass             lrt_trace_ray                     lrt_walk_origin
      counts of a GPU wave (bench)        lrt__walk_cells_ray               lrt__walk_cells
-   TWINS: each C helper of the walks and its GLSL twin (same parameters, the
-   same floats); make check fails when a name below is defined on one side
-   only (tests/walk_twins.sh).
+   TWINS: each C helper of the walks and its GLSL twin: the same floats, one
+   exit each, and the parameters both name in one order (C's w, the walk's
+   constants, stands where GLSL's p does; C reads a zero component off v,
+   GLSL passes zero; a C walk reports into the caller's lrt_hit, a GLSL
+   walk returns what it found). make check fails when a name below is
+   defined on one side only, or the order differs (tests/walk_twins.sh).
    -- twins --
      lrt__walk_origin ~ lrt_walk_origin      lrt__walk_cells ~ lrt_walk_cells
      lrt__cell_axis ~ lrt_cell_axis          lrt__cross_texel ~ lrt_cross_texel
-     lrt__split_level ~ lrt_split_level_x    lrt__in_grid_plane ~ lrt_in_grid_plane
+     lrt__split_level_x ~ lrt_split_level_x  lrt__split_level_y ~ lrt_split_level_y
+     lrt__in_grid_plane ~ lrt_in_grid_plane
      lrt__test_texel ~ lrt_test_texel        lrt__first_texel ~ lrt_first_texel
-     lrt__report_hit ~ lrt_report_hit        lrt__report_budget ~ lrt_budget_t
+     lrt__report_hit ~ lrt_report_hit        lrt__budget_t ~ lrt_budget_t
      lrt__cull_setup ~ lrt_cull_setup        lrt__kernel_cull_children ~ lrt_cull_children
      lrt__cull_slab ~ lrt_cull_slab          lrt__cull_axis ~ lrt_cull_axis
      lrt__start_node ~ lrt_start_node        lrt__setup_ray ~ lrt_setup_ray
@@ -4208,8 +4225,8 @@ static uint32_t lrt__kernel_cull_children(const lrt__walk *w, const lrt__ray_set
 }
 #endif
 
-/* A budgeted walk's stop before it tests node (lv, nx, ny) (lrt_walk_origin's
-   lrt_report_budget): its segment is proven free before the t where it
+/* Where a budgeted walk that stops before it tests node (lv, nx, ny) has
+   proven its segment free (lrt_budget_t): its segment is proven free before the t where it
    enters that node, or, where the walk has just climbed to it (eligible:
    the children after the one it came from), before the t where it leaves
    that child (of the min of the two where the ray misses the node's box).
@@ -4219,8 +4236,8 @@ static uint32_t lrt__kernel_cull_children(const lrt__walk *w, const lrt__ray_set
    box. So lrt_trace without a budget reports no hit before this t. A ray
    in a grid plane (lrt__in_grid_plane) meets texels out of visiting
    order: t_lo. */
-LRT__FORCE_INLINE void lrt__report_budget(const lrt__walk *w, const lrt_ray *ray, const lrt__ray_setup *s, float t_scale,
-                                          uint32_t lv, uint32_t nx, uint32_t ny, uint32_t eligible, lrt_hit *hit)
+LRT__FORCE_INLINE float lrt__budget_t(const lrt__walk *w, const lrt__ray_setup *s, uint32_t lv, uint32_t nx, uint32_t ny,
+                                      uint32_t eligible)
 {
     float en = s->t_lo, ex = s->t_hi, x0, y0, t;
     if (eligible != 0xffu) { /* the child it came from, k-th in visiting order */
@@ -4233,7 +4250,12 @@ LRT__FORCE_INLINE void lrt__report_budget(const lrt__walk *w, const lrt_ray *ray
     lrt__slab(x0, x0 + (float)(1u << w->lv[lv].span_w_log2), s->o[0], s->iv[0], s->neg_x, &en, &ex);
     lrt__slab(y0, y0 + (float)(1u << w->lv[lv].span_h_log2), s->o[1], s->iv[1], s->neg_y, &en, &ex);
     t = eligible != 0xffu || ex < en ? ex : en;
-    t = t > s->t_lo && !lrt__in_grid_plane(s) ? t : s->t_lo; /* a grid plane's ray has proven nothing */
+    return t > s->t_lo && !lrt__in_grid_plane(s) ? t : s->t_lo; /* a grid plane's ray has proven nothing */
+}
+
+/* A budget miss at the walk's t, proven free before it, told in the caller's ray. */
+LRT__FORCE_INLINE void lrt__report_budget(const lrt_ray *ray, const lrt__ray_setup *s, float t_scale, float t, lrt_hit *hit)
+{
     hit->t = lrt__ray_t(ray, s, t_scale, t);
     hit->x = hit->y = 0;
     hit->face = LRT_FACE_NONE;
@@ -4264,6 +4286,7 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
     /* the levels above lv up to reached were tested: masks[] holds their
        pending children, and bit L of busy says masks[L] is not empty */
     uint32_t lv = top, eligible = 0xffu, reached, busy = 0u, steps = 0u;
+    int reported = 0; /* the walk's one exit, after its loop */
     uint8_t masks[LINEAR_RT_MAX_LEVELS + 2];
     size_t slot0;
     lrt__cull kc; /* a budgeted walk's node test (lrt__kernel_cull_children) */
@@ -4286,8 +4309,9 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
     slot0 = lrt__node_slot(w, lv, nx, ny);
     for (;;) {
         if (budgeted && steps++ == w->budget) { /* the budget is spent: the next node is not tested */
-            lrt__report_budget(w, ray, s, t_scale, lv, nx, ny, eligible, hit);
-            return 1;
+            lrt__report_budget(ray, s, t_scale, lrt__budget_t(w, s, lv, nx, ny, eligible), hit);
+            reported = 1;
+            break;
         }
         if (lv == 1u) { /* texels: the exact test, in visiting order */
             uint32_t tx, ty;
@@ -4295,7 +4319,8 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
             LINEAR_RT_COUNT_NODE_TEST(1u);
             if (lrt__level1_hit(w, s, nx, ny, slot0, neg_z, &tx, &ty, &t, planes)) {
                 lrt__report_hit(w, ray, s, t_scale, t, tx, ty, planes, hit);
-                return 1;
+                reported = 1;
+                break;
             }
         } else {
             const uint32_t tall = (lv & 1u) ^ 1u;
@@ -4348,7 +4373,7 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
                 const uint32_t up = reached + 1u, tall = (up & 1u) ^ 1u, bw_log2 = tall ? 1u : 2u; /* the parent's block */
                 uint32_t sw, sh, ax, ay, k;
                 float fx, fy, ex_x, ex_y;
-                if (reached >= top) return 0; /* the start node, which holds the segment, is done */
+                if (reached >= top) break; /* the start node, which holds the segment, is done */
                 sw = w->lv[reached].span_w_log2;
                 sh = w->lv[reached].span_h_log2;
                 ax = x0 >> sw;
@@ -4363,7 +4388,7 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
                 ex_y = (fy - s->o[1]) * s->iv[1];
                 if (ex_x != ex_x) ex_x = -INFINITY;
                 if (ex_y != ex_y) ex_y = -INFINITY;
-                if (LRT__MIN_KEEP(ex_x, ex_y) > lrt__widen(s->t_hi)) return 0;
+                if (LRT__MIN_KEEP(ex_x, ex_y) > lrt__widen(s->t_hi)) break; /* the segment ends inside it */
                 k = lrt__child_slot(&w->L->levels[reached], ax, ay) ^ s->sg->flip[tall];
                 eligible = ~((2u << k) - 1u) & 0xffu;
                 lv = reached = up;
@@ -4373,6 +4398,7 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
             }
         }
     }
+    return reported;
 }
 
 /* The walk's two copies (sign of v.z), each a function of its own: inlined
@@ -4492,13 +4518,23 @@ LRT__FORCE_INLINE void lrt__trace_one(const lrt__walk *w, const lrt_ray *ray, lr
    An exact CPU trace keeps the 8-child walk: its node test is cheap in
    SIMD lanes. Compiled in both passes; its GLSL twins: the TWINS table of
    section walk. */
-/* lrt_split_level_x (rows 0) and lrt_split_level_y (rows 1) */
-LRT__UNUSED static int lrt__split_level(int a, int b, int rows)
+/* The lowest level whose nodes hold texel columns a and b (x, lrt_split_level_x)
+   or rows a and b (y, lrt_split_level_y) apart, less one: -1 for one texel.
+   Level lv spans 2^ceil(lv * 3 / 2) texels along x, 2^floor: the highest
+   bit where a and b differ (GLSL's findMSB) gives it. */
+LRT__UNUSED static int lrt__find_msb(uint32_t d)
 {
-    const uint32_t d = (uint32_t)(a ^ b);
     int m = 31;
     while (m > 0 && !(d >> m)) --m;
-    return d ? (2 * m + rows) / 3 : -1;
+    return d ? m : -1;
+}
+LRT__UNUSED static int lrt__split_level_x(int a, int b)
+{
+    return a == b ? -1 : (2 * lrt__find_msb((uint32_t)(a ^ b))) / 3;
+}
+LRT__UNUSED static int lrt__split_level_y(int a, int b)
+{
+    return a == b ? -1 : (2 * lrt__find_msb((uint32_t)(a ^ b)) + 1) / 3;
 }
 
 /* lrt_cross_texel */
@@ -4599,7 +4635,7 @@ static uint32_t lrt__walk_cells(const lrt__walk *w, const lrt__ray_setup *s, uin
             met = e0 <= x0;
         }
         if (!met) {
-            const int bx = lrt__split_level(lastx, px, 0), by = lrt__split_level(lasty, py, 1);
+            const int bx = lrt__split_level_x(lastx, px), by = lrt__split_level_y(lasty, py);
             const float lt = lx < ly ? lx : ly;
             if (pend) {
                 x += (pend & 1) == (int)s->neg_x ? 1 : -1;
@@ -4644,12 +4680,14 @@ static LRT__NOINLINE void lrt__trace_cells(const lrt__walk *w, const lrt_ray *ra
     found = lrt__walk_cells(w, s, w->budget, &hx, &hy, &t, planes, NULL);
     if (found == LRT__WALK_HIT) {
         lrt__report_hit(w, ray, s, t_scale, t, hx, hy, planes, hit);
-        return;
+    } else if (found == LRT__WALK_BUDGET) {
+        lrt__report_budget(ray, s, t_scale, t, hit);
+    } else {
+        hit->t = 0.0f;
+        hit->x = hit->y = 0;
+        hit->face = LRT_FACE_NONE;
+        hit->kind = (uint16_t)kind;
     }
-    hit->t = found == LRT__WALK_BUDGET ? lrt__ray_t(ray, s, t_scale, t) : 0.0f;
-    hit->x = hit->y = 0;
-    hit->face = LRT_FACE_NONE;
-    hit->kind = (uint16_t)(found == LRT__WALK_BUDGET ? (uint32_t)LRT_MISS_BUDGET : kind);
 }
 
 
@@ -6631,7 +6669,9 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace_compacted(lrt_vk_context *ctx, VkComma
 #define lrt__level1_codes_hit lrt__level1_codes_hit_avx2
 #define lrt__in_grid_plane lrt__in_grid_plane_avx2
 #define lrt__walk_cells_takes lrt__walk_cells_takes_avx2
-#define lrt__split_level lrt__split_level_avx2
+#define lrt__split_level_x lrt__split_level_x_avx2
+#define lrt__split_level_y lrt__split_level_y_avx2
+#define lrt__find_msb lrt__find_msb_avx2
 #define lrt__cross_texel lrt__cross_texel_avx2
 #define lrt__cell_axis lrt__cell_axis_avx2
 #define lrt__walk_cells lrt__walk_cells_avx2
@@ -6647,6 +6687,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace_compacted(lrt_vk_context *ctx, VkComma
 #define lrt__ray_setup lrt__ray_setup_avx2
 #define lrt__report_hit lrt__report_hit_avx2
 #define lrt__report_budget lrt__report_budget_avx2
+#define lrt__budget_t lrt__budget_t_avx2
 #define lrt__cull lrt__cull_avx2
 #define lrt__cull_setup lrt__cull_setup_avx2
 #define lrt__cull_slab lrt__cull_slab_avx2
@@ -6655,6 +6696,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace_compacted(lrt_vk_context *ctx, VkComma
 #define lrt__set_direction lrt__set_direction_avx2
 #define lrt__setup8 lrt__setup8_avx2
 #define lrt__setup_rare lrt__setup_rare_avx2
+#define lrt__restart_far lrt__restart_far_avx2
 #define lrt__setup_ray lrt__setup_ray_avx2
 #define lrt__signs lrt__signs_avx2
 #define lrt__signs_init lrt__signs_init_avx2

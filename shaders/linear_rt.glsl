@@ -1241,7 +1241,7 @@ uint lrt_flip_of(uint lv, uint flip_tall, uint flip_wide) { return lrt_bw_log2(l
 bool lrt_in_grid_plane(vec3 o, bvec3 zero) { return (zero.x && floor(o.x) == o.x) || (zero.y && floor(o.y) == o.y); }
 
 // Where a budgeted walk that stops before it tests node (lv, nx, ny) has
-// proven its segment free (linear_rt.h's lrt__report_budget, which says
+// proven its segment free (linear_rt.h's lrt__budget_t, which says
 // why): before the t where it enters that node, or, where it has just
 // climbed to it (eligible: the children after the one it came from),
 // before the t where it leaves that child
