@@ -258,7 +258,12 @@ int main(void)
 #define LRT_K_MISS_OFF_SCREEN 3u
 #define LRT_K_MISS_INVALID_RAY 4u
 #define LRT_K_MISS_BUDGET 5u
+#define LRT_K_HIT_ESTIMATE 6u
 #define LRT_K_TRACE_BUDGET_MASK 0xffffu /* trace flags: bits 0-15, the step budget (0: none) */
+#define LRT_K_TRACE_FINISH_SHIFT 16u    /* bits 16-19: a budget's finish, log2 of its samples + 1 (0: none) */
+#define LRT_K_TRACE_FINISH_MASK 0xf0000u
+#define LRT_K_FINISH_MAX 8u             /* the finish's field at most: 2^7 samples */
+#define LRT_K_FINISH_BISECTIONS 8u      /* the finish's refinement, as the benchmark's marches' */
 #define LRT_K_FACE_NONE 0u              /* lrt_hit_face */
 #define LRT_K_FACE_TOP 1u
 #define LRT_K_FACE_SIDE 2u
@@ -529,6 +534,7 @@ typedef enum lrt_hit_kind {
     LRT_MISS_OFF_SCREEN = LRT_K_MISS_OFF_SCREEN,   /* left (or never met) the screen rectangle: fall back */
     LRT_MISS_INVALID_RAY = LRT_K_MISS_INVALID_RAY, /* NaN/inf component, tmin < 0 or tmin > tmax: not traced */
     LRT_MISS_BUDGET = LRT_K_MISS_BUDGET,           /* the step budget ran out: no hit before t (LRT_TRACE_BUDGET) */
+    LRT_HIT_ESTIMATE = LRT_K_HIT_ESTIMATE,         /* the budget ran out, its finish guessed: texel x, y at t (LRT_TRACE_FINISH) */
     LRT_HIT_KIND_MAX_ENUM = 0x7fffffff
 } lrt_hit_kind;
 
@@ -571,6 +577,21 @@ typedef struct lrt_hit {
    A budgeted walk is the GPU kernels' walk step for step (from the
    origin), so that lrt_vk_cmd_trace counts the same steps and gives the
    same answers bit for bit; LRT_TRACE_BUDGET(0) is 0, no budget.
+   LRT_TRACE_BUDGET(steps) | LRT_TRACE_FINISH(n), 0 <= n <= 7: a ray the
+   budget stops gets a finish, a march from the proven-free t to the
+   segment's end: 2^n + 1 samples 2^-n of it apart, each the texel under
+   the point and its exact test at that t, and at the first sample inside
+   the solid LRT_K_FINISH_BISECTIONS bisections with the sample before it.
+   It answers LRT_HIT_ESTIMATE: a guess, the texel x, y under the last
+   sample inside and its t (never before the proven-free t), face the top
+   where that texel is the one the ray was over just before (the back for
+   v.z < 0), else a side. A march can step over a thin object or a corner,
+   so an estimate may be no hit at all, or not the closest
+   (docs/MODEL.md). Where no sample is inside, LRT_MISS_BUDGET as without
+   a finish: an engine takes it as a miss, of the kind its ray's point at
+   tmax tells (on the screen: LRT_MISS_TMAX). Every other answer stays the
+   exact one, bit for bit, and the GPU's finish is this one step for step.
+   A finish without a budget is LRT_ERROR_INVALID_OPTION.
    There is no any-hit mode: the walk visits children front to back and
    stops at its first texel hit, which is the closest, so occlusion rays
    (AO, shadows) take the same call; an any-hit flag that changed nothing
@@ -584,6 +605,7 @@ typedef struct lrt_hit {
    before any ray is read or hit written. */
 #define LRT_TRACE_BUDGET_MAX 65535u
 #define LRT_TRACE_BUDGET(steps) ((uint32_t)(steps))
+#define LRT_TRACE_FINISH(n) (((uint32_t)(n) + 1u) << LRT_K_TRACE_FINISH_SHIFT) /* 2^n + 1 samples, n <= 7 */
 LINEAR_RT_API lrt_result lrt_trace(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
                                    lrt_hit *hits, size_t count, uint32_t flags);
 /* Trace rays[first .. end-1] into hits[first .. end-1]: split a batch across
@@ -3058,6 +3080,7 @@ typedef struct lrt__walk {
     uint32_t texels8_w, texels8_h; /* plain float: level-1 nodes (x, y) below these lie inside the map (lrt__texels8) */
     float extent[2];    /* the root's span in texels: no node's plane lies beyond it */
     uint32_t budget;    /* steps a ray may take (LRT_TRACE_BUDGET), 0: no limit */
+    uint32_t finish;    /* a budget's finish: log2 of its samples + 1 (LRT_TRACE_FINISH), 0: none */
     lrt__walk_level lv[LINEAR_RT_MAX_LEVELS + 1];
     uint8_t start_level[2][33]; /* lowest level whose nodes span 2^b texels along x / y */
     lrt__signs signs[4];        /* by neg_x | neg_y << 1 */
@@ -4012,6 +4035,8 @@ LRT__FORCE_INLINE int lrt__level1_hit(const lrt__walk *w, const lrt__ray_setup *
      lrt__in_grid_plane ~ lrt_in_grid_plane
      lrt__test_texel ~ lrt_test_texel        lrt__first_texel ~ lrt_first_texel
      lrt__report_hit ~ lrt_report_hit        lrt__budget_t ~ lrt_budget_t
+     lrt__report_budget ~ lrt_report_budget  lrt__finish ~ lrt_finish
+     lrt__finish_inside ~ lrt_finish_inside  lrt__finish_texel ~ lrt_finish_texel
      lrt__cull_setup ~ lrt_cull_setup        lrt__kernel_cull_children ~ lrt_cull_children
      lrt__cull_slab ~ lrt_cull_slab          lrt__cull_axis ~ lrt_cull_axis
      lrt__start_node ~ lrt_start_node        lrt__setup_ray ~ lrt_setup_ray
@@ -4253,13 +4278,86 @@ LRT__FORCE_INLINE float lrt__budget_t(const lrt__walk *w, const lrt__ray_setup *
     return t > s->t_lo && !lrt__in_grid_plane(s) ? t : s->t_lo; /* a grid plane's ray has proven nothing */
 }
 
-/* A budget miss at the walk's t, proven free before it, told in the caller's ray. */
-LRT__FORCE_INLINE void lrt__report_budget(const lrt_ray *ray, const lrt__ray_setup *s, float t_scale, float t, lrt_hit *hit)
+/* ---- the finish of a budget (LRT_TRACE_FINISH): a march from the free t -- */
+
+/* The texel under the point at walk t along one axis (lrt_finish_texel):
+   o + t v floored, on the map (a NaN: 0). */
+LRT__FORCE_INLINE uint32_t lrt__finish_texel(float o, float v, float t, uint32_t size)
 {
-    hit->t = lrt__ray_t(ray, s, t_scale, t);
+    const float p = o + t * v;
+    return p >= 1.0f ? (p < (float)size ? (uint32_t)p : size - 1u) : 0u;
+}
+
+/* Whether the point at walk t lies in the solid of the texel under it
+   (lrt_finish_inside): that texel's exact test over [t, t]; the texel in
+   *x, *y. */
+LRT__FORCE_INLINE int lrt__finish_inside(const lrt__walk *w, const lrt__ray_setup *s, float t, uint32_t *x, uint32_t *y)
+{
+    float tt, planes[2];
+    uint32_t code = 0u;
+    *x = lrt__finish_texel(s->o[0], s->v[0], t, w->L->width);
+    *y = lrt__finish_texel(s->o[1], s->v[1], t, w->L->height);
+    if (w->exact_codes) code = *lrt__codes(w, lrt__node_slot(w, 1, *x >> 2, *y >> 1) + (((*y & 1u) << 2) | (*x & 3u)));
+    return lrt__test_texel(w, s, *x, *y, t, t, code, &tt, planes);
+}
+
+/* The finish (lrt_finish): samples at t0 + k (t1 - t0) 2^-n, k = 0 .. 2^n,
+   t1 the segment's end (LRT_TRACE_FINISH says what it answers). Returns 1
+   with the texel of the last sample inside, its t and the face guessed. */
+static LRT__NOINLINE int lrt__finish(const lrt__walk *w, const lrt__ray_setup *s, float t0, uint32_t *hx, uint32_t *hy,
+                                     float *ht, uint32_t *face)
+{
+    const uint32_t n = w->finish - 1u < LRT_K_FINISH_MAX - 1u ? w->finish - 1u : LRT_K_FINISH_MAX - 1u, steps = 1u << n;
+    const float t1 = s->t_hi > t0 ? s->t_hi : t0, dt = (t1 - t0) * lrt__pow2(-(int)n);
+    float lo = t0, hi = t0;
+    uint32_t k, b, inside = 0u;
+    uint32_t x = lrt__finish_texel(s->o[0], s->v[0], t0, w->L->width), y = lrt__finish_texel(s->o[1], s->v[1], t0, w->L->height);
+    uint32_t lx = x, ly = y;
+    for (k = 0; k <= steps && !inside; ++k) { /* [lo, hi]: the sample before, this one */
+        lo = hi;
+        lx = x;
+        ly = y;
+        hi = k == steps ? t1 : t0 + dt * (float)k;
+        inside = (uint32_t)lrt__finish_inside(w, s, hi, &x, &y);
+    }
+    for (b = 0; inside && k > 1u && b < LRT_K_FINISH_BISECTIONS; ++b) {
+        const float mid = 0.5f * (lo + hi);
+        uint32_t mx, my;
+        if (lrt__finish_inside(w, s, mid, &mx, &my)) {
+            hi = mid;
+            x = mx;
+            y = my;
+        } else {
+            lo = mid;
+            lx = mx;
+            ly = my;
+        }
+    }
+    *hx = x;
+    *hy = y;
+    *ht = hi;
+    *face = lx == x && ly == y ? (s->neg_z ? LRT_FACE_BACK : LRT_FACE_TOP) : LRT_FACE_SIDE;
+    return (int)inside;
+}
+
+/* A budget's stop at the walk's t, proven free before it, told in the
+   caller's ray: its finish's estimate, or a budget miss. */
+LRT__FORCE_INLINE void lrt__report_budget(const lrt__walk *w, const lrt_ray *ray, const lrt__ray_setup *s, float t_scale,
+                                          float t, lrt_hit *hit)
+{
+    uint32_t x, y, face;
+    float at;
     hit->x = hit->y = 0;
     hit->face = LRT_FACE_NONE;
     hit->kind = LRT_MISS_BUDGET;
+    if (w->finish && lrt__finish(w, s, t, &x, &y, &at, &face)) {
+        t = at;
+        hit->x = x;
+        hit->y = y;
+        hit->face = (uint16_t)face;
+        hit->kind = LRT_HIT_ESTIMATE;
+    }
+    hit->t = lrt__ray_t(ray, s, t_scale, t);
 }
 
 /* The walk (shaders/linear_rt.glsl's lrt_walk_origin, the same steps under
@@ -4309,7 +4407,7 @@ LRT__FORCE_INLINE int lrt__walk_origin(const lrt__walk *w, const lrt_ray *ray, l
     slot0 = lrt__node_slot(w, lv, nx, ny);
     for (;;) {
         if (budgeted && steps++ == w->budget) { /* the budget is spent: the next node is not tested */
-            lrt__report_budget(ray, s, t_scale, lrt__budget_t(w, s, lv, nx, ny, eligible), hit);
+            lrt__report_budget(w, ray, s, t_scale, lrt__budget_t(w, s, lv, nx, ny, eligible), hit);
             reported = 1;
             break;
         }
@@ -4681,7 +4779,7 @@ static LRT__NOINLINE void lrt__trace_cells(const lrt__walk *w, const lrt_ray *ra
     if (found == LRT__WALK_HIT) {
         lrt__report_hit(w, ray, s, t_scale, t, hx, hy, planes, hit);
     } else if (found == LRT__WALK_BUDGET) {
-        lrt__report_budget(ray, s, t_scale, t, hit);
+        lrt__report_budget(w, ray, s, t_scale, t, hit);
     } else {
         hit->t = 0.0f;
         hit->x = hit->y = 0;
@@ -5000,12 +5098,13 @@ LRT__FORCE_INLINE size_t lrt__trace_batches(const lrt__walk *w, const lrt_ray *r
 
 /* The walk of lrt_trace_range once its arguments are checked. */
 static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t stride, const lrt_ray *rays,
-                            lrt_hit *hits, size_t first, size_t end, uint32_t budget)
+                            lrt_hit *hits, size_t first, size_t end, uint32_t flags)
 {
     lrt__walk w;
     size_t i;
     lrt__walk_init(&w, bvh, depth, stride);
-    w.budget = budget;
+    w.budget = flags & LRT_K_TRACE_BUDGET_MASK;
+    w.finish = (flags & LRT_K_TRACE_FINISH_MASK) >> LRT_K_TRACE_FINISH_SHIFT;
     for (i = lrt__trace_batches(&w, rays, hits, first, end); i < end; ++i) lrt__trace_one(&w, &rays[i], &hits[i]);
 }
 
@@ -5029,7 +5128,7 @@ static void lrt__trace_walk(const lrt_bvh *bvh, const lrt_depth *depth, size_t s
    picked by lrt__cpu_has_avx2 (section impl). */
 #if LRT__AVX_AT_RUN_TIME
 static void lrt__trace_walk_avx2(const lrt_bvh *bvh, const lrt_depth *depth, size_t stride, const lrt_ray *rays,
-                                 lrt_hit *hits, size_t first, size_t end, uint32_t budget);
+                                 lrt_hit *hits, size_t first, size_t end, uint32_t flags);
 #endif /* LRT__AVX_AT_RUN_TIME */
 
 LINEAR_RT_DEF const char *lrt_cpu_path(void)
@@ -5045,13 +5144,22 @@ LINEAR_RT_DEF const char *lrt_cpu_path(void)
 #endif
 }
 
+/* Trace flags a call takes (lrt_trace, lrt_vk_cmd_trace): a budget, and a
+   finish (2^0 to 2^7 samples) only with one. */
+static int lrt__trace_flags_ok(uint32_t flags)
+{
+    const uint32_t finish = (flags & LRT_K_TRACE_FINISH_MASK) >> LRT_K_TRACE_FINISH_SHIFT;
+    return !(flags & ~(LRT_K_TRACE_BUDGET_MASK | LRT_K_TRACE_FINISH_MASK)) && finish <= LRT_K_FINISH_MAX &&
+           (!finish || (flags & LRT_K_TRACE_BUDGET_MASK));
+}
+
 LINEAR_RT_DEF lrt_result lrt_trace_range(const lrt_bvh *bvh, const lrt_depth *depth, const lrt_ray *rays,
                                          lrt_hit *hits, size_t first, size_t end, uint32_t flags)
 {
     size_t stride;
     lrt_result r;
     if ((r = lrt__check_pair(bvh, depth, &stride)) != LRT_SUCCESS) return r;
-    if (flags & ~LRT_K_TRACE_BUDGET_MASK) return LRT_ERROR_INVALID_OPTION; /* the budget's bits only */
+    if (!lrt__trace_flags_ok(flags)) return LRT_ERROR_INVALID_OPTION;
     if (first > end || end - first > LINEAR_RT_MAX_RAYS_PER_CALL) return LRT_ERROR_TOO_MANY_RAYS;
     if (first == end) return LRT_SUCCESS;
     if (!rays || !hits) return LRT_ERROR_NULL_POINTER;
@@ -6462,7 +6570,7 @@ static lrt_result lrt__vk_trace_prepare(lrt_vk_context *ctx, VkCommandBuffer cmd
     lrt_result r;
     t->none = 1;
     if ((r = lrt__vk_check(ctx, cmd, bvh, depth, 0, &t->src)) != LRT_SUCCESS) return r;
-    if (flags & ~LRT_K_TRACE_BUDGET_MASK) return LRT_ERROR_INVALID_OPTION; /* the budget's bits only */
+    if (!lrt__trace_flags_ok(flags)) return LRT_ERROR_INVALID_OPTION;
     if (count > LINEAR_RT_MAX_RAYS_PER_CALL) return LRT_ERROR_TOO_MANY_RAYS;
     if (count == 0) return LRT_SUCCESS;
     if (rays == VK_NULL_HANDLE || hits == VK_NULL_HANDLE) return LRT_ERROR_NULL_POINTER;
@@ -6688,6 +6796,9 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace_compacted(lrt_vk_context *ctx, VkComma
 #define lrt__report_hit lrt__report_hit_avx2
 #define lrt__report_budget lrt__report_budget_avx2
 #define lrt__budget_t lrt__budget_t_avx2
+#define lrt__finish lrt__finish_avx2
+#define lrt__finish_inside lrt__finish_inside_avx2
+#define lrt__finish_texel lrt__finish_texel_avx2
 #define lrt__cull lrt__cull_avx2
 #define lrt__cull_setup lrt__cull_setup_avx2
 #define lrt__cull_slab lrt__cull_slab_avx2

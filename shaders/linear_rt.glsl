@@ -34,7 +34,8 @@
 // lrt_trace_ray_ordinary (a GPU's pass) walks one cell a step instead
 // (lrt_walk_cells), in that same order, so it finds that same texel.
 // lrt_trace_ray_budget caps the node tests of a ray as linear_rt.h's
-// LRT_TRACE_BUDGET does, step for step (LRT_MISS_BUDGET, t proven free).
+// LRT_TRACE_BUDGET does, step for step (LRT_MISS_BUDGET, t proven free),
+// and finishes it as LRT_TRACE_FINISH does (LRT_HIT_ESTIMATE).
 // `precise` keeps compilers from fusing or reordering what must round the
 // way it is written.
 
@@ -51,6 +52,7 @@
 #define LRT_MISS_OFF_SCREEN LRT_K_MISS_OFF_SCREEN
 #define LRT_MISS_INVALID_RAY LRT_K_MISS_INVALID_RAY
 #define LRT_MISS_BUDGET LRT_K_MISS_BUDGET
+#define LRT_HIT_ESTIMATE LRT_K_HIT_ESTIMATE
 #define LRT_FACE_NONE LRT_K_FACE_NONE
 #define LRT_FACE_TOP LRT_K_FACE_TOP
 #define LRT_FACE_SIDE LRT_K_FACE_SIDE
@@ -1263,6 +1265,93 @@ float lrt_budget_t(LrtSetup s, uint lv, uint nx, uint ny, uint eligible, uint fl
     return t > s.t_lo ? t : s.t_lo;
 }
 
+// ---- the finish of a budget (LRT_TRACE_FINISH): a march from the free t,
+// linear_rt.h's lrt__finish step for step (which says what it answers)
+
+// the texel under the point at walk t along one axis: o + t v floored, on
+// the map (a NaN: 0)
+uint lrt_finish_texel(float o, float v, float t, uint size)
+{
+    precise float q = o + t * v;
+    return q >= 1.0 ? (q < float(size) ? uint(q) : size - 1u) : 0u;
+}
+
+// whether the point at walk t lies in the solid of the texel (x, y) under
+// it: that texel's exact test over [t, t]
+bool lrt_finish_inside(LrtParams p, LrtSetup s, float t, out uint x, out uint y)
+{
+    float tt;
+    vec2 planes;
+    x = lrt_finish_texel(s.o.x, s.v.x, t, p.width);
+    y = lrt_finish_texel(s.o.y, s.v.y, t, p.height);
+    return lrt_test_texel(p, s, x, y, t, t, tt, planes);
+}
+
+// samples at t0 + k (t1 - t0) 2^-n, k = 0 .. 2^n (finish: n + 1), t1 the
+// segment's end; at the first inside, bisections with the sample before.
+// true with the texel of the last sample inside, its t and the face guessed
+bool lrt_finish(LrtParams p, LrtSetup s, uint finish, float t0, out uint hx, out uint hy, out float ht, out uint face)
+{
+    uint n = min(finish - 1u, LRT_K_FINISH_MAX - 1u), steps = 1u << n; // (an engine's own flags: at most 2^7)
+    float t1 = s.t_hi > t0 ? s.t_hi : t0;
+    precise float dt = (t1 - t0) * lrt_pow2(-int(n));
+    float lo = t0, hi = t0;
+    uint x = lrt_finish_texel(s.o.x, s.v.x, t0, p.width), y = lrt_finish_texel(s.o.y, s.v.y, t0, p.height);
+    uint lx = x, ly = y, k = 0u;
+    bool inside = false;
+    for (; k <= steps && !inside; ++k) { // [lo, hi]: the sample before, this one
+        lo = hi;
+        lx = x;
+        ly = y;
+        precise float at = t0 + dt * float(k);
+        hi = k == steps ? t1 : at;
+        inside = lrt_finish_inside(p, s, hi, x, y);
+    }
+    for (uint b = 0u; inside && k > 1u && b < LRT_K_FINISH_BISECTIONS; ++b) {
+        precise float mid = 0.5 * (lo + hi);
+        uint mx, my;
+        if (lrt_finish_inside(p, s, mid, mx, my)) {
+            hi = mid;
+            x = mx;
+            y = my;
+        } else {
+            lo = mid;
+            lx = mx;
+            ly = my;
+        }
+    }
+    hx = x;
+    hy = y;
+    ht = hi;
+    face = lx == x && ly == y ? (s.neg.z != 0u ? LRT_FACE_BACK : LRT_FACE_TOP) : LRT_FACE_SIDE;
+    return inside;
+}
+
+// a budget's stop at walk t, proven free before it, told in the caller's
+// ray: its finish's estimate (finish: the trace flags' field), or a budget miss
+LrtHit lrt_report_budget(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, float t, float tmin, float tmax, uint finish)
+{
+    LrtHit hit;
+    hit.x = 0u;
+    hit.y = 0u;
+    hit.kind = LRT_MISS_BUDGET;
+    hit.face = LRT_FACE_NONE;
+    float at;
+    uint x, y, face;
+    // (nested: HLSL's && evaluates both sides, and a finish of 0 would march 2^31 steps)
+    if (finish != 0u) {
+        if (lrt_finish(p, s, finish, t, x, y, at, face)) {
+            t = at;
+            hit.x = x;
+            hit.y = y;
+            hit.kind = LRT_HIT_ESTIMATE;
+            hit.face = face;
+        }
+    }
+    hit.t = lrt_ray_t(s, t_exp, scale_normal, t, tmin, tmax);
+    return hit;
+}
+
 // what lrt_walk_origin found
 const uint LRT_WALK_MISS = 0u;
 const uint LRT_WALK_HIT = 1u;
@@ -1406,8 +1495,9 @@ uint lrt_walk_origin(LrtParams p, LrtSetup s, uint top, uint sx, uint sy, uint b
 // copy's code, ray or no ray, and a CPU device for each step of the walk's
 // set-up that a camera ray would skip
 LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, uint kind, float tmin, float tmax,
-                       uint budget, bool walk_one)
+                       uint flags, bool walk_one)
 {
+    uint budget = flags & LRT_K_TRACE_BUDGET_MASK;
     LrtHit hit;
     hit.t = 0.0;
     hit.x = 0u;
@@ -1430,10 +1520,8 @@ LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, ui
     }
     // one exit: the hit's report (its face) stays out of the walk's loop
     if (found == LRT_WALK_HIT) return lrt_report_hit(p, s, t_exp, scale_normal, ht, tmin, tmax, hx, hy, hplanes);
-    if (found == LRT_WALK_BUDGET) {
-        hit.t = lrt_ray_t(s, t_exp, scale_normal, ht, tmin, tmax);
-        kind = LRT_MISS_BUDGET;
-    }
+    if (found == LRT_WALK_BUDGET)
+        return lrt_report_budget(p, s, t_exp, scale_normal, ht, tmin, tmax, flags >> LRT_K_TRACE_FINISH_SHIFT);
     hit.kind = kind;
     return hit;
 }
@@ -1693,25 +1781,28 @@ bool lrt_setup_unless_rare(LrtParams p, vec3 o, float tmin, vec3 v, float tmax, 
 }
 
 // the answer of a cell walk over a set-up ordinary ray (scaled by 2^-e)
-// that found what found says, with its texel, t and planes
+// that found what found says, with its texel, t and planes (flags: the
+// trace flags, whose finish a budget's stop takes)
 LrtHit lrt_cells_answer(LrtParams p, LrtSetup s, int e, uint kind, float tmin, float tmax, uint found, uint hx, uint hy,
-                        float ht, vec2 hplanes)
+                        float ht, vec2 hplanes, uint flags)
 {
     // e <= 125: 2^-e is normal
-    if (found == LRT_WALK_HIT) return lrt_report_hit(p, s, -e, true, ht, tmin, tmax, hx, hy, hplanes);
-    LrtHit hit = lrt_miss(found == LRT_WALK_BUDGET ? LRT_MISS_BUDGET : kind);
-    if (found == LRT_WALK_BUDGET) hit.t = lrt_ray_t(s, -e, true, ht, tmin, tmax);
+    LrtHit hit = lrt_miss(kind);
+    if (found == LRT_WALK_HIT) hit = lrt_report_hit(p, s, -e, true, ht, tmin, tmax, hx, hy, hplanes);
+    else if (found == LRT_WALK_BUDGET)
+        hit = lrt_report_budget(p, s, -e, true, ht, tmin, tmax, flags >> LRT_K_TRACE_FINISH_SHIFT);
     return hit;
 }
 
 // a set-up ordinary thin ray of an infinite tree through the cell walk
-LrtHit lrt_trace_cells(LrtParams p, LrtSetup s, int e, uint kind, float tmin, float tmax, uint budget)
+// (flags: the trace flags, a budget and its finish)
+LrtHit lrt_trace_cells(LrtParams p, LrtSetup s, int e, uint kind, float tmin, float tmax, uint flags)
 {
     uint hx, hy;
     float ht;
     vec2 hplanes;
-    uint found = lrt_walk_cells(p, s, budget, hx, hy, ht, hplanes);
-    return lrt_cells_answer(p, s, e, kind, tmin, tmax, found, hx, hy, ht, hplanes);
+    uint found = lrt_walk_cells(p, s, flags & LRT_K_TRACE_BUDGET_MASK, hx, hy, ht, hplanes);
+    return lrt_cells_answer(p, s, e, kind, tmin, tmax, found, hx, hy, ht, hplanes, flags);
 }
 
 // an ordinary ray, without the rare set-up's code: a shader a fraction of
@@ -1724,16 +1815,16 @@ LrtHit lrt_trace_cells(LrtParams p, LrtSetup s, int e, uint kind, float tmin, fl
 // every other ray: an infinite tree's by the cell walk, a thickness
 // tree's by the 8-child walk, whose wider step pays where each texel test
 // also reads a back (docs/PERFORMANCE.md, what a wave pays)
-LrtHit lrt_trace_ray_ordinary_budget(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, uint budget,
+LrtHit lrt_trace_ray_ordinary_budget(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, uint flags,
                                      out bool rare)
 {
     LrtSetup s;
     uint kind;
     int e;
     if (!lrt_setup_unless_rare(p, origin, tmin, dir, tmax, s, e, kind, rare)) return lrt_miss(kind);
-    if (!LRT_INFINITE_TREES || lrt_has_back(p)) return lrt_trace_setup(p, s, -e, true, kind, tmin, tmax, budget, true);
+    if (!LRT_INFINITE_TREES || lrt_has_back(p)) return lrt_trace_setup(p, s, -e, true, kind, tmin, tmax, flags, true);
     rare = !lrt_walk_cells_takes(s);
-    return rare ? lrt_miss(kind) : lrt_trace_cells(p, s, e, kind, tmin, tmax, budget);
+    return rare ? lrt_miss(kind) : lrt_trace_cells(p, s, e, kind, tmin, tmax, flags);
 }
 
 // the same, the exact walk
@@ -1742,23 +1833,24 @@ LrtHit lrt_trace_ray_ordinary(LrtParams p, vec3 origin, float tmin, vec3 dir, fl
     return lrt_trace_ray_ordinary_budget(p, origin, tmin, dir, tmax, 0u, rare);
 }
 
-// any ray: lrt_trace of linear_rt.h, with a step budget (LRT_TRACE_BUDGET,
-// 0 for none; a ray that needs more gets LRT_MISS_BUDGET). A budget counts
+// any ray: lrt_trace of linear_rt.h, with its trace flags: a step budget
+// (LRT_TRACE_BUDGET, 0 for none; a ray that needs more gets
+// LRT_MISS_BUDGET) and its finish (LRT_TRACE_FINISH). A budget counts
 // the steps of the walk lrt_trace takes: in an infinite tree the cell
 // walk's for the rays it takes (lrt_trace_ray_ordinary_budget), else the
 // 8-child walk's node tests
-LrtHit lrt_trace_ray_budget(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, uint budget)
+LrtHit lrt_trace_ray_budget(LrtParams p, vec3 origin, float tmin, vec3 dir, float tmax, uint flags)
 {
-    if (budget != 0u && LRT_INFINITE_TREES && !lrt_has_back(p)) {
+    if (flags != 0u && LRT_INFINITE_TREES && !lrt_has_back(p)) {
         bool rare;
-        LrtHit hit = lrt_trace_ray_ordinary_budget(p, origin, tmin, dir, tmax, budget, rare);
+        LrtHit hit = lrt_trace_ray_ordinary_budget(p, origin, tmin, dir, tmax, flags, rare);
         if (!rare) return hit;
     }
     LrtSetup s;
     int t_exp; // the set-up scaled t by 2^-t_exp
     uint kind;
     if (!lrt_setup_ray(p, origin, tmin, dir, tmax, s, t_exp, kind)) return lrt_miss(kind);
-    return lrt_trace_setup(p, s, t_exp, false, kind, tmin, tmax, budget, false);
+    return lrt_trace_setup(p, s, t_exp, false, kind, tmin, tmax, flags, false);
 }
 
 // any ray, the exact walk

@@ -46,13 +46,13 @@ void lrt_trace_one(uint idx)
     uint i = pc.ray_first + idx;
     LrtRayIn r = lrt_rays.r[i];
     LrtHit hit;
-    // LRT_TRACE_BUDGET: steps, 0 for none; the exact ordinary pass's a constant 0
-    uint budget = lrt_trace_pass == 0u ? 0u : pc.trace_flags & LRT_K_TRACE_BUDGET_MASK;
+    // the trace flags (LRT_TRACE_BUDGET, LRT_TRACE_FINISH); the exact ordinary pass's a constant 0
+    uint flags = lrt_trace_pass == 0u ? 0u : pc.trace_flags;
     if (lrt_trace_pass == 1u || lrt_trace_pass == 2u) {
-        hit = lrt_trace_ray_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget);
+        hit = lrt_trace_ray_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, flags);
     } else {
         bool rare; // an infinite tree's rays walk cells; a thickness tree's the 8-child walk
-        hit = lrt_trace_ray_ordinary_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget, rare);
+        hit = lrt_trace_ray_ordinary_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, flags, rare);
         if (rare) {
             lrt_hits.h[i] = uvec4(0u, 0u, 0u, LRT_RARE_MARK);
             return;
@@ -125,7 +125,7 @@ void lrt_trace_round(uint idx)
         lrt_scratch.q[LRT_LISTS + (round & 1u) * pc.ray_count + n] = lrt_list_entry(i, c);
         return;
     }
-    LrtHit hit = lrt_cells_answer(p, s, e, kind, r.tmin, r.tmax, found, hx, hy, ht, hplanes);
+    LrtHit hit = lrt_cells_answer(p, s, e, kind, r.tmin, r.tmax, found, hx, hy, ht, hplanes, pc.trace_flags);
     lrt_hits.h[pc.ray_first + i] = uvec4(floatBitsToUint(hit.t), hit.x, hit.y, lrt_hit_word3(hit));
 }
 

@@ -1070,6 +1070,13 @@ static void test_bad_arguments(void)
     CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, LRT_TRACE_BUDGET(LRT_TRACE_BUDGET_MAX + 1u)) == LRT_ERROR_INVALID_OPTION,
           "trace budget past LRT_TRACE_BUDGET_MAX");
     CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, LRT_TRACE_BUDGET(LRT_TRACE_BUDGET_MAX)) == LRT_SUCCESS, "trace budget max");
+    CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, LRT_TRACE_FINISH(3)) == LRT_ERROR_INVALID_OPTION, "trace finish without a budget");
+    CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, LRT_TRACE_BUDGET(4) | LRT_TRACE_FINISH(8)) == LRT_ERROR_INVALID_OPTION,
+          "trace finish of 2^8 samples");
+    CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, LRT_TRACE_BUDGET(4) | 0x100000u) == LRT_ERROR_INVALID_OPTION,
+          "trace flag past the finish's bits");
+    CHECK(lrt_trace(&bvh, &dm, &ray, &hit, 1, LRT_TRACE_BUDGET(4) | LRT_TRACE_FINISH(7)) == LRT_SUCCESS,
+          "trace finish of 2^7 samples");
     CHECK(lrt_trace(&bvh, &dm, &ray, &hit, (size_t)LINEAR_RT_MAX_RAYS_PER_CALL + 1, 0) == LRT_ERROR_TOO_MANY_RAYS,
           "too many rays");
     CHECK(lrt_trace_range(&bvh, &dm, &ray, &hit, 2, 1, 0) == LRT_ERROR_TOO_MANY_RAYS, "range end before first");
@@ -1145,6 +1152,47 @@ static void test_camera_planes(void)
 }
 
 /* ---- 1d. a step budget (LRT_TRACE_BUDGET) ---------------------------------------- */
+/* A budget's finish (LRT_TRACE_FINISH(finish)) against the budget alone
+   (budgeted): a ray the budget did not stop gets the same answer bit for
+   bit, one it stopped the same budget miss or an estimate at or past the
+   budget miss's t (proven free up to there), on the map, with a face, whose
+   point lies in its texel's column and at or below its depth (within what
+   a float t tells of the point). Counts the estimates and those on the exact hit's texel. */
+static void finish_check(const test_map *m, const lrt_ray *rays, const lrt_hit *exact, const lrt_hit *budgeted, size_t n,
+                         const lrt_bvh *bvh, uint32_t budget, uint32_t finish, size_t *estimated, size_t *on_exact)
+{
+    lrt_hit *fin = (lrt_hit *)malloc(sizeof(lrt_hit) * n);
+    size_t i, changed = 0, bad = 0;
+    const lrt_depth *dm = test_map_depth(m);
+    CHECK(lrt_trace(bvh, dm, rays, fin, n, LRT_TRACE_BUDGET(budget) | LRT_TRACE_FINISH(finish)) == LRT_SUCCESS,
+          "finish %u at budget %u: trace", finish, budget);
+    for (i = 0; i < n; ++i) {
+        const lrt_hit *g = &fin[i], *b = &budgeted[i];
+        const lrt_ray *r = &rays[i];
+        double p[3], slack[3];
+        int k;
+        if (b->kind != LRT_MISS_BUDGET || g->kind == LRT_MISS_BUDGET) {
+            changed += memcmp(g, b, sizeof *g) != 0;
+            continue;
+        }
+        ++*estimated;
+        *on_exact += exact[i].kind == LRT_HIT && exact[i].x == g->x && exact[i].y == g->y;
+        for (k = 0; k < 3; ++k) { /* the point, and what float t and a restart's origin can tell of it */
+            p[k] = (double)r->origin[k] + (double)g->t * r->dir[k];
+            slack[k] = 1e-4 * (1.0 + fabs(p[k])) + 4.0 * FLT_EPSILON * (fabs(r->origin[k]) + fabs(g->t * r->dir[k]));
+        }
+        bad += g->kind != LRT_HIT_ESTIMATE || !(g->t >= b->t && g->t <= r->tmax) || g->x >= dm->width ||
+               g->y >= dm->height || g->face < LRT_FACE_TOP || g->face > LRT_FACE_BACK ||
+               !(p[0] >= (double)g->x - slack[0] && p[0] <= (double)g->x + 1.0 + slack[0]) ||
+               !(p[1] >= (double)g->y - slack[1] && p[1] <= (double)g->y + 1.0 + slack[1]) ||
+               !(p[2] >= (double)depth_at(m, (int)g->x, (int)g->y) - slack[2]);
+    }
+    CHECK(changed == 0, "finish %u at budget %u: %zu answers the budget alone gives otherwise", finish, budget, changed);
+    CHECK(bad == 0, "finish %u at budget %u: %zu estimates before the free t, off the map or outside their texel", finish,
+          budget, bad);
+    free(fin);
+}
+
 /* A ladder of budgets on the demo's kinds of rays: every answer that is not
    a budget miss is the exact one bit for bit; a budget miss has t in
    [tmin, tmax], never past the exact hit (its segment proven free up to
@@ -1152,8 +1200,8 @@ static void test_camera_planes(void)
 static void test_budget(void)
 {
     static const int shapes[] = {SHAPE_SCENE, SHAPE_POLES, SHAPE_NOISE, SHAPE_TERRACES};
-    static const uint32_t ladder[] = {1, 2, 3, 4, 6, 8, 12, 16, 32, 64};
-    size_t c, i, b;
+    static const uint32_t ladder[] = {1, 2, 3, 4, 6, 8, 12, 16, 32, 64}, finishes[] = {0, 3, 5};
+    size_t c, i, b, f, estimated = 0, on_exact = 0;
     for (c = 0; c < 8; ++c) {
         test_map m;
         lrt_bvh bvh = {0};
@@ -1188,8 +1236,14 @@ static void test_budget(void)
             CHECK(bad == 0, "budget %zu at %u: %zu budget misses with a bad t, texel or face", c, ladder[b], bad);
             if (ladder[b] == 1) stopped_at_1 = stopped;
             if (ladder[b] == 64) stopped_at_64 = stopped;
+            for (f = 0; f < 3; ++f) finish_check(&m, rays, exact, hits, n, &bvh, ladder[b], finishes[f], &estimated, &on_exact);
         }
         CHECK(stopped_at_1 > stopped_at_64, "budget %zu: %zu rays stopped at 1, %zu at 64", c, stopped_at_1, stopped_at_64);
+        if (c == 7) {
+            CHECK(estimated > 1000 && on_exact * 4 > estimated,
+                  "finish: %zu estimates, %zu of them on the exact hit's texel", estimated, on_exact);
+            printf("finish: %zu estimates, %zu of them on the exact hit's texel\n", estimated, on_exact);
+        }
         CHECK(lrt_trace(&bvh, test_map_depth(&m), rays, hits, n, LRT_TRACE_BUDGET(LRT_TRACE_BUDGET_MAX)) == LRT_SUCCESS &&
                   memcmp(hits, exact, sizeof(lrt_hit) * n) == 0,
               "budget %zu: the largest budget changes answers", c);

@@ -215,7 +215,7 @@ static trace_stats g_trace_total;
 static int g_flushing;  /* --flushing-device */
 static int g_compacted; /* --compacted: gpu_trace records lrt_vk_cmd_trace_compacted */
 static size_t g_listed[LRT_K_VK_TRACE_ROUNDS - 1u]; /* rays each round left for the next */
-static size_t g_budget_rays, g_budget_stopped; /* budget_case's rays, and its budget misses */
+static size_t g_budget_rays, g_budget_stopped, g_budget_estimates; /* budget_case's rays, its budget misses and estimates */
 static int g_ran_budget_cases;                  /* test_build_and_trace ran: its budget cases must stop some rays */
 
 static int same_answer(const lrt_hit *a, const lrt_hit *b)
@@ -307,25 +307,33 @@ static void judge(const char *what, const test_map *m, const lrt_ray *rays, cons
     if (wrong) printf("  %s: %zu of %zu rays differ from the CPU, %zu of them wrong by the reference\n", what, differ, n, wrong);
 }
 
-/* A step budget (LRT_TRACE_BUDGET), one of a ladder from case to case: the
-   GPU's answers are the CPU's bit for bit (the same steps counted), every
-   answer but a budget miss is the exact one, and a budget miss's t lies in
-   [tmin, tmax] and not after the exact hit. */
+/* A step budget (LRT_TRACE_BUDGET), one of a ladder from case to case, and
+   every other case a finish (LRT_TRACE_FINISH, 2^0, 2^3 or 2^5 steps): the
+   GPU's answers are the CPU's bit for bit (the same steps counted, the same
+   samples), every answer but a budget miss or an estimate is the exact one,
+   and a budget miss's t lies in [tmin, tmax] and not after the exact hit,
+   an estimate's in [tmin, tmax]. */
 static void budget_case(const test_map *m, const lrt_bvh *cpu, const lrt_vk_bvh *gpu, const gpu_depth *g,
                         const lrt_ray *rays, const lrt_hit *exact, size_t n, const char *what)
 {
-    static const uint32_t ladder[] = {1, 2, 3, 5, 8, 13, 21};
+    static const uint32_t ladder[] = {1, 2, 3, 5, 8, 13, 21}, finishes[] = {0, LRT_TRACE_FINISH(0), 0, LRT_TRACE_FINISH(3),
+                                                                              0, LRT_TRACE_FINISH(5)};
     static size_t next;
-    const uint32_t budget = ladder[next++ % (sizeof ladder / sizeof ladder[0])];
+    const uint32_t budget = ladder[next % (sizeof ladder / sizeof ladder[0])];
+    const uint32_t flags = LRT_TRACE_BUDGET(budget) | finishes[next % (sizeof finishes / sizeof finishes[0])];
     lrt_hit *cpu_hits = (lrt_hit *)malloc(sizeof(lrt_hit) * n), *gpu_hits = (lrt_hit *)malloc(sizeof(lrt_hit) * n);
     size_t i, differ = 0, not_exact = 0, bad_t = 0, stopped = 0;
     char name[300];
-    snprintf(name, sizeof name, "%s budget %u", what, budget);
-    CHECK(lrt_trace(cpu, test_map_depth(m), rays, cpu_hits, n, LRT_TRACE_BUDGET(budget)) == LRT_SUCCESS, "%s: CPU trace", name);
-    if (gpu_trace(gpu, g, rays, gpu_hits, n, 0, LRT_TRACE_BUDGET(budget), name) == 0) {
+    ++next;
+    snprintf(name, sizeof name, "%s budget %u flags %#x", what, budget, flags);
+    CHECK(lrt_trace(cpu, test_map_depth(m), rays, cpu_hits, n, flags) == LRT_SUCCESS, "%s: CPU trace", name);
+    if (gpu_trace(gpu, g, rays, gpu_hits, n, 0, flags, name) == 0) {
         for (i = 0; i < n; ++i) {
             differ += memcmp(&gpu_hits[i], &cpu_hits[i], sizeof cpu_hits[i]) != 0;
-            if (cpu_hits[i].kind == LRT_MISS_BUDGET) {
+            if (cpu_hits[i].kind == LRT_HIT_ESTIMATE) {
+                ++g_budget_estimates;
+                bad_t += !(cpu_hits[i].t >= rays[i].tmin && cpu_hits[i].t <= rays[i].tmax);
+            } else if (cpu_hits[i].kind == LRT_MISS_BUDGET) {
                 ++stopped;
                 bad_t += !(cpu_hits[i].t >= rays[i].tmin && cpu_hits[i].t <= rays[i].tmax) ||
                          (exact[i].kind == LRT_HIT && cpu_hits[i].t > exact[i].t);
@@ -335,7 +343,8 @@ static void budget_case(const test_map *m, const lrt_bvh *cpu, const lrt_vk_bvh 
         }
         CHECK(differ == 0, "%s: %zu of %zu GPU answers not bit-identical to the CPU's", name, differ, n);
         CHECK(not_exact == 0, "%s: %zu answers that are not budget misses differ from the exact walk's", name, not_exact);
-        CHECK(bad_t == 0, "%s: %zu budget misses claim a t past the exact hit or outside [tmin, tmax]", name, bad_t);
+        CHECK(bad_t == 0, "%s: %zu budget misses claim a t past the exact hit or outside [tmin, tmax], or estimates outside it",
+              name, bad_t);
         g_budget_stopped += stopped;
         g_budget_rays += n;
     } else {
@@ -1018,6 +1027,10 @@ static void test_bad_arguments(void)
            "trace: unknown flag");
     EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 1, LRT_TRACE_BUDGET(LRT_TRACE_BUDGET_MAX + 1u)),
            LRT_ERROR_INVALID_OPTION, "trace: a budget past LRT_TRACE_BUDGET_MAX");
+    EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 1, LRT_TRACE_FINISH(2)),
+           LRT_ERROR_INVALID_OPTION, "trace: a finish without a budget");
+    EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, 1, LRT_TRACE_BUDGET(3) | LRT_TRACE_FINISH(8)),
+           LRT_ERROR_INVALID_OPTION, "trace: a finish of 2^8 samples");
     EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &g.depth, rb.buffer, 0, hb.buffer, 0, LINEAR_RT_MAX_RAYS_PER_CALL + 1u, 0),
            LRT_ERROR_TOO_MANY_RAYS, "trace: too many rays");
     EXPECT(lrt_vk_cmd_trace(g_ctx, cmd, &bvh, &g.depth, VK_NULL_HANDLE, 0, hb.buffer, 0, 1, 0), LRT_ERROR_NULL_POINTER,
@@ -1485,10 +1498,10 @@ static void print_trace_summary(void)
               closest - g_trace_total.bit_identical);
     }
     /* a budget case that stopped no ray would not test the stop */
-    printf("  with a step budget: %zu rays, %zu of them budget misses, every answer the CPU's bit for bit\n",
-           g_budget_rays, g_budget_stopped);
-    CHECK(!g_ran_budget_cases || (g_budget_stopped > 0 && g_budget_stopped < g_budget_rays),
-          "budget cases: %zu of %zu rays stopped", g_budget_stopped, g_budget_rays);
+    printf("  with a step budget: %zu rays, %zu of them budget misses, %zu estimates of a finish, every answer the CPU's bit "
+           "for bit\n", g_budget_rays, g_budget_stopped, g_budget_estimates);
+    CHECK(!g_ran_budget_cases || (g_budget_stopped > 0 && g_budget_stopped < g_budget_rays && g_budget_estimates > 0),
+          "budget cases: %zu of %zu rays stopped, %zu estimates", g_budget_stopped, g_budget_rays, g_budget_estimates);
     if (g_compacted) { /* the rounds resumed rays, and some rays reached the last slices */
         printf("  compacted: rays each round left for the next:");
         for (k = 0; k < (int)LRT_K_VK_TRACE_ROUNDS - 1; ++k) printf(" %zu", g_listed[k]);

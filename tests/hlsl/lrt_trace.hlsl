@@ -101,12 +101,12 @@ void lrt_trace_one(uint idx)
     uint i = pc.ray_first + idx;
     LrtRayIn r = lrt_rays[i];
     LrtHit hit;
-    uint budget = lrt_trace_pass == 0u ? 0u : pc.trace_flags & LRT_K_TRACE_BUDGET_MASK;
+    uint flags = lrt_trace_pass == 0u ? 0u : pc.trace_flags;
     if (lrt_trace_pass == 1u || lrt_trace_pass == 2u) {
-        hit = lrt_trace_ray_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget);
+        hit = lrt_trace_ray_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, flags);
     } else {
         bool rare;
-        hit = lrt_trace_ray_ordinary_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, budget, rare);
+        hit = lrt_trace_ray_ordinary_budget(lrt_params(), r.origin, r.tmin, r.dir, r.tmax, flags, rare);
         if (rare) {
             lrt_hits[i] = uint4(0u, 0u, 0u, LRT_RARE_MARK);
             return;
@@ -178,7 +178,7 @@ void lrt_trace_round(uint idx)
         lrt_scratch.Store4(16u * (LRT_LISTS + (round & 1u) * pc.ray_count + n), lrt_list_entry(i, c));
         return;
     }
-    LrtHit hit = lrt_cells_answer(p, s, e, kind, r.tmin, r.tmax, found, hx, hy, ht, hplanes);
+    LrtHit hit = lrt_cells_answer(p, s, e, kind, r.tmin, r.tmax, found, hx, hy, ht, hplanes, pc.trace_flags);
     lrt_hits[pc.ray_first + i] = uint4(asuint(hit.t), hit.x, hit.y, lrt_hit_word3(hit));
 }
 
