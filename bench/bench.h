@@ -39,6 +39,8 @@ static inline uint32_t bench_lrt_thickness(const bench_scene *sc)
 }
 
 enum { BENCH_ANY_HIT = 1u }; /* bench_rays.flags: occlusion; any hit will do */
+/* the finish the benchmark's linear_rt budgets take (budgeted 2): 16 steps, as march16 */
+#define BENCH_FINISH LRT_TRACE_FINISH(4)
 
 typedef struct bench_rays {
     const char *name;        /* "primary", "reflection", "ao", "shadow", "segments", ... */
@@ -52,7 +54,9 @@ struct bench_method {
     const char *name;        /* short, unique, for tables and the chart: "linear_rt cpu 16", "embree", "march64 cpu" */
     const char *device;      /* "cpu" or "vulkan" */
     int exact;               /* 1: must agree with the reference on every ray (docs/MODEL.md); 0: scored */
-    int budgeted;            /* linear_rt with a step budget: scored by docs/MODEL.md's rule, a budget miss wrong */
+    int budgeted;            /* linear_rt with a step budget: 1 scored by docs/MODEL.md's rule, a budget miss wrong;
+                                2 with a finish: an estimate and a budget miss (read as the miss the ray's point at
+                                tmax tells) scored as the marches' answers are, the rest by that rule */
     void *impl;              /* the method's own state */
 
     /* Makes the method ready (pipelines, devices), once; width and height

@@ -32,7 +32,7 @@
 /* ---- CPU --------------------------------------------------------------------- */
 typedef struct lrt_cpu {
     uint32_t node_bits;
-    uint32_t budget; /* LRT_TRACE_BUDGET's steps, 0: the exact walk */
+    uint32_t flags; /* trace flags: 0 the exact walk, or a step budget and maybe its finish */
     int threads;
     lrt_bvh bvh;
     int built;
@@ -88,9 +88,8 @@ static int cpu_trace(bench_method *m, const bench_scene *sc, const bench_rays *r
                      char *why, size_t n)
 {
     lrt_cpu *c = (lrt_cpu *)m->impl;
-    uint32_t flags = LRT_TRACE_BUDGET(c->budget); /* closest hit for every set: the first hit the walk finds is the closest */
-    double t0 = bench_now_ms();
-    lrt_result r = trace_threads(&c->bvh, bench_lrt_depth(sc), rs->rays, hits, rs->count, flags, c->threads);
+    double t0 = bench_now_ms(); /* closest hit for every set: the first hit the walk finds is the closest */
+    lrt_result r = trace_threads(&c->bvh, bench_lrt_depth(sc), rs->rays, hits, rs->count, c->flags, c->threads);
     *ms = bench_now_ms() - t0;
     if (r != LRT_SUCCESS) {
         snprintf(why, n, "lrt_trace_range: %s", lrt_result_string(r));
@@ -115,21 +114,25 @@ int bench_add_linear_rt_cpu_native(bench_method *out, int max)
 int bench_add_linear_rt_cpu(bench_method *out, int max)
 #endif
 {
-    /* the exact walk with 16- and 8-bit nodes, then 16-bit nodes at a ladder of step budgets */
-    static const char *names[6] = {"linear_rt cpu 16" BENCH_NAME_SUFFIX,          "linear_rt cpu 8" BENCH_NAME_SUFFIX,
-                                   "linear_rt cpu 16 budget 4" BENCH_NAME_SUFFIX,  "linear_rt cpu 16 budget 8" BENCH_NAME_SUFFIX,
-                                   "linear_rt cpu 16 budget 16" BENCH_NAME_SUFFIX, "linear_rt cpu 16 budget 32" BENCH_NAME_SUFFIX};
+    /* the exact walk with 16- and 8-bit nodes, then 16-bit nodes at a ladder of step budgets, without and with a
+       finish of 16 steps (BENCH_FINISH) */
+    static const char *names[10] = {
+        "linear_rt cpu 16" BENCH_NAME_SUFFIX,           "linear_rt cpu 8" BENCH_NAME_SUFFIX,
+        "linear_rt cpu 16 budget 4" BENCH_NAME_SUFFIX,  "linear_rt cpu 16 budget 8" BENCH_NAME_SUFFIX,
+        "linear_rt cpu 16 budget 16" BENCH_NAME_SUFFIX, "linear_rt cpu 16 budget 32" BENCH_NAME_SUFFIX,
+        "linear_rt cpu 16 budget 4 finish 16" BENCH_NAME_SUFFIX,  "linear_rt cpu 16 budget 8 finish 16" BENCH_NAME_SUFFIX,
+        "linear_rt cpu 16 budget 16 finish 16" BENCH_NAME_SUFFIX, "linear_rt cpu 16 budget 32 finish 16" BENCH_NAME_SUFFIX};
     int i;
-    for (i = 0; i < 6 && i < max; ++i) {
+    for (i = 0; i < 10 && i < max; ++i) {
         lrt_cpu *c = (lrt_cpu *)calloc(1, sizeof *c);
         memset(&out[i], 0, sizeof out[i]);
         if (!c) return i;
         c->node_bits = i == 1 ? 8u : 16u;
-        c->budget = i < 2 ? 0u : 4u << (i - 2);
+        c->flags = i < 2 ? 0u : LRT_TRACE_BUDGET(4u << ((i - 2) % 4)) | (i >= 6 ? BENCH_FINISH : 0u);
         out[i].name = names[i];
         out[i].device = "cpu";
         out[i].exact = i < 2;
-        out[i].budgeted = i >= 2;
+        out[i].budgeted = i >= 6 ? 2 : i >= 2;
         out[i].impl = c;
         BENCH_METHOD_FUNCTIONS(out[i], cpu);
     }
@@ -140,7 +143,7 @@ int bench_add_linear_rt_cpu(bench_method *out, int max)
 #ifdef BENCH_HAVE_VULKAN
 typedef struct lrt_gpu {
     uint32_t node_bits;
-    uint32_t budget; /* LRT_TRACE_BUDGET's steps, 0: the exact walk */
+    uint32_t flags; /* trace flags: 0 the exact walk, or a step budget and maybe its finish */
     int compacted;   /* lrt_vk_cmd_trace_compacted, in a context of two passes (a CPU device's too) */
     lrt_vku_device dev;
     lrt_vku t;
@@ -174,7 +177,7 @@ static void gpu_release(lrt_gpu *g)
 static int gpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *why, size_t n)
 {
     lrt_gpu *g = (lrt_gpu *)m->impl;
-    uint32_t bits = g->node_bits, budget = g->budget;
+    uint32_t bits = g->node_bits, flags = g->flags;
     int compacted = g->compacted;
     VkQueryPoolCreateInfo qi;
     lrt_result r;
@@ -184,7 +187,7 @@ static int gpu_open(bench_method *m, uint32_t w, uint32_t h, int threads, char *
     if (g->has_dev) return 0;
     gpu_release(g);
     g->node_bits = bits;
-    g->budget = budget;
+    g->flags = flags;
     g->compacted = compacted;
     if ((r = lrt_vku_device_create(&g->dev, 0)) != LRT_SUCCESS) {
         snprintf(why, n, "no Vulkan device: %s", lrt_result_string(r));
@@ -258,10 +261,9 @@ static int gpu_run(lrt_gpu *g, const bench_scene *sc, gpu_op op, uint32_t count,
                 sc.offset = 0;
                 sc.size = g->scratch.size;
                 r = lrt_vk_cmd_trace_compacted(g->ctx, g->t.cmd, &g->bvh, d, g->rays.buffer, 0, g->hits.buffer, 0,
-                                               count, LRT_TRACE_BUDGET(g->budget), &sc);
+                                               count, g->flags, &sc);
             } else {
-                r = lrt_vk_cmd_trace(g->ctx, g->t.cmd, &g->bvh, d, g->rays.buffer, 0, g->hits.buffer, 0, count,
-                                     LRT_TRACE_BUDGET(g->budget));
+                r = lrt_vk_cmd_trace(g->ctx, g->t.cmd, &g->bvh, d, g->rays.buffer, 0, g->hits.buffer, 0, count, g->flags);
             }
         }
     g->t.vkCmdWriteTimestamp(g->t.cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->pool, 1);
@@ -365,22 +367,30 @@ int bench_add_linear_rt_vulkan(bench_method *out, int max)
 {
     /* the last: compacted rounds, which a GPU context runs and a CPU device's (lavapipe: one pass)
        does not, run here in a context of two passes to measure them */
-    static const char *names[7] = {"linear_rt vulkan 16",          "linear_rt vulkan 8",          "linear_rt vulkan 16 budget 4",
-                                   "linear_rt vulkan 16 budget 8", "linear_rt vulkan 16 budget 16", "linear_rt vulkan 16 budget 32",
-                                   "linear_rt vulkan 16 compacted"};
+    static const char *names[11] = {"linear_rt vulkan 16",
+                                    "linear_rt vulkan 8",
+                                    "linear_rt vulkan 16 budget 4",
+                                    "linear_rt vulkan 16 budget 8",
+                                    "linear_rt vulkan 16 budget 16",
+                                    "linear_rt vulkan 16 budget 32",
+                                    "linear_rt vulkan 16 compacted",
+                                    "linear_rt vulkan 16 budget 4 finish 16",
+                                    "linear_rt vulkan 16 budget 8 finish 16",
+                                    "linear_rt vulkan 16 budget 16 finish 16",
+                                    "linear_rt vulkan 16 budget 32 finish 16"};
     int i;
-    for (i = 0; i < 7 && i < max; ++i) {
+    for (i = 0; i < 11 && i < max; ++i) {
         memset(&out[i], 0, sizeof out[i]);
         out[i].name = names[i];
         out[i].device = "vulkan";
         out[i].exact = i < 2 || i == 6;
-        out[i].budgeted = i >= 2 && i < 6;
+        out[i].budgeted = i >= 7 ? 2 : i >= 2 && i < 6;
 #ifdef BENCH_HAVE_VULKAN
         {
             lrt_gpu *g = (lrt_gpu *)calloc(1, sizeof *g);
             if (!g) return i;
             g->node_bits = i == 1 ? 8u : 16u;
-            g->budget = i < 2 || i == 6 ? 0u : 4u << (i - 2);
+            g->flags = i < 2 || i == 6 ? 0u : LRT_TRACE_BUDGET(4u << (i >= 7 ? i - 7 : i - 2)) | (i >= 7 ? BENCH_FINISH : 0u);
             g->compacted = i == 6;
             out[i].impl = g;
             BENCH_METHOD_FUNCTIONS(out[i], gpu);

@@ -29,6 +29,7 @@
 #include "scenes.h"
 #include "../examples/depth_file.h"
 #include "../examples/surface.h"
+#include "../examples/march.h" /* march_miss_kind: the kind of miss a march tells, for a finish's budget miss */
 
 #include <math.h>
 #include <stdio.h>
@@ -384,7 +385,9 @@ typedef struct score {
 } score;
 
 /* exact: 1 docs/MODEL.md's rule; 2 the same, but a budget miss (LRT_MISS_BUDGET) is wrong (a
-   budgeted linear_rt); 0 the plain answer */
+   budgeted linear_rt); 3 a budget with a finish: an estimate (LRT_HIT_ESTIMATE) and a budget
+   miss, read as the miss its ray's point at tmax tells (march_miss_kind, as a march that runs out
+   says), are plain answers, the rest by the rule; 0 the plain answer */
 static void score_set(const scene *sc, const ray_set *rs, const lrt_hit *hits, int exact, score *s)
 {
     size_t q;
@@ -395,9 +398,15 @@ static void score_set(const scene *sc, const ray_set *rs, const lrt_hit *hits, i
         const lrt_hit *a = &hits[i];
         const ref_result *e = &rs->ref[q];
         const int any = (rs->r.flags & BENCH_ANY_HIT) != 0;
+        lrt_hit guess;
         int ok;
         ++s->n;
-        if (exact == 2 && a->kind == LRT_MISS_BUDGET) {
+        if (exact == 3 && (a->kind == LRT_HIT_ESTIMATE || a->kind == LRT_MISS_BUDGET)) {
+            guess = *a;
+            guess.kind = (uint16_t)(a->kind == LRT_HIT_ESTIMATE ? (uint32_t)LRT_HIT : march_miss_kind(r, sc->s.width, sc->s.height));
+            a = &guess;
+            ok = (int)a->kind == e->kind && (any || e->kind != REF_HIT || ((int)a->x == e->x && (int)a->y == e->y));
+        } else if (exact == 2 && a->kind == LRT_MISS_BUDGET) {
             ok = 0;
         } else if (exact) { /* docs/MODEL.md's rule, perturbations and all */
             ref_ray rr = ref_ray_of(r);
@@ -958,7 +967,7 @@ static void run_methods(bench_method *const *m, int nm, const scene *sc, ray_set
             r[j]->update_ms = median(upd[j], o->runs);
             r[j]->trace_ms = median(t[j], o->runs);
             r[j]->bytes_per_texel = (double)m[j]->memory_bytes(m[j]) / ((double)sc->s.width * sc->s.height);
-            score_set(sc, &sets[s], hits, m[j]->exact ? 1 : m[j]->budgeted ? 2 : 0, &r[j]->sc);
+            score_set(sc, &sets[s], hits, m[j]->exact ? 1 : m[j]->budgeted == 2 ? 3 : m[j]->budgeted ? 2 : 0, &r[j]->sc);
         }
     }
 }
@@ -1307,7 +1316,8 @@ static void time_thickness_models(const scene *sc, const options *o)
 
 /* Speed against accuracy, per scene, secondary set and device column: is
    every other method's point dominated by one of linear_rt's (the exact
-   walks and the step budgets), at least as right and at least as fast?
+   walks, the step budgets and the budgets with a finish), at least as right
+   and at least as fast?
    A row with nothing else run counts as neither. Returns the rows
    dominated, *rows the rows with a peer; *exact_only those the exact
    walks alone dominate. */
@@ -1325,7 +1335,8 @@ static int write_dominance(FILE *md, int *rows, int *exact_only)
     }
     fprintf(md, "\n## linear_rt's curve: speed against accuracy, per scene and secondary set\n\n"
                 "A row is dominated when every other method's point (M rays/s, right %%) on that device has a linear_rt "
-                "point (an exact walk or a step budget) at least as fast and at least as right. Not dominated: the "
+                "point (an exact walk, a step budget, or a budget with a finish) at least as fast and at least as right. "
+                "Not dominated: the "
                 "peers no linear_rt point reaches, with their M rays/s and right %%.\n\n");
     fprintf(md, "| device | scene | rays | dominated | by the exact walk alone | peers not dominated |\n|---|---|---|---|---|---|\n");
     for (d = 0; d < 2; ++d)
@@ -1651,11 +1662,15 @@ static int chart(const options *o, const char *machine)
         for (i = 0; i < n; ++i) fprintf(gp, "%.6g %.6g\n", panel[i].mrays, panel[i].right);
         fprintf(gp, "EOD\n$F%d << EOD\n", d);
         for (i = nf - 1; i >= 0; --i) fprintf(gp, "%.6g %.6g\n", front[i].mrays, front[i].right);
-        /* linear_rt's curve: its 16-bit walk exact and at each step budget, by speed */
+        /* linear_rt's curve: the front of its 16-bit walk's points (exact, each step budget, each
+           with a finish), by speed: each point more right than every faster one */
         fprintf(gp, "EOD\n$L%d << EOD\n", d);
         for (i = nf = 0; i < n; ++i)
             if (!strncmp(panel[i].method, "linear_rt", 9) && strstr(panel[i].method, " 16")) curve[nf++] = panel[i];
         qsort(curve, (size_t)nf, sizeof(chart_point), chart_by_speed_desc);
+        for (i = k = 0; i < nf; ++i)
+            if (k == 0 || curve[i].right > curve[k - 1].right) curve[k++] = curve[i];
+        nf = k;
         for (i = 0; i < nf; ++i) fprintf(gp, "%.6g %.6g\n", curve[i].mrays, curve[i].right);
         fprintf(gp, "EOD\nset title '%s'\n", titles[d]);
         if (!n) { /* nothing ran on this device: an empty panel that says so */
@@ -1664,7 +1679,7 @@ static int chart(const options *o, const char *machine)
         }
         fprintf(gp, "plot $F%d using 1:2 with lines lc rgb '#888888' lw 2 dt 2 title 'Pareto front'", d);
         if (nf > 1)
-            fprintf(gp, ", \\\n  $L%d using 1:2 with lines lc rgb '%s' lw 2 title 'linear_rt 16: step budgets 4 to 32, and exact'", d,
+            fprintf(gp, ", \\\n  $L%d using 1:2 with lines lc rgb '%s' lw 2 title 'linear_rt 16: its front (exact, budgets 4 to 32, with and without a finish)'", d,
                     chart_colour("linear_rt"));
         for (i = 0; i < n; ++i) {
             int member = 0;
