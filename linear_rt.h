@@ -1088,6 +1088,9 @@ static int lrt__cpu_has_avx2(void)
 #ifndef LINEAR_RT_COUNT_TEXEL_TEST
 #define LINEAR_RT_COUNT_TEXEL_TEST() ((void)0)
 #endif
+#ifndef LINEAR_RT_COUNT_FINISH_SAMPLE
+#define LINEAR_RT_COUNT_FINISH_SAMPLE() ((void)0)
+#endif
 
 #ifndef LINEAR_RT_ASSERT
 #include <assert.h>
@@ -4295,6 +4298,7 @@ LRT__FORCE_INLINE int lrt__finish_inside(const lrt__walk *w, const lrt__ray_setu
 {
     float tt, planes[2];
     uint32_t code = 0u;
+    LINEAR_RT_COUNT_FINISH_SAMPLE();
     *x = lrt__finish_texel(s->o[0], s->v[0], t, w->L->width);
     *y = lrt__finish_texel(s->o[1], s->v[1], t, w->L->height);
     if (w->exact_codes) code = *lrt__codes(w, lrt__node_slot(w, 1, *x >> 2, *y >> 1) + (((*y & 1u) << 2) | (*x & 3u)));

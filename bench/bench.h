@@ -162,6 +162,9 @@ int bench_wave_linear_rt(const bench_scene *scene, const bench_rays *rays, uint3
 /* bench_wave_cells: the exact ordinary pass's cell walk (one cell or texel
    a step), each hit checked against lrt_trace's (1 where one differs) */
 int bench_wave_cells(const bench_scene *scene, const bench_rays *rays, uint32_t node_bits, uint32_t *steps, double *texels);
+/* bench_finish_samples: each ray's samples in the finish of a step budget
+   (LRT_TRACE_BUDGET(budget) | BENCH_FINISH), 0 where the budget did not stop it */
+int bench_finish_samples(const bench_scene *scene, const bench_rays *rays, uint32_t budget, uint32_t *samples);
 int bench_wave_march(const bench_scene *scene, const bench_rays *rays, int which, uint32_t *steps);
 void bench_wave_stats(const uint32_t *steps, size_t n, uint32_t wave, double *mean, double *wave_mean);
 /* bench_wave_march_blocks: of the 64-step march's steps (bench_wave_march,

@@ -87,6 +87,8 @@ typedef struct gs_row {
                                s_cbranch_execz jumps over, outermost ones, the inner loop's aside) */
     unsigned isa_exit;      /* of those, the blocks that store a result (the innermost skipped block around
                                each store): a lane runs them once, as it leaves */
+    unsigned isa_aside;     /* the largest loading loop outside the outermost one (a budget's finish: its
+                               march after the walk), its body; 0: none */
 } gs_row;
 
 enum { GS_MAX_ROWS = 64 };
@@ -188,7 +190,7 @@ static void gs_loops(const char *text, gs_row *row)
     static size_t len[MAX_LINES];
     static int label_line[4096];
     size_t n = 0, k;
-    int heads_a[512], heads_b[512], nheads = 0, h, outer = -1, inner = -1;
+    int heads_a[512], heads_b[512], nheads = 0, h, outer = -1, inner = -1, aside = -1;
     const char *p = text;
     memset(label_line, -1, sizeof label_line);
     while (*p && n < MAX_LINES) {
@@ -232,8 +234,12 @@ static void gs_loops(const char *text, gs_row *row)
         if (h != outer && heads_b[h] >= heads_a[h] && heads_a[h] > heads_a[outer] && heads_b[h] < heads_b[outer] &&
             (inner < 0 || heads_b[h] - heads_a[h] > heads_b[inner] - heads_a[inner]))
             inner = h;
+    for (h = 0; outer >= 0 && h < nheads; ++h) /* beside the walk: before or after its loop */
+        if (h != outer && heads_b[h] >= heads_a[h] && (heads_a[h] > heads_b[outer] || heads_b[h] < heads_a[outer]) &&
+            (aside < 0 || heads_b[h] - heads_a[h] > heads_b[aside] - heads_a[aside]))
+            aside = h;
     row->isa_total = row->isa_outer = row->isa_inner = row->loads_outer = row->loads_inner = row->isa_skippable = 0;
-    row->isa_exit = 0;
+    row->isa_exit = row->isa_aside = 0;
     if (outer >= 0) { /* the exits: the innermost execz-skipped block around each store in the loop */
         int ra[256], rb[256], nr = 0, used[256], r2;
         for (k = (size_t)heads_a[outer]; (int)k <= heads_b[outer] && nr < 256; ++k) {
@@ -273,6 +279,7 @@ static void gs_loops(const char *text, gs_row *row)
         in_outer = outer >= 0 && (int)k >= heads_a[outer] && (int)k <= heads_b[outer];
         in_inner = inner >= 0 && (int)k >= heads_a[inner] && (int)k <= heads_b[inner];
         ++row->isa_total;
+        row->isa_aside += (unsigned)(aside >= 0 && (int)k >= heads_a[aside] && (int)k <= heads_b[aside]);
         row->isa_outer += (unsigned)in_outer;
         row->isa_inner += (unsigned)in_inner;
         if (gs_is_load(line[k], len[k])) {
@@ -1052,8 +1059,9 @@ static int gs_write_weights(const char *path, const char *gpu)
     for (i = 0; i < gs_row_count; ++i) {
         const gs_row *r = &gs_rows[i];
         if (r->why[0] || r->left_out || !r->has_isa) continue;
-        fprintf(f, "%s\t%s\t%llu\t%llu\t%llu\t%u\t%u\t%u\t%u\t%u\t%u\n", gpu, r->name, r->v[GS_INSTR], r->v[GS_VGPR],
-                r->v[GS_WAVES], r->isa_outer, r->isa_inner, r->loads_outer, r->loads_inner, r->isa_skippable, r->isa_exit);
+        fprintf(f, "%s\t%s\t%llu\t%llu\t%llu\t%u\t%u\t%u\t%u\t%u\t%u\t%u\n", gpu, r->name, r->v[GS_INSTR], r->v[GS_VGPR],
+                r->v[GS_WAVES], r->isa_outer, r->isa_inner, r->loads_outer, r->loads_inner, r->isa_skippable, r->isa_exit,
+                r->isa_aside);
     }
     return fclose(f) != 0;
 }
@@ -1187,7 +1195,8 @@ int main(int argc, char **argv)
                        "# bench/gpu_stats.c --weights: gpu pipeline instructions vgprs waves_per_simd loop_body inner_loop "
                        "loop_loads inner_loads loop_skippable loop_exits (static counts of the compiled code; loops from "
                        "its branches; skippable: the loop body's blocks a wave jumps over when no lane enters them; "
-                       "exits: those that store a result, run once by a lane as it leaves)\n")))
+                       "exits: those that store a result, run once by a lane as it leaves; aside_loop: the largest "
+                       "loading loop beside the outermost, a budget's finish)\n")))
         return 1;
     fflush(stdout);
     for (i = 0; i < ngpu; ++i) {

@@ -505,6 +505,7 @@ typedef struct wave_weight {
     /* read from the weights file: instructions and loads per step, and per texel test */
     double node, texel, node_loads, texel_loads;
     double loop, exits; /* the loop body's instructions, and of them its exit blocks (a lane's last trip) */
+    double aside;       /* the largest loading loop beside the walk's, its body: a budget's finish, a sample a trip */
     int waves;          /* waves per SIMD the registers allow */
     int read;
 } wave_weight;
@@ -526,18 +527,18 @@ typedef struct wave_weight {
    runs those blocks once per trip in which some lane leaves
    (bench_wave_exits, bench_wave_march_blocks), which the estimate counts. */
 static wave_weight wave_weights[] = {
-    {"linear_rt vulkan 16", "linear_rt trace buffer", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
-    {"linear_rt vulkan 8", "linear_rt trace buffer", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
-    {"linear_rt vulkan 16 back", "linear_rt trace buffer, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
-    {"linear_rt vulkan 8 back", "linear_rt trace buffer, back 8-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
-    {"linear_rt vulkan 16 budget", "linear_rt trace buffer, budgeted", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
-    {"linear_rt vulkan 16 budget back", "linear_rt trace buffer, budgeted, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16", "linear_rt trace buffer", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 8", "linear_rt trace buffer", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16 back", "linear_rt trace buffer, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 8 back", "linear_rt trace buffer, back 8-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16 budget", "linear_rt trace buffer, budgeted", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16 budget back", "linear_rt trace buffer, budgeted, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
     /* the 8-child walk uncut, as the one-pass kernel the H200 ran walked every ray */
-    {"linear_rt vulkan 16 8-child", "linear_rt trace buffer, one pass", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
-    {"linear_rt vulkan 16 8-child back", "linear_rt trace buffer, one pass, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
-    {"march64 vulkan", "bench march64", 0, 9.0, 0, 0, 0, 0, 0, 0, 0, 0},
-    {"dda vulkan", "bench dda", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
-    {"hiz64 vulkan", "bench hiz64", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16 8-child", "linear_rt trace buffer, one pass", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"linear_rt vulkan 16 8-child back", "linear_rt trace buffer, one pass, back 16-bit", 1, 1.0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"march64 vulkan", "bench march64", 0, 9.0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"dda vulkan", "bench dda", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {"hiz64 vulkan", "bench hiz64", 0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
 };
 #define WAVE_WEIGHTS ((int)(sizeof wave_weights / sizeof wave_weights[0]))
 static int g_have_weights;
@@ -553,7 +554,7 @@ static int load_weights(const char *path, const char *gpu)
     while (fgets(line, sizeof line, f)) {
         char g[32], name[128];
         unsigned long long instr, vgprs, waves;
-        unsigned body, inner, loads, inner_loads, skippable = 0, exits = 0;
+        unsigned body, inner, loads, inner_loads, skippable = 0, exits = 0, aside = 0;
         char *tab = strchr(line, '\t'), *tab2;
         if (line[0] == '#' || !tab || (size_t)(tab - line) >= sizeof g) continue;
         memcpy(g, line, (size_t)(tab - line));
@@ -562,8 +563,8 @@ static int load_weights(const char *path, const char *gpu)
         if (!tab2 || (size_t)(tab2 - tab - 1) >= sizeof name || strcmp(g, gpu)) continue;
         memcpy(name, tab + 1, (size_t)(tab2 - tab - 1));
         name[tab2 - tab - 1] = 0;
-        if (sscanf(tab2 + 1, "%llu %llu %llu %u %u %u %u %u %u", &instr, &vgprs, &waves, &body, &inner, &loads, &inner_loads,
-                   &skippable, &exits) < 7)
+        if (sscanf(tab2 + 1, "%llu %llu %llu %u %u %u %u %u %u %u", &instr, &vgprs, &waves, &body, &inner, &loads,
+                   &inner_loads, &skippable, &exits, &aside) < 7)
             continue;
         for (k = 0; k < WAVE_WEIGHTS; ++k) {
             wave_weight *w = &wave_weights[k];
@@ -574,6 +575,7 @@ static int load_weights(const char *path, const char *gpu)
             w->texel_loads = w->split ? (double)inner_loads : 0.0;
             w->loop = (double)body;
             w->exits = w->split ? 0.0 : (double)exits;
+            w->aside = (double)aside;
             w->waves = (int)waves;
             w->read = body > 0;
         }
@@ -595,6 +597,7 @@ typedef struct wave_row {
     const char *scene, *set, *method;
     double mean, wave, wave64, texels, estimate; /* texels: linear_rt's texel tests per node test */
     double trips, refine_trips; /* a wave32's loop trips, and trips in which a lane left (the march: refined) */
+    double finish_trips;        /* a budget's finish: a wave32's most samples, a trip each of the loop beside */
     double loads;                                /* loads a wave issues per ray (wave32 steps x a step's loads) */
 } wave_row;
 #define MAX_WAVES 512
@@ -624,6 +627,7 @@ static void wave_estimate(const wave_weight *ww, wave_row *w)
     if (!g_have_weights || !ww->read) return;
     w->estimate = ww->exits > 0.0 ? w->trips * (ww->loop - ww->exits) + w->refine_trips * ww->exits
                                   : w->wave * (ww->node + ww->texel * w->texels);
+    w->estimate += w->finish_trips * ww->aside; /* after the walk's loop: a wave's most samples */
     w->estimate *= occupancy;
     w->loads = w->wave * (ww->node_loads + ww->texel_loads * w->texels);
 }
@@ -632,13 +636,19 @@ static void wave_estimate(const wave_weight *ww, wave_row *w)
    pass is the exact pass's walk cut short (an infinite tree's cell walk, a
    thickness tree's 8-child walk), so a ray's steps are min(steps, budget)
    of that walk's (the 8-child walk's texel tests per node test taken as
-   the uncut walk's) */
+   the uncut walk's). With a finish (BENCH_FINISH), each stopped ray's
+   samples (bench_finish_samples), each a trip of the loop beside the
+   walk's (gpu_stats' aside loop), after the walk's loop; none without that
+   loop's weight. */
 static void budget_waves(const scene *sc, const bench_rays *rs, const uint32_t *steps, double texels)
 {
     static const char *const names[4] = {"linear_rt vulkan 16 budget 4", "linear_rt vulkan 16 budget 8",
                                          "linear_rt vulkan 16 budget 16", "linear_rt vulkan 16 budget 32"};
+    static const char *const finished[4] = {"linear_rt vulkan 16 budget 4 finish 16", "linear_rt vulkan 16 budget 8 finish 16",
+                                            "linear_rt vulkan 16 budget 16 finish 16", "linear_rt vulkan 16 budget 32 finish 16"};
     const wave_weight *ww = weight_of("linear_rt vulkan 16 budget", sc->s.back != NULL);
     uint32_t *capped = (uint32_t *)malloc(sizeof(uint32_t) * rs->count);
+    uint32_t *samples = (uint32_t *)malloc(sizeof(uint32_t) * rs->count);
     size_t q;
     int b;
     for (b = 0; capped && ww && b < 4 && g_nwaves < MAX_WAVES; ++b) {
@@ -653,8 +663,17 @@ static void budget_waves(const scene *sc, const bench_rays *rs, const uint32_t *
         w->texels = texels;
         w->trips = w->wave, w->refine_trips = 0.0;
         wave_estimate(ww, w);
+        if (samples && ww->aside > 0.0 && g_nwaves < MAX_WAVES && bench_finish_samples(&sc->s, rs, budget, samples) == 0) {
+            wave_row *f = &g_waves[g_nwaves++];
+            double mean;
+            *f = *w;
+            f->method = finished[b];
+            bench_wave_stats(samples, rs->count, WAVE_LANES, &mean, &f->finish_trips);
+            wave_estimate(ww, f);
+        }
     }
     free(capped);
+    free(samples);
 }
 
 static void make_dirs(const char *dir);
@@ -763,13 +782,20 @@ static double right_of(const char *method, const char *scene_name, const char *s
 
 /* linear_rt's curve on the GPU estimate: on each scene's secondary sets, is
    every Vulkan march's point (estimate, right %) matched by a linear_rt
-   vulkan 16 point (exact or a step budget) with an estimate no larger and a
+   vulkan 16 point (exact, a step budget, or one with a finish) with an estimate no larger and a
    right % no lower? Needs the run's scores (not with --only-counts). */
 static void write_wave_dominance(FILE *f)
 {
     static const char *const peers[3] = {"march64 vulkan", "dda vulkan", "hiz64 vulkan"};
-    static const char *const ours[5] = {"linear_rt vulkan 16", "linear_rt vulkan 16 budget 4", "linear_rt vulkan 16 budget 8",
-                                        "linear_rt vulkan 16 budget 16", "linear_rt vulkan 16 budget 32"};
+    static const char *const ours[9] = {"linear_rt vulkan 16",
+                                        "linear_rt vulkan 16 budget 4",
+                                        "linear_rt vulkan 16 budget 8",
+                                        "linear_rt vulkan 16 budget 16",
+                                        "linear_rt vulkan 16 budget 32",
+                                        "linear_rt vulkan 16 budget 4 finish 16",
+                                        "linear_rt vulkan 16 budget 8 finish 16",
+                                        "linear_rt vulkan 16 budget 16 finish 16",
+                                        "linear_rt vulkan 16 budget 32 finish 16"};
     int i, k, j, rows = 0, won = 0;
     if (!g_have_weights) return; /* no estimate to compare */
     for (i = 0; i < g_nwaves; ++i) {
@@ -782,7 +808,7 @@ static void write_wave_dominance(FILE *f)
             int by = 0;
             if (!p || pr < 0.0) continue;
             ++peers_seen;
-            for (j = 0; j < 5 && !by; ++j) {
+            for (j = 0; j < 9 && !by; ++j) {
                 const wave_row *q = find_wave(a->scene, a->set, ours[j]);
                 const double qr = right_of(ours[j], a->scene, a->set);
                 by = q && qr >= pr && q->estimate <= p->estimate;
@@ -792,7 +818,8 @@ static void write_wave_dominance(FILE *f)
         if (!peers_seen) continue;
         if (!rows++)
             fprintf(f, "\nlinear_rt's curve on the estimate: each secondary row, \"(yes)\" where every Vulkan march's point "
-                       "(estimate, right %%) has a linear_rt vulkan 16 point (exact or a step budget) with no larger an estimate "
+                       "(estimate, right %%) has a linear_rt vulkan 16 point (exact, a step budget, or one with a finish) with no "
+                       "larger an estimate "
                        "and no lower a right %%:\n\n");
         won += beaten == peers_seen;
         fprintf(f, "%s%s / %s", rows > 1 ? ", " : "", a->scene, a->set);

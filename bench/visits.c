@@ -15,6 +15,8 @@
 static size_t visits_tests[4]; /* level 0, level 1, above; texels through the level-1 codes */
 #define LINEAR_RT_COUNT_NODE_TEST(level) (++visits_tests[(level) > 1u ? 2 : (level)])
 #define LINEAR_RT_COUNT_TEXEL_TEST() (++visits_tests[3])
+static size_t visits_finish; /* a budget's finish: its samples (march and bisection) */
+#define LINEAR_RT_COUNT_FINISH_SAMPLE() (++visits_finish)
 /* 1: walk as the kernels do (bench_wave_linear_rt): every walk from the
    level-1 node of the texel where the segment starts, never the CPU's rule
    (lrt__from_origin) of starting some at the start node */
@@ -123,6 +125,34 @@ int bench_wave_linear_rt(const bench_scene *sc, const bench_rays *rs, uint32_t n
     }
     visits_as_kernels = 0;
     *texels = (double)tex;
+    lrt_bvh_destroy(&bvh);
+    return bad;
+}
+
+/* A budget's finish (LRT_TRACE_BUDGET(budget) | BENCH_FINISH), ray by ray:
+   samples[i] the samples ray i's finish takes (0 where the budget did not
+   stop it). The budgeted walk is the kernels' step for step, and so is the
+   finish (lrt_finish). */
+int bench_finish_samples(const bench_scene *sc, const bench_rays *rs, uint32_t budget, uint32_t *samples)
+{
+    const lrt_depth *depth = bench_lrt_depth(sc);
+    lrt_build_options o;
+    lrt_bvh bvh = {0};
+    size_t i;
+    int bad = 0;
+    memset(&o, 0, sizeof o);
+    o.node_bits = 16u;
+    o.thickness = bench_lrt_thickness(sc);
+    if (lrt_bvh_build(&bvh, depth, &o, NULL) != LRT_SUCCESS) {
+        lrt_bvh_destroy(&bvh);
+        return 1;
+    }
+    for (i = 0; i < rs->count; ++i) {
+        lrt_hit h;
+        visits_finish = 0;
+        bad |= lrt_trace(&bvh, depth, rs->rays + i, &h, 1, LRT_TRACE_BUDGET(budget) | BENCH_FINISH) != LRT_SUCCESS;
+        samples[i] = (uint32_t)visits_finish;
+    }
     lrt_bvh_destroy(&bvh);
     return bad;
 }
