@@ -585,9 +585,9 @@ typedef struct lrt_hit {
    It answers LRT_HIT_ESTIMATE: a guess, the texel x, y under the last
    sample inside and its t (never before the proven-free t), face the top
    where that texel is the one the ray was over just before (the back for
-   v.z < 0), else a side. A march can step over a thin object or a corner,
-   so an estimate may be no hit at all, or not the closest
-   (docs/MODEL.md). Where no sample is inside, LRT_MISS_BUDGET as without
+   v.z < 0), else a side. Its point is in the solid, so the ray hits at or
+   before it; but a march can step over a thin object or a corner, so the
+   closest hit may lie before it, on another texel (docs/MODEL.md). Where no sample is inside, LRT_MISS_BUDGET as without
    a finish: an engine takes it as a miss, of the kind its ray's point at
    tmax tells (on the screen: LRT_MISS_TMAX). Every other answer stays the
    exact one, bit for bit, and the GPU's finish is this one step for step.
