@@ -377,14 +377,19 @@ static float read_flushed(float f)
 
 /* A step budget's answers against the exact walk's: the same but for budget
    misses, whose t lies in [tmin, tmax] and not past the exact hit, x, y 0
-   and no face. */
+   and no face, and a finish's estimates, whose t lies in [tmin, tmax], with
+   a face. */
 static void judge_budget(const lrt_ray *rays, const lrt_hit *hits, const lrt_hit *exact, size_t n, uint32_t budget)
 {
     size_t i;
     for (i = 0; i < n; ++i) {
         const lrt_hit *h = &hits[i], *e = &exact[i];
         const float tmin = read_flushed(rays[i].tmin), tmax = read_flushed(rays[i].tmax);
-        if (h->kind != LRT_MISS_BUDGET) {
+        if (h->kind == LRT_HIT_ESTIMATE) {
+            if (!(h->t >= tmin && h->t <= tmax) || h->face < LRT_FACE_TOP || h->face > LRT_FACE_BACK)
+                FAIL("%s, budget %#x, ray %zu: an estimate at t %a (%u,%u) face %u outside [%a, %a]", g_map, budget, i, h->t,
+                     h->x, h->y, h->face, rays[i].tmin, rays[i].tmax);
+        } else if (h->kind != LRT_MISS_BUDGET) {
             if (memcmp(h, e, sizeof *h) != 0)
                 FAIL("%s, budget %u, ray %zu: kind %u t %a (%u,%u), the exact walk kind %u t %a (%u,%u)", g_map, budget, i,
                      h->kind, h->t, h->x, h->y, e->kind, e->t, e->x, e->y);
@@ -706,7 +711,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         unit.d = &one;
         for (k = 0; k < nrays; ++k) rays[k] = make_ray(&in, ref.d ? &ref : &unit);
     }
-    trace_flags = trace_sel < 200 ? (trace_sel & 1u) : 1u << (trace_sel & 31);
+    /* a budget of 1 step, with a finish of 2^0 to 2^7 samples every other time, or one bit */
+    trace_flags = trace_sel < 200 ? (trace_sel & 1u) | ((trace_sel & 3u) == 3u ? LRT_TRACE_FINISH((trace_sel >> 2) & 7u) : 0u)
+                                  : 1u << (trace_sel & 31);
 
     if (r != LRT_SUCCESS) { /* an unbuilt tree cannot be traced or updated */
         lrt_bvh zero = {0};
@@ -718,8 +725,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     /* trace: the whole batch, judged; two slices and the build_in tree agree */
     {
-        /* the budget's bits only (LRT_TRACE_BUDGET) */
-        codes fe = trace_flags & ~(uint32_t)LRT_K_TRACE_BUDGET_MASK ? CODE(LRT_ERROR_INVALID_OPTION) : 0;
+        codes fe = fuzz_trace_flags_bad(trace_flags) ? CODE(LRT_ERROR_INVALID_OPTION) : 0;
         codes terr = fe | pair_errors(&bvh, dp);
         size_t split = nrays ? rect_sel % (nrays + 1) : 0;
         r = lrt_trace(&bvh, dp, rays, hits, nrays, trace_flags);

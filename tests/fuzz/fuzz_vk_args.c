@@ -910,7 +910,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (!ctx || !cmd) cmust |= CODE(LRT_ERROR_NULL_POINTER);
             if (!b->created || !*b_built) cmust |= CODE(LRT_ERROR_INVALID_BVH);
             cmust |= depth_errors(&d, b, &stride);
-            if (flags & ~(uint32_t)LRT_K_TRACE_BUDGET_MASK) cmust |= CODE(LRT_ERROR_INVALID_OPTION); /* the budget's bits only */
+            if (fuzz_trace_flags_bad(flags)) cmust |= CODE(LRT_ERROR_INVALID_OPTION);
             if (count > LINEAR_RT_MAX_RAYS_PER_CALL) cmust |= CODE(LRT_ERROR_TOO_MANY_RAYS);
             if (count && (rays == VK_NULL_HANDLE || hits == VK_NULL_HANDLE)) cmust |= CODE(LRT_ERROR_NULL_POINTER);
             if (count && cmust == 0) {
