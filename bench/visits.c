@@ -30,20 +30,29 @@ static int visits_as_kernels;
 #include <stdlib.h>
 #include <string.h>
 
+/* The scene's tree as linear_rt's bench methods build it (node_bits, the
+   scene's thickness): 0, or 1 with nothing to destroy */
+static int visits_build(const bench_scene *sc, uint32_t node_bits, lrt_bvh *bvh)
+{
+    lrt_build_options o;
+    memset(&o, 0, sizeof o);
+    o.node_bits = node_bits;
+    o.thickness = bench_lrt_thickness(sc);
+    if (lrt_bvh_build(bvh, bench_lrt_depth(sc), &o, NULL) == LRT_SUCCESS) return 0;
+    lrt_bvh_destroy(bvh);
+    return 1;
+}
+
 int bench_visits(const bench_scene *sc, const bench_rays *rs, uint32_t node_bits, double per_ray[4])
 {
     const lrt_depth *depth = bench_lrt_depth(sc);
-    lrt_build_options o;
     lrt_bvh bvh = {0};
     lrt_hit *hits;
     lrt_result r;
     int k;
     memset(per_ray, 0, 4 * sizeof *per_ray);
     if (!rs->count) return 0;
-    memset(&o, 0, sizeof o);
-    o.node_bits = node_bits;
-    o.thickness = bench_lrt_thickness(sc);
-    if (lrt_bvh_build(&bvh, depth, &o, NULL) != LRT_SUCCESS) return 1;
+    if (visits_build(sc, node_bits, &bvh)) return 1;
     if (!(hits = (lrt_hit *)malloc(sizeof(lrt_hit) * rs->count))) {
         lrt_bvh_destroy(&bvh);
         return 1;
@@ -107,15 +116,11 @@ int bench_visits_thickness(const bench_scene *sc, const bench_rays *rs, double o
 int bench_wave_linear_rt(const bench_scene *sc, const bench_rays *rs, uint32_t node_bits, uint32_t *steps, double *texels)
 {
     const lrt_depth *depth = bench_lrt_depth(sc);
-    lrt_build_options o;
     lrt_bvh bvh = {0};
     size_t i, tex = 0;
     int bad = 0;
     *texels = 0.0;
-    memset(&o, 0, sizeof o);
-    o.node_bits = node_bits;
-    o.thickness = bench_lrt_thickness(sc);
-    if (lrt_bvh_build(&bvh, depth, &o, NULL) != LRT_SUCCESS) return 1;
+    if (visits_build(sc, node_bits, &bvh)) return 1;
     visits_as_kernels = 1;
     for (i = 0; i < rs->count; ++i) {
         lrt_hit hit;
@@ -136,17 +141,10 @@ int bench_wave_linear_rt(const bench_scene *sc, const bench_rays *rs, uint32_t n
 int bench_finish_samples(const bench_scene *sc, const bench_rays *rs, uint32_t budget, uint32_t *samples)
 {
     const lrt_depth *depth = bench_lrt_depth(sc);
-    lrt_build_options o;
     lrt_bvh bvh = {0};
     size_t i;
     int bad = 0;
-    memset(&o, 0, sizeof o);
-    o.node_bits = 16u;
-    o.thickness = bench_lrt_thickness(sc);
-    if (lrt_bvh_build(&bvh, depth, &o, NULL) != LRT_SUCCESS) {
-        lrt_bvh_destroy(&bvh);
-        return 1;
-    }
+    if (visits_build(sc, 16u, &bvh)) return 1;
     for (i = 0; i < rs->count; ++i) {
         lrt_hit h;
         visits_finish = 0;
@@ -169,18 +167,11 @@ int bench_finish_samples(const bench_scene *sc, const bench_rays *rs, uint32_t b
 int bench_wave_cells(const bench_scene *sc, const bench_rays *rs, uint32_t node_bits, uint32_t *steps, double *texels)
 {
     const lrt_depth *depth = bench_lrt_depth(sc);
-    lrt_build_options o;
     lrt_bvh bvh = {0};
     size_t i, tex = 0;
     int bad = 0;
     *texels = 0.0;
-    memset(&o, 0, sizeof o);
-    o.node_bits = node_bits;
-    o.thickness = bench_lrt_thickness(sc);
-    if (lrt_bvh_build(&bvh, depth, &o, NULL) != LRT_SUCCESS) {
-        lrt_bvh_destroy(&bvh);
-        return 1;
-    }
+    if (visits_build(sc, node_bits, &bvh)) return 1;
     visits_as_kernels = 1;
     for (i = 0; i < rs->count; ++i) {
         uint32_t hx = 0, hy = 0;
