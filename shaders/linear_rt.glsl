@@ -1518,11 +1518,12 @@ LrtHit lrt_trace_setup(LrtParams p, LrtSetup s, int t_exp, bool scale_normal, ui
     } else {
         found = lrt_walk_origin(p, s, top, nx, ny, budget, hx, hy, ht, hplanes);
     }
-    // one exit: the hit's report (its face) stays out of the walk's loop
-    if (found == LRT_WALK_HIT) return lrt_report_hit(p, s, t_exp, scale_normal, ht, tmin, tmax, hx, hy, hplanes);
-    if (found == LRT_WALK_BUDGET)
-        return lrt_report_budget(p, s, t_exp, scale_normal, ht, tmin, tmax, flags >> LRT_K_TRACE_FINISH_SHIFT);
+    // the answer after the walk's loop: the hit's report (its face) and a
+    // budget's finish stay out of it
     hit.kind = kind;
+    if (found == LRT_WALK_HIT) hit = lrt_report_hit(p, s, t_exp, scale_normal, ht, tmin, tmax, hx, hy, hplanes);
+    else if (found == LRT_WALK_BUDGET)
+        hit = lrt_report_budget(p, s, t_exp, scale_normal, ht, tmin, tmax, flags >> LRT_K_TRACE_FINISH_SHIFT);
     return hit;
 }
 
