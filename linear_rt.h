@@ -3324,6 +3324,14 @@ LRT__FORCE_INLINE const uint16_t *lrt__codes(const lrt__walk *w, size_t slot)
     return (const uint16_t *)w->nodes + slot;
 }
 
+/* The level-1 code of texel (x, y) on the map where the codes are the
+   input's own integers (exact_codes: lrt__test_texel reads the texel's raw
+   depth off it); 0 otherwise. */
+LRT__FORCE_INLINE uint32_t lrt__texel_code(const lrt__walk *w, uint32_t x, uint32_t y)
+{
+    return w->exact_codes ? *lrt__codes(w, lrt__node_slot(w, 1, x >> 2, y >> 1) + (((y & 1u) << 2) | (x & 3u))) : 0u;
+}
+
 #if LRT__SSE
 /* A node's 8 codes as 16-bit lanes, in slot order. */
 LRT__FORCE_INLINE __m128i lrt__load_codes(const uint16_t *codes)
@@ -4297,12 +4305,10 @@ LRT__FORCE_INLINE uint32_t lrt__finish_texel(float o, float v, float t, uint32_t
 LRT__FORCE_INLINE int lrt__finish_inside(const lrt__walk *w, const lrt__ray_setup *s, float t, uint32_t *x, uint32_t *y)
 {
     float tt, planes[2];
-    uint32_t code = 0u;
     LINEAR_RT_COUNT_FINISH_SAMPLE();
     *x = lrt__finish_texel(s->o[0], s->v[0], t, w->L->width);
     *y = lrt__finish_texel(s->o[1], s->v[1], t, w->L->height);
-    if (w->exact_codes) code = *lrt__codes(w, lrt__node_slot(w, 1, *x >> 2, *y >> 1) + (((*y & 1u) << 2) | (*x & 3u)));
-    return lrt__test_texel(w, s, *x, *y, t, t, code, &tt, planes);
+    return lrt__test_texel(w, s, *x, *y, t, t, lrt__texel_code(w, *x, *y), &tt, planes);
 }
 
 /* The finish (lrt_finish): samples at t0 + k (t1 - t0) 2^-n, k = 0 .. 2^n,
@@ -4557,13 +4563,11 @@ LRT__FORCE_INLINE void lrt__trace_from(const lrt__walk *w, const lrt_ray *ray, l
     const int cells = lrt__walk_cells_takes(w, ray, s);
     if (lv == 0) { /* one texel: its box alone decides */
         const float x0 = (float)nx, y0 = (float)ny;
-        const uint32_t slot = ((ny & 1u) << 2) | (nx & 3u);
         float en = s->t_lo, ex = s->t_hi, t, planes[2];
         LINEAR_RT_COUNT_NODE_TEST(0u);
         lrt__slab(x0, x0 + 1.0f, s->o[0], s->iv[0], s->neg_x, &en, &ex);
         lrt__slab(y0, y0 + 1.0f, s->o[1], s->iv[1], s->neg_y, &en, &ex);
-        if (lrt__test_texel(w, s, nx, ny, en, ex, w->exact_codes ? *lrt__codes(w, lrt__node_slot(w, 1, nx >> 2, ny >> 1) + slot) : 0u,
-                            &t, planes)) {
+        if (lrt__test_texel(w, s, nx, ny, en, ex, lrt__texel_code(w, nx, ny), &t, planes)) {
             lrt__report_hit(w, ray, s, t_scale, t, nx, ny, planes, hit);
             return; /* the cell walk's first step, its first texel, is this one */
         }
@@ -4708,9 +4712,7 @@ static uint32_t lrt__walk_cells(const lrt__walk *w, const lrt__ray_setup *s, uin
         lrt__cell_axis(cy << sh, 1 << sh, s->o[1], s->v[1], s->iv[1], s->neg_y, &en, &ex, &ly, &py, &lasty);
         if (lv == 0) {
             const int on = (uint32_t)x < L->width && (uint32_t)y < L->height;
-            const uint32_t slot = (((uint32_t)y & 1u) << 2) | ((uint32_t)x & 3u);
-            const uint32_t code =
-                on && w->exact_codes ? *lrt__codes(w, lrt__node_slot(w, 1, (uint32_t)x >> 2, (uint32_t)y >> 1) + slot) : 0u;
+            const uint32_t code = on ? lrt__texel_code(w, (uint32_t)x, (uint32_t)y) : 0u;
             if (counts) ++counts[1];
             if (lrt__test_texel(w, s, (uint32_t)x, (uint32_t)y, en, ex, code, ht, hplanes)) {
                 *hx = (uint32_t)x;
@@ -6765,6 +6767,7 @@ LINEAR_RT_DEF lrt_result lrt_vk_cmd_trace_compacted(lrt_vk_context *ctx, VkComma
 #define lrt__children_slot lrt__children_slot_avx2
 #define lrt__clip lrt__clip_avx2
 #define lrt__codes lrt__codes_avx2
+#define lrt__texel_code lrt__texel_code_avx2
 #define lrt__cull_axis lrt__cull_axis_avx2
 #define lrt__cull_axis8 lrt__cull_axis8_avx2
 #define lrt__cull_children lrt__cull_children_avx2
