@@ -4320,15 +4320,17 @@ static LRT__NOINLINE int lrt__finish(const lrt__walk *w, const lrt__ray_setup *s
     const uint32_t n = w->finish - 1u < LRT_K_FINISH_MAX - 1u ? w->finish - 1u : LRT_K_FINISH_MAX - 1u, steps = 1u << n;
     const float t1 = s->t_hi > t0 ? s->t_hi : t0, dt = (t1 - t0) * lrt__pow2(-(int)n);
     float lo = t0, hi = t0;
-    uint32_t k, b, inside = 0u;
-    uint32_t x = lrt__finish_texel(s->o[0], s->v[0], t0, w->L->width), y = lrt__finish_texel(s->o[1], s->v[1], t0, w->L->height);
-    uint32_t lx = x, ly = y;
+    uint32_t k, b, inside = 0u, x = 0u, y = 0u, lx = 0u, ly = 0u;
     for (k = 0; k <= steps && !inside; ++k) { /* [lo, hi]: the sample before, this one */
         lo = hi;
         lx = x;
         ly = y;
         hi = k == steps ? t1 : t0 + dt * (float)k;
         inside = (uint32_t)lrt__finish_inside(w, s, hi, &x, &y);
+    }
+    if (k == 1u) { /* inside at t0: the ray was over this texel before it */
+        lx = x;
+        ly = y;
     }
     for (b = 0; inside && k > 1u && b < LRT_K_FINISH_BISECTIONS; ++b) {
         const float mid = 0.5f * (lo + hi);

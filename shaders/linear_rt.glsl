@@ -1296,8 +1296,7 @@ bool lrt_finish(LrtParams p, LrtSetup s, uint finish, float t0, out uint hx, out
     float t1 = s.t_hi > t0 ? s.t_hi : t0;
     precise float dt = (t1 - t0) * lrt_pow2(-int(n));
     float lo = t0, hi = t0;
-    uint x = lrt_finish_texel(s.o.x, s.v.x, t0, p.width), y = lrt_finish_texel(s.o.y, s.v.y, t0, p.height);
-    uint lx = x, ly = y, k = 0u;
+    uint x = 0u, y = 0u, lx = 0u, ly = 0u, k = 0u;
     bool inside = false;
     for (; k <= steps && !inside; ++k) { // [lo, hi]: the sample before, this one
         lo = hi;
@@ -1306,6 +1305,10 @@ bool lrt_finish(LrtParams p, LrtSetup s, uint finish, float t0, out uint hx, out
         precise float at = t0 + dt * float(k);
         hi = k == steps ? t1 : at;
         inside = lrt_finish_inside(p, s, hi, x, y);
+    }
+    if (k == 1u) { // inside at t0: the ray was over this texel before it
+        lx = x;
+        ly = y;
     }
     for (uint b = 0u; inside && k > 1u && b < LRT_K_FINISH_BISECTIONS; ++b) {
         precise float mid = 0.5 * (lo + hi);
